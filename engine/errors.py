@@ -1,0 +1,34 @@
+"""Errors a user sees: each message is one sentence naming the file or motion and what to do.
+
+The command line prints ``str(error)`` after ``error:`` and exits non-zero, with no traceback.
+"""
+
+
+class TvmError(Exception):
+    """Base class of every error tvmedit reports to a user."""
+
+    exit_code = 2
+
+
+class InputError(TvmError):
+    """A TVM sequence or frame file cannot be used (missing, not a mesh, truncated, NaN...)."""
+
+
+class LibraryError(TvmError):
+    """A library directory is missing, incomplete, truncated or of another format version."""
+
+
+class UnknownMotion(TvmError):
+    """A key motion name or id that the library does not have."""
+
+
+class NoPath(TvmError):
+    """No path in the pruned motion graph leads from one key motion to the next."""
+
+    exit_code = 3
+
+    def __init__(self, message, source=None, target=None, mu=None):
+        super().__init__(message)
+        self.source = source
+        self.target = target
+        self.mu = mu
