@@ -1,0 +1,172 @@
+"""Motion database, eq. (9): one representative texton per motion cluster.
+
+The structure parser (section 4) cuts every sequence into motion clusters, and each cluster
+into motion textons that repeat the same movement. The database keeps, per cluster, the
+texton that is closest to a seamless loop: the one with the smallest texton distance
+d_T, eq. (6). A library may hold several sequences (several people, several takes); the
+database holds the representatives of all of them, each remembering where it came from.
+
+Clusters with a single texton. The paper assumes every cluster repeats its texton at least
+twice. A parser also reports non-cyclic stretches (a transition from walking to running, a
+pose held once) as one-texton clusters; one texton is no evidence of a repeatable motion,
+so such clusters are left out (``min_textons=2``). If that leaves the whole library without
+a single node although it has textons, every one-texton cluster is taken in after all, with
+a warning: a database of unproven motions can still be edited, an empty one cannot.
+"""
+
+import warnings
+from dataclasses import dataclass
+
+#: Fewest textons a cluster needs before its representative enters the database.
+MIN_TEXTONS = 2
+
+
+@dataclass
+class Node:
+    """One motion of the database: a representative texton, a node of the motion graph.
+
+    Attributes
+    ----------
+    id : int
+        Position in the database, stable across builds of the same input: nodes are numbered
+        from 0 in sequence order, then by start frame.
+    name : str
+        What a user types to pick the motion; defaults to ``"<sequence>/<k>"`` with ``k`` the
+        1-based, two-digit rank of the node within its sequence (``"walk/01"``). Renamable.
+    sequence : str
+        Name of the sequence the frames come from.
+    start, end : int
+        First and last frame of the texton, inclusive, as indices within ``sequence``.
+    cluster : int
+        Index of the texton's motion cluster within ``sequence``.
+    texton_distance : float
+        d_T of the texton, eq. (6): how far its last atom is from its first.
+    intensity : float or None
+        Motion intensity, eq. (11); ``None`` until the graph step measures it.
+
+    Examples
+    --------
+    >>> node = Node(id=0, name="walk/01", sequence="walk", start=3, end=14, cluster=0,
+    ...             texton_distance=0.02)
+    >>> node.n_frames
+    12
+    """
+
+    id: int
+    name: str
+    sequence: str
+    start: int
+    end: int
+    cluster: int
+    texton_distance: float
+    intensity: float | None = None
+
+    @property
+    def n_frames(self):
+        """Number of frames in the texton, n(T_i) in eq. (11)."""
+        return self.end - self.start + 1
+
+
+def select_textons(textons, min_textons=MIN_TEXTONS):
+    """Representative texton of every cluster of one sequence, eq. (9).
+
+    Parameters
+    ----------
+    textons : iterable of objects with ``.start``, ``.end``, ``.cluster``, ``.distance``
+        The textons of one sequence; ``distance`` is the texton distance d_T, eq. (6).
+    min_textons : int
+        Clusters with fewer textons than this are left out (see the module docstring).
+
+    Returns
+    -------
+    list
+        One texton per kept cluster, the one with the smallest ``distance`` (the earliest
+        one on a tie), ordered by start frame.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as T
+    >>> textons = [T(start=0, end=9, cluster=0, distance=0.3),
+    ...            T(start=10, end=19, cluster=0, distance=0.1),
+    ...            T(start=20, end=24, cluster=1, distance=0.0)]
+    >>> [(t.start, t.end) for t in select_textons(textons)]
+    [(10, 19)]
+    >>> [(t.start, t.end) for t in select_textons(textons, min_textons=1)]
+    [(10, 19), (20, 24)]
+    """
+    by_cluster = {}
+    for texton in textons:
+        by_cluster.setdefault(texton.cluster, []).append(texton)
+    chosen = [min(members, key=lambda t: (t.distance, t.start))
+              for members in by_cluster.values() if len(members) >= min_textons]
+    return sorted(chosen, key=lambda t: t.start)
+
+
+def build_database(structures, min_textons=MIN_TEXTONS):
+    """Nodes of the motion database for all sequences of a library, eq. (9).
+
+    Parameters
+    ----------
+    structures : dict of str to (textons, clusters)
+        Parsed structure per sequence name, in sequence order (the order numbers the
+        nodes). ``textons`` is an iterable of objects with ``.start``, ``.end``,
+        ``.cluster``, ``.distance``; ``clusters`` is the list of inclusive frame ranges
+        ``(start, end)`` that ``texton.cluster`` indexes. An object with ``.textons`` and
+        ``.clusters`` attributes is accepted in place of the pair.
+    min_textons : int
+        Clusters with fewer textons are left out, unless that would leave the database
+        empty (see the module docstring).
+
+    Returns
+    -------
+    list of Node
+        Ids 0, 1, ... in sequence order, then by start frame; ``intensity`` is ``None``.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as T
+    >>> walk = [T(start=0, end=9, cluster=0, distance=0.3),
+    ...         T(start=10, end=19, cluster=0, distance=0.1)]
+    >>> run = [T(start=0, end=5, cluster=0, distance=0.2),
+    ...        T(start=6, end=11, cluster=0, distance=0.4)]
+    >>> for node in build_database({"walk": (walk, [(0, 19)]), "run": (run, [(0, 11)])}):
+    ...     print(node.id, node.name, node.start, node.end)
+    0 walk/01 10 19
+    1 run/01 0 5
+    """
+    parsed = {name: _unpack(name, value) for name, value in structures.items()}
+    nodes = _nodes(parsed, min_textons)
+    if not nodes and min_textons > 1 and any(parsed.values()):
+        warnings.warn("no motion cluster repeats its texton, so the database keeps the "
+                      "single textons of all clusters instead", stacklevel=2)
+        nodes = _nodes(parsed, 1)
+    return nodes
+
+
+def _nodes(parsed, min_textons):
+    nodes = []
+    for sequence, textons in parsed.items():
+        for rank, texton in enumerate(select_textons(textons, min_textons), start=1):
+            nodes.append(Node(id=len(nodes), name=f"{sequence}/{rank:02d}", sequence=sequence,
+                              start=int(texton.start), end=int(texton.end),
+                              cluster=int(texton.cluster),
+                              texton_distance=float(texton.distance)))
+    return nodes
+
+
+def _unpack(sequence, value):
+    # Checks at the door: a texton pointing outside its clusters is a parser bug, and it is
+    # far easier to find here than as a wrong transition frame two steps later.
+    if hasattr(value, "textons"):
+        textons, clusters = value.textons, value.clusters
+    else:
+        textons, clusters = value
+    textons = list(textons)
+    for texton in textons:
+        if not 0 <= texton.cluster < len(clusters):
+            raise ValueError(f"sequence {sequence!r}: texton {texton.start}-{texton.end} "
+                             f"names cluster {texton.cluster}, but there are {len(clusters)}")
+        if not 0 <= texton.start <= texton.end:
+            raise ValueError(f"sequence {sequence!r}: texton {texton.start}-{texton.end} "
+                             "is not a frame range")
+    return textons
