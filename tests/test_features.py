@@ -1,0 +1,148 @@
+"""Histograms and frame distance (eq. (1)-(4)) against values worked out by hand."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from engine.errors import InputError
+from engine.features import (
+    BinSizes,
+    FeatureAccumulator,
+    distance_matrix,
+    features_of,
+    frame_distance,
+    frame_histograms,
+    pair_distances,
+    spherical,
+)
+
+BINS = BinSizes(r=0.1, theta=math.radians(90), phi=math.radians(45))
+
+
+def test_spherical_matches_eq_1_including_axes():
+    pts = np.array([[1, 1, 0], [-1, 0, 1], [0, -2, 0], [0, 0, -3], [0, 0, 0], [1, -1, -math.sqrt(2)]], float)
+    r, theta, phi = spherical(pts, [0, 0, 0])
+    np.testing.assert_allclose(r, [math.sqrt(2), math.sqrt(2), 2, 3, 0, 2])
+    # sign(y) * arccos(x / sqrt(x^2 + y^2)), with sign(0) = +1 and theta = 0 on the z axis.
+    np.testing.assert_allclose(theta, [math.pi / 4, math.pi, -math.pi / 2, 0, 0, -math.pi / 4])
+    np.testing.assert_allclose(phi, [math.pi / 2, math.pi / 4, math.pi / 2, math.pi, 0, 3 * math.pi / 4])
+
+
+def test_negative_zero_y_counts_as_positive_sign():
+    _, theta, _ = spherical([[-1.0, -0.0, 0.0]], [0, 0, 0])
+    assert theta[0] == pytest.approx(math.pi)
+
+
+def test_histograms_by_hand():
+    # Origin (0, 0, 0); four points.
+    pts = np.array([
+        [0.05, 0.0, 0.0],    # r 0.05 -> r bin 0; theta 0 -> bin 2; phi pi/2 -> bin 2
+        [0.0, 0.15, 0.0],    # r 0.15 -> 1; theta pi/2 -> 3; phi pi/2 -> 2
+        [0.0, 0.0, 0.25],    # r 0.25 -> 2; theta 0 (on the axis) -> 2; phi 0 -> 0
+        [-0.3, -0.01, 0.0],  # r ~0.30 -> 3; theta ~ -pi -> 0; phi pi/2 -> 2
+    ])
+    h_r, h_t, h_p = frame_histograms(pts, [0, 0, 0], BINS)
+    assert h_r.tolist() == [0.25, 0.25, 0.25, 0.25]
+    assert h_t.tolist() == [0.25, 0.0, 0.5, 0.25]
+    assert h_p.tolist() == [0.25, 0.0, 0.75, 0.0]
+    assert h_r.dtype == np.float64
+
+
+def test_theta_pi_falls_in_last_bin_and_r_bins_follow_max_r():
+    h_r, h_t, _ = frame_histograms([[-0.5, 0.0, 0.0]], [0, 0, 0], BINS)
+    assert h_t.tolist() == [0.0, 0.0, 0.0, 1.0]
+    assert len(h_r) == 6 and h_r[5] == 1.0
+
+
+def test_frame_distance_zero_pads_the_shorter_r_histogram():
+    # Frame a: one point at r 0.05 (one r bin). Frame b: points at r 0.05 and 0.25 (three).
+    fa = features_of([np.array([[0.05, 0, 0]])], BINS)
+    acc = FeatureAccumulator(BINS, origin=[0, 0, 0])
+    acc.add([[0.05, 0, 0]])
+    acc.add([[0.05, 0, 0], [0.0, 0.0, 0.25]])
+    f = acc.result()
+    assert fa.r.shape == (1, 1) and f.r.shape == (2, 3)
+    assert f.r.tolist() == [[1.0, 0.0, 0.0], [0.5, 0.0, 0.5]]
+    # r: (1 - .5)^2 + (0 - .5)^2 with a's missing third bin read as 0 (eq. (4)); theta: all
+    # points at theta 0 (bin 2), no difference; phi: a all in bin 2, b half in bin 0, half in 2.
+    expected = math.sqrt((0.25 + 0.25) + 0.0 + (0.25 + 0.25))
+    v = f.vectors
+    assert frame_distance(v[0], v[1]) == pytest.approx(expected)
+    # The same through the per-histogram form of eq. (2)-(3) with unequal lengths.
+    ha = frame_histograms([[0.05, 0, 0]], [0, 0, 0], BINS)
+    hb = frame_histograms([[0.05, 0, 0], [0.0, 0.0, 0.25]], [0, 0, 0], BINS)
+    by_parts = math.sqrt(sum(frame_distance(x, y) ** 2 for x, y in zip(ha, hb)))
+    assert by_parts == pytest.approx(expected)
+
+
+def test_origin_is_first_frame_centroid_for_every_frame():
+    acc = FeatureAccumulator(BINS)
+    acc.add([[0.0, 0, 0], [0.2, 0, 0]])  # centroid (0.1, 0, 0)
+    acc.add([[0.45, 0, 0]])              # r 0.35 from that origin -> r bin 3
+    f = acc.result()
+    np.testing.assert_allclose(f.origin, [0.1, 0, 0])
+    assert f.r[1].tolist() == [0, 0, 0, 1]
+
+
+def test_pad_r_keeps_distances():
+    f = features_of([np.random.default_rng(0).normal(size=(50, 3)) * s for s in (0.1, 0.3)], BinSizes())
+    g = f.pad_r(f.r.shape[1] + 7)
+    assert g.vectors.shape[1] == f.vectors.shape[1] + 7
+    assert frame_distance(*g.vectors) == pytest.approx(frame_distance(*f.vectors))
+
+
+def test_pair_distances_and_matrix_agree_with_frame_distance():
+    rng = np.random.default_rng(1)
+    v = rng.random((6, 40)).astype(np.float32)
+    m = distance_matrix(v)
+    for a in range(6):
+        for b in range(6):
+            assert m[a, b] == pytest.approx(frame_distance(v[a], v[b]), abs=1e-6)
+    i, j = np.array([0, 2, 5]), np.array([1, 2, 3])
+    np.testing.assert_allclose(pair_distances(v, i, j), m[i, j], atol=1e-6)
+    np.testing.assert_allclose(distance_matrix(v[:2], v[3:]), m[:2, 3:], atol=1e-6)
+    assert np.all(np.diag(m) == 0)
+
+
+def test_degenerate_points_give_no_nan():
+    pts = np.array([[0.0, 0.0, 0.0], [0.0, 0.0, 0.3], [0.0, 0.0, -0.3]])
+    for h in frame_histograms(pts, [0, 0, 0], BinSizes()):
+        assert np.isfinite(h).all() and h.sum() == pytest.approx(1.0)
+
+
+def test_bad_frames_are_named_errors():
+    with pytest.raises(InputError):
+        frame_histograms(np.zeros((0, 3)), [0, 0, 0])
+    with pytest.raises(InputError):
+        frame_histograms(np.array([[np.nan, 0, 0]]), [0, 0, 0])
+    with pytest.raises(InputError):
+        BinSizes(r=0)
+
+
+frames = arrays(np.float64, st.tuples(st.integers(1, 60), st.just(3)),
+                elements=st.floats(-1.0, 1.0, allow_nan=False))
+
+
+@settings(max_examples=60, deadline=None)
+@given(frames, frames, st.randoms(use_true_random=False))
+def test_distance_properties(a, b, rnd):
+    origin = np.array([0.01, -0.02, 0.03])
+    bins = BinSizes()
+
+    def vec(p):
+        acc = FeatureAccumulator(bins, origin=origin)
+        acc.add(p)
+        return acc.result().vectors[0].astype(np.float64)
+
+    va, vb = vec(a), vec(b)
+    assert frame_distance(va, vb) == pytest.approx(frame_distance(vb, va))
+    assert frame_distance(va, va) == 0.0
+    order = list(range(len(a)))
+    rnd.shuffle(order)
+    assert frame_distance(vec(a[order]), vb) == pytest.approx(frame_distance(va, vb), abs=1e-6)
+    # Duplicating every vertex changes counts, not fractions: the distance stays.
+    assert frame_distance(vec(np.vstack([a, a])), vb) == pytest.approx(frame_distance(va, vb), abs=1e-6)
