@@ -1,0 +1,29 @@
+# Two commands do all set-up on a fresh machine:
+#   make demo   generate the built-in data set and run the main job on it
+#   make test   run the whole test suite
+# Both create .venv and install tvmedit into it (editable) the first time, and are quick after.
+
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: demo test bench clean
+
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e '.[test,report,dask]'
+	@touch $(STAMP)
+
+demo: $(STAMP)
+	$(BIN)/python -m tvmedit.demo
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/run_all.py
+
+clean:
+	rm -rf demo .cache .pytest_cache

@@ -1,0 +1,59 @@
+"""Session-wide test data: generated once into a cache folder and reused.
+
+Real motion comes from ``../shared`` (CMU takes turned into TVM by ``mocap2tvm.py``); where
+that folder is absent, as on a user's machine, the tests that need it skip with a reason.
+The cache lives in ``.cache/testdata`` (git-ignored), keyed by everything that shapes the
+data, and a folder counts as complete only once its ``truth.json`` exists (both generators
+write it last and atomically).
+"""
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
+MOCAP2TVM = SHARED / "tools" / "mocap2tvm.py"
+MOCAP_DATA = SHARED / "data" / "mocap6"
+CACHE = Path(os.environ.get("TVMEDIT_TEST_CACHE", ROOT / ".cache" / "testdata"))
+
+
+def _key(*parts):
+    return hashlib.sha1(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()[:12]
+
+
+def mocap_take(take, **options):
+    """Folder of a CMU take turned into TVM (``mocap2tvm.py`` options as keyword arguments).
+
+    Skips the calling test when ``../shared`` is not there.
+    """
+    if not MOCAP2TVM.exists():
+        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    options = {"fps": 10, "seed": 0, **options}
+    tool_hash = hashlib.sha1(MOCAP2TVM.read_bytes()).hexdigest()[:8]
+    out = CACHE / f"mocap-{take}-{_key(take, options, tool_hash)}"
+    if not (out / "truth.json").exists():
+        cmd = [sys.executable, str(MOCAP2TVM), str(MOCAP_DATA / f"{take}.amc"), "--out", str(out),
+               "--workers", "2", "--overwrite"]
+        for name, value in options.items():
+            flag = "--" + name.replace("_", "-")
+            cmd += [flag] if value is True else [flag, str(value)]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    return out
+
+
+@pytest.fixture(scope="session")
+def take_13_30():
+    """CMU 13_30 at 10 fps, whole take (205 frames, five exercises)."""
+    return mocap_take("13_30")
+
+
+@pytest.fixture(scope="session")
+def take_13_29():
+    """CMU 13_29 at 10 fps, whole take (383 frames, six exercises)."""
+    return mocap_take("13_29")

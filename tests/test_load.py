@@ -1,0 +1,152 @@
+"""Loading TVM frames: formats, colours, natural order, and one-sentence errors."""
+
+import json
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+import trimesh
+
+from engine.errors import InputError
+from engine.load import (NEUTRAL_COLOUR, SkippedFramesWarning, frame_paths, load_sequence,
+                         open_sequence, read_frame)
+
+
+def _mesh(subdivisions=1, colour=(200, 30, 40), shift=0.0):
+    mesh = trimesh.creation.icosphere(subdivisions)
+    mesh.vertices += shift
+    colours = np.tile(np.array(colour + (255,), np.uint8), (len(mesh.vertices), 1))
+    colours[::3, :3] = (10, 220, 90)  # not uniform, so a lost colour channel shows
+    mesh.visual.vertex_colors = colours
+    return mesh
+
+
+def _write_coff(path, mesh):
+    lines = ["COFF", f"{len(mesh.vertices)} {len(mesh.faces)} 0"]
+    colours = mesh.visual.vertex_colors
+    lines += [f"{float(x)!r} {float(y)!r} {float(z)!r} {r} {g} {b} 255" for (x, y, z), (r, g, b, _) in zip(mesh.vertices, colours)]
+    lines += [f"3 {a} {b} {c}" for a, b, c in mesh.faces]
+    path.write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize("name, export", [
+    ("binary.ply", lambda m, p: m.export(p)),
+    ("ascii.ply", lambda m, p: m.export(p, encoding="ascii")),
+    ("frame.obj", lambda m, p: m.export(p)),
+    ("frame.off", lambda m, p: _write_coff(p, m)),
+])
+def test_every_format_round_trips_positions_and_colours(tmp_path, name, export):
+    mesh = _mesh()
+    path = tmp_path / name
+    export(mesh, path)
+    frame = read_frame(path)
+    np.testing.assert_allclose(frame.positions, mesh.vertices, atol=1e-6)
+    np.testing.assert_array_equal(frame.colours, mesh.visual.vertex_colors[:, :3])
+    np.testing.assert_array_equal(frame.faces, mesh.faces)
+    assert frame.positions.dtype == np.float32 and frame.colours.dtype == np.uint8
+    assert frame.faces.dtype == np.uint32
+
+
+def test_frame_without_colours_gets_the_neutral_colour(tmp_path):
+    trimesh.creation.box().export(tmp_path / "plain.off")
+    frame = read_frame(tmp_path / "plain.off")
+    assert (frame.colours == NEUTRAL_COLOUR).all()
+
+
+def test_frames_come_in_natural_order_and_vary_in_size(tmp_path):
+    for index in (10, 2, 1, 33):
+        _mesh(subdivisions=1 + index % 3, shift=index).export(tmp_path / f"f{index}.ply")
+    (tmp_path / "truth.json").write_text("{}")
+    assert [p.name for p in frame_paths(tmp_path)] == ["f1.ply", "f2.ply", "f10.ply", "f33.ply"]
+    sequence = load_sequence(tmp_path)
+    assert sequence.name == tmp_path.name and sequence.fps == 10
+    assert [round(float(f.positions[:, 0].mean())) for f in sequence.frames] == [1, 2, 10, 33]
+    assert len({len(f) for f in sequence.frames}) > 1
+
+
+def test_glob_and_sequence_json(tmp_path):
+    for index in range(3):
+        _mesh(shift=index).export(tmp_path / f"take_{index}.ply")
+    _mesh().export(tmp_path / "other.obj")
+    (tmp_path / "sequence.json").write_text(json.dumps({"fps": 25}))
+    sequence = open_sequence(str(tmp_path / "take_*.ply"))
+    assert len(sequence) == 3 and sequence.fps == 25
+    assert open_sequence(tmp_path, fps=30).fps == 30
+
+
+def _bad_inputs(tmp_path):
+    good = _mesh()
+    good.export(tmp_path / "good.ply")
+    data = (tmp_path / "good.ply").read_bytes()
+    (tmp_path / "truncated.ply").write_bytes(data[: len(data) // 2])
+    (tmp_path / "notmesh.ply").write_bytes(b"hello, I am not a mesh")
+    (tmp_path / "novertices.off").write_text("OFF\n0 0 0\n")
+    (tmp_path / "nan.obj").write_text("v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n")
+    (tmp_path / "frame.stl").write_text("solid x\nendsolid x\n")
+
+
+@pytest.mark.parametrize("name, words", [
+    ("truncated.ply", "truncated"),
+    ("notmesh.ply", "not a readable mesh"),
+    ("novertices.off", "has no vertices"),
+    ("nan.obj", "NaN or infinite"),
+    ("frame.stl", "unsupported extension '.stl'"),
+])
+def test_each_bad_frame_has_its_sentence(tmp_path, name, words):
+    _bad_inputs(tmp_path)
+    with pytest.raises(InputError) as caught:
+        read_frame(tmp_path / name)
+    message = str(caught.value)
+    assert name in message and words in message
+    assert message.count(". ") == 0 and message.endswith(".")  # one sentence
+
+
+def test_missing_and_empty_folders(tmp_path):
+    with pytest.raises(InputError, match="does not exist"):
+        open_sequence(tmp_path / "nowhere")
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(InputError, match="is empty"):
+        open_sequence(tmp_path / "empty")
+    (tmp_path / "stl").mkdir()
+    (tmp_path / "stl" / "f1.stl").write_text("solid\nendsolid\n")
+    with pytest.raises(InputError, match="unsupported extension"):
+        open_sequence(tmp_path / "stl")
+
+
+def test_a_bad_frame_stops_the_load_unless_skipped(tmp_path):
+    for index in range(4):
+        _mesh(shift=index).export(tmp_path / f"f{index}.ply")
+    (tmp_path / "f2.ply").write_bytes((tmp_path / "f2.ply").read_bytes()[:200])
+    with pytest.raises(InputError, match="f2.ply"):
+        load_sequence(tmp_path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sequence = load_sequence(tmp_path, skip_bad_frames=True)
+    assert [p.name for p in sequence.paths] == ["f0.ply", "f1.ply", "f3.ply"]
+    assert any(issubclass(w.category, SkippedFramesWarning) and "f2.ply" in str(w.message) for w in caught)
+
+
+def test_check_command_prints_one_sentence_and_no_traceback(tmp_path):
+    _bad_inputs(tmp_path)
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (tmp_path / "truncated.ply").rename(bad / "f1.ply")
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(bad)], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert result.stderr.startswith("error: frame ") and "f1.ply" in result.stderr
+    assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing left behind
+
+
+def test_check_command_skips_with_a_warning(tmp_path):
+    for index in range(3):
+        _mesh(subdivisions=1 + index, shift=index).export(tmp_path / f"f{index}.ply")
+    (tmp_path / "f1.ply").write_bytes(b"ply\nbroken")
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(tmp_path), "--skip-bad-frames"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "warning: skipped 1 bad frame(s): f1.ply" in result.stderr
+    assert "2 frames at 10 fps" in result.stdout

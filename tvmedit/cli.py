@@ -1,0 +1,54 @@
+"""The ``tvmedit`` command: one subcommand per module ``tvmedit/cmd_<name>.py``.
+
+Each command module defines ``HELP`` (one line), ``add_arguments(parser)`` and ``run(args)``.
+Modules are imported only when listed here, and GL is imported only inside the commands
+that draw, so ``tvmedit --help`` and the analysis commands start fast and run without GL.
+"""
+
+import argparse
+import importlib
+import sys
+
+from engine.errors import TvmError
+
+from . import __version__
+
+# Order is the order ``tvmedit --help`` lists them: the pipeline from data to pictures.
+COMMANDS = ["synth", "check"]
+
+
+def _parser():
+    parser = argparse.ArgumentParser(
+        prog="tvmedit",
+        description="Edit time-varying meshes: find cyclic motions, link them in a motion graph, "
+        "and play or render new sequences through the motions you choose.",
+    )
+    parser.add_argument("--version", action="version", version=f"tvmedit {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        module = importlib.import_module(f"tvmedit.cmd_{name}")
+        p = sub.add_parser(name, help=module.HELP, description=module.__doc__,
+                           formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.add_arguments(p)
+        p.set_defaults(_run=module.run)
+    return parser
+
+
+def main(argv=None):
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 0
+    try:
+        return args._run(args) or 0
+    except TvmError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return error.exit_code
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())
