@@ -1,0 +1,208 @@
+"""Rendering without a display: single images, videos (MP4, GIF, PNG folders) and contact sheets.
+
+Everything here draws through one ``Renderer`` on the process's shared EGL context and streams
+frames to the output as they are drawn, so memory stays flat however long the schedule is
+(except GIF, which Pillow writes in one go). Outputs are written under a temporary name next to
+the target and renamed at the end, so a failure never leaves a half-written file.
+"""
+
+import contextlib
+import math
+import os
+import shutil
+from pathlib import Path
+
+import imageio.v3 as iio
+import imageio_ffmpeg
+import numpy as np
+from tqdm import tqdm
+
+from player.camera import Camera
+from player.context import shared_headless_context
+from player.font import draw_text
+from player.renderer import BACKGROUND, Renderer
+
+FRAME_PATTERN = "frame_{:05d}.png"
+VIDEO_QUALITY = 7
+"""imageio-ffmpeg's 1..10 scale; 7 is x264 CRF 15, visually clean for flat-shaded meshes."""
+
+
+def render_frame(source, key, camera=None, size=(640, 480), grid=False, background=BACKGROUND, samples=4):
+    """One frame of ``source`` as an (H, W, 3) uint8 sRGB image, first row at the top.
+
+    Parameters
+    ----------
+    source : MeshSource (see ``player.source``)
+    key : (sequence_name, frame_index)
+    camera : ``Camera``; default frames ``source.bounds()`` from the front
+    size : (width, height) in pixels
+    """
+    with _renderer(source, size, grid, background, samples) as renderer:
+        renderer.draw(source.frame_mesh(key), _camera(camera, source.bounds(), size))
+        return renderer.read()
+
+
+def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit_deg_per_s=0.0,
+                  progress=True, grid=False, background=BACKGROUND, samples=4):
+    """Render ``keys`` in order into ``out`` and return its path.
+
+    The kind of output follows ``out``'s suffix: ``.mp4`` (H.264, yuv420p; an odd width or
+    height is rounded down to even, as yuv420p requires), ``.gif`` (looping), or no suffix for a
+    folder of ``frame_00000.png``, ``frame_00001.png``, ... An existing output is replaced; an
+    existing folder only if it holds nothing but such frames.
+
+    Parameters
+    ----------
+    source : MeshSource
+    keys : iterable of (sequence_name, frame_index), one per output frame
+    out : str or Path
+    fps : frames per second of the output (and of the orbit)
+    camera : ``Camera``; default frames ``source.bounds()`` so that no orbit angle cuts it
+    orbit_deg_per_s : the camera turns this many degrees of azimuth per second of output
+    progress : show a progress bar
+    """
+    keys = list(keys)
+    if not keys:
+        raise ValueError("nothing to render: the list of frames is empty")
+    if fps <= 0:
+        raise ValueError(f"fps should be positive, got {fps}")
+    out = Path(out)
+    kind = {".mp4": "mp4", ".gif": "gif", "": "folder"}.get(out.suffix.lower())
+    if kind is None:
+        raise ValueError(f"{out}: unknown output kind {out.suffix!r}; use .mp4, .gif, or no suffix for a folder of PNG frames")
+    width, height = (int(v) for v in size)
+    if kind == "mp4":
+        width, height = width - width % 2, height - height % 2
+    if kind == "folder" and out.exists() and not _is_frame_folder(out):
+        raise FileExistsError(f"{out} exists and holds other files than rendered frames; choose another output")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    temporary = out.with_name(f".{out.stem}.partial-{os.getpid()}{out.suffix}")
+
+    base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
+    bar = tqdm(keys, desc=f"render {out.name}", unit="frame", disable=not progress)
+    try:
+        with _renderer(source, (width, height), grid, background, samples) as renderer:
+            frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps))
+                      for i, key in enumerate(bar))
+            _WRITERS[kind](frames, temporary, (width, height), fps)
+        if kind == "folder" and out.exists():
+            shutil.rmtree(out)
+        os.replace(temporary, out)
+    finally:
+        bar.close()
+        if temporary.is_dir():
+            shutil.rmtree(temporary)
+        elif temporary.exists():
+            temporary.unlink()
+    return out
+
+
+def render(edit, out, size=(640, 480), **options):
+    """Render an edit: ``render_frames(edit.library, edit.schedule keys, out, size, **options)``.
+
+    ``edit.library`` is a MeshSource; ``edit.schedule`` lists frames as ``(sequence, frame)``
+    pairs or as objects with ``.sequence`` and ``.frame``.
+    """
+    keys = [(item.sequence, item.frame) if hasattr(item, "sequence") else tuple(item) for item in edit.schedule]
+    return render_frames(edit.library, keys, out, size=size, **options)
+
+
+def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True, camera=None,
+                  grid=False, background=BACKGROUND, samples=4):
+    """Render ``keys`` as tiles of one PNG grid, row by row, and return the image (H, W, 3) uint8.
+
+    All tiles share one camera, framed on the union of these frames only (not the whole source),
+    so a cycle of frames appears large and its motion comparable from tile to tile.
+
+    Parameters
+    ----------
+    columns : tiles per row (fewer if there are fewer frames)
+    tile : (width, height) of each tile in pixels
+    labels : True to label each tile "sequence frame", a list of strings (one per key), or
+        False for none
+    """
+    keys = list(keys)
+    if not keys:
+        raise ValueError("nothing to render: the list of frames is empty")
+    if labels is True:
+        labels = [f"{key[0]} {key[1]}" for key in keys]
+    elif labels and len(labels) != len(keys):
+        raise ValueError(f"labels should give one string per frame: {len(labels)} labels for {len(keys)} frames")
+    columns = max(1, min(int(columns), len(keys)))
+    rows = math.ceil(len(keys) / columns)
+    tw, th = (int(v) for v in tile)
+    meshes = [source.frame_mesh(key) for key in keys]
+    low = np.min([m[0].min(axis=0) for m in meshes], axis=0)
+    high = np.max([m[0].max(axis=0) for m in meshes], axis=0)
+    sheet = np.empty((rows * th, columns * tw, 3), np.uint8)
+    sheet[:] = np.round(np.asarray(background) * 255).astype(np.uint8)
+    with _renderer(source, (tw, th), grid, background, samples) as renderer:
+        cam = _camera(camera, (low, high), (tw, th))
+        for i, mesh in enumerate(meshes):
+            renderer.draw(mesh, cam)
+            image = renderer.read()
+            if labels:
+                draw_text(image, str(labels[i]), (2, 2), scale=1 if th < 100 else 2)
+            r, c = divmod(i, columns)
+            sheet[r * th:(r + 1) * th, c * tw:(c + 1) * tw] = image
+    out_png = Path(out_png)
+    out_png.parent.mkdir(parents=True, exist_ok=True)
+    temporary = out_png.with_name(f".{out_png.stem}.partial-{os.getpid()}.png")
+    try:
+        iio.imwrite(temporary, sheet)
+        os.replace(temporary, out_png)
+    finally:
+        temporary.unlink(missing_ok=True)
+    return sheet
+
+
+@contextlib.contextmanager
+def _renderer(source, size, grid, background, samples):
+    renderer = Renderer(shared_headless_context(), size, samples=samples, max_counts=source.max_counts(),
+                        background=background, grid=grid)
+    try:
+        yield renderer
+    finally:
+        renderer.release()
+
+
+def _draw(renderer, source, key, camera):
+    renderer.draw(source.frame_mesh(key), camera)
+    return renderer.read()
+
+
+def _camera(camera, bounds, size, all_azimuths=False):
+    aspect = size[0] / size[1]
+    if camera is None:
+        return Camera.framing(bounds, aspect, all_azimuths=all_azimuths)
+    return camera.with_aspect(aspect)
+
+
+def _is_frame_folder(path):
+    return path.is_dir() and all(p.suffix == ".png" and p.name.startswith("frame_") for p in path.iterdir())
+
+
+def _write_mp4(frames, path, size, fps):
+    writer = imageio_ffmpeg.write_frames(str(path), size, fps=fps, codec="libx264", pix_fmt_out="yuv420p",
+                                         quality=VIDEO_QUALITY, macro_block_size=2, ffmpeg_log_level="error")
+    writer.send(None)
+    try:
+        for image in frames:
+            writer.send(image)
+    finally:
+        writer.close()
+
+
+def _write_gif(frames, path, size, fps):
+    # Pillow merges consecutive identical frames into one longer frame; playback is the same.
+    iio.imwrite(path, np.stack(list(frames)), extension=".gif", plugin="pillow",
+                duration=1000.0 / fps, loop=0)
+
+
+def _write_folder(frames, path, size, fps):
+    path.mkdir()
+    for i, image in enumerate(frames):
+        iio.imwrite(path / FRAME_PATTERN.format(i), image)
+
+
+_WRITERS = {"mp4": _write_mp4, "gif": _write_gif, "folder": _write_folder}

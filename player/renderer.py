@@ -1,0 +1,192 @@
+"""Draws one frame of a time-varying mesh; shared by headless output and the realtime window.
+
+Topology changes every frame, so the renderer keeps one set of GPU buffers sized for the largest
+frame and overwrites the front of them each frame (``Buffer.write`` at offset 0), drawing only
+the frame's own face count; they grow only when a larger frame appears. The context decides
+where pixels go: headless rendering draws into the renderer's own (multisampled) framebuffer
+and reads it back, the window passes ``ctx.screen``.
+"""
+
+import moderngl
+import numpy as np
+
+from player.programs import load_program
+
+BACKGROUND = (0.12, 0.13, 0.15)
+"""Default clear colour, sRGB in 0..1."""
+
+_GROWTH = 1.25
+"""Buffers grow by this factor beyond the frame that outgrew them, so slowly growing
+sequences do not reallocate every frame."""
+
+
+class Renderer:
+    """Draw vertex-coloured meshes with a camera into an RGB framebuffer.
+
+    Parameters
+    ----------
+    ctx : moderngl.Context, from ``player.context``
+    size : (width, height) of the own framebuffer, pixels
+    samples : multisample anti-aliasing; clamped to what the context allows, 0 for none
+    max_counts : (max_vertices, max_faces) to size buffers up front (``MeshSource.max_counts()``)
+    background : sRGB (r, g, b) in 0..1
+    grid : draw a floor grid at z = 0
+    """
+
+    def __init__(self, ctx, size=(640, 480), samples=4, max_counts=(0, 0), background=BACKGROUND,
+                 grid=False):
+        width, height = (int(v) for v in size)
+        if width <= 0 or height <= 0:
+            raise ValueError(f"size should be two positive pixel counts, got {size!r}")
+        self.ctx = ctx
+        self.size = (width, height)
+        self.background = tuple(float(c) for c in background)
+        self.grid = grid
+        self._programs = {}
+        self._vaos = {}
+        self._vertex_capacity = self._face_capacity = 0
+        self._buffers = None
+        self._reserve(*max_counts)
+
+        self.samples = min(int(samples), ctx.max_samples) if samples else 0
+        self.framebuffer = ctx.simple_framebuffer(self.size, components=4)
+        self._multisample = None
+        if self.samples > 1:
+            try:
+                self._multisample = ctx.framebuffer(
+                    ctx.renderbuffer(self.size, 4, samples=self.samples),
+                    ctx.depth_renderbuffer(self.size, samples=self.samples))
+            except moderngl.Error:
+                self.samples = 0  # the context cannot multisample this size: draw aliased
+        self._pixels = np.empty((height, width, 3), np.uint8)
+
+        self._grid_program = load_program(ctx, "grid")
+        corners = np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32)
+        self._grid_vao = ctx.vertex_array(self._grid_program, [(ctx.buffer(corners), "2f", "in_corner")])
+
+    def draw(self, mesh, camera, framebuffer=None):
+        """Draw one frame.
+
+        Parameters
+        ----------
+        mesh : (positions (N, 3) float32, colours (N, 3) uint8, faces (M, 3) uint32,
+                normals (N, 3) float32 or None), as ``MeshSource.frame_mesh`` returns
+        camera : ``player.camera.Camera``; its aspect should match the target's
+        framebuffer : draw there instead of the own framebuffer (e.g. ``ctx.screen``)
+        """
+        positions, colours, faces, normals = mesh
+        n_vertices, n_faces = len(positions), len(faces)
+        _check(positions, colours, faces, normals)
+        self._reserve(n_vertices, n_faces)
+        self._buffers["in_position"].write(_contiguous(positions, np.float32))
+        self._buffers["in_colour"].write(_contiguous(colours, np.uint8))
+        if normals is not None:
+            self._buffers["in_normal"].write(_contiguous(normals, np.float32))
+        self._buffers["index"].write(_contiguous(faces, np.uint32))
+
+        target = framebuffer or self._multisample or self.framebuffer
+        target.use()
+        self.ctx.enable(moderngl.DEPTH_TEST)
+        self.ctx.disable(moderngl.CULL_FACE)
+        target.clear(*self.background, 1.0, depth=1.0)
+
+        facets = normals is None
+        program = self._program(facets)
+        view, projection = camera.view_matrix().tobytes(), camera.projection_matrix().tobytes()
+        program["view"].write(view)
+        program["projection"].write(projection)
+        if n_faces:
+            self._vao(facets).render(moderngl.TRIANGLES, vertices=3 * n_faces)
+        if self.grid:
+            self._draw_grid(target, camera, view, projection)
+
+        if framebuffer is None and self._multisample is not None:
+            self.ctx.copy_framebuffer(self.framebuffer, self._multisample)
+
+    def read(self):
+        """The own framebuffer's pixels, (H, W, 3) uint8, first row at the top of the image."""
+        self.framebuffer.read_into(self._pixels, components=3, alignment=1)
+        return self._pixels[::-1].copy()
+
+    def release(self):
+        for vao in self._vaos.values():
+            vao.release()
+        for buffer in (self._buffers or {}).values():
+            buffer.release()
+        for program in self._programs.values():
+            program.release()
+        self._grid_vao.release()
+        self._grid_program.release()
+        if self._multisample is not None:
+            self._multisample.release()
+        self.framebuffer.release()
+
+    def _reserve(self, n_vertices, n_faces):
+        """Make the buffers hold at least this many vertices and faces, growing if needed."""
+        if self._buffers is not None and n_vertices <= self._vertex_capacity and n_faces <= self._face_capacity:
+            return
+        vertices = max(self._vertex_capacity, int(n_vertices * _GROWTH) if self._buffers else n_vertices, 1)
+        faces = max(self._face_capacity, int(n_faces * _GROWTH) if self._buffers else n_faces, 1)
+        for vao in self._vaos.values():
+            vao.release()
+        self._vaos = {}
+        old = self._buffers or {}
+        self._buffers = {
+            "in_position": self._grown(old.get("in_position"), vertices * 12),
+            "in_colour": self._grown(old.get("in_colour"), vertices * 3),
+            "in_normal": self._grown(old.get("in_normal"), vertices * 12),
+            "index": self._grown(old.get("index"), faces * 12),
+        }
+        self._vertex_capacity, self._face_capacity = vertices, faces
+
+    def _grown(self, buffer, nbytes):
+        if buffer is not None and buffer.size >= nbytes:
+            return buffer
+        if buffer is not None:
+            buffer.release()
+        return self.ctx.buffer(reserve=nbytes, dynamic=True)
+
+    def _program(self, facets):
+        if facets not in self._programs:
+            self._programs[facets] = load_program(self.ctx, "mesh", **({"FACET_NORMALS": 1} if facets else {}))
+        return self._programs[facets]
+
+    def _vao(self, facets):
+        if facets not in self._vaos:
+            b = self._buffers
+            content = [(b["in_position"], "3f", "in_position"), (b["in_colour"], "3f1", "in_colour")]
+            if not facets:
+                content.append((b["in_normal"], "3f", "in_normal"))
+            self._vaos[facets] = self.ctx.vertex_array(self._program(facets), content, b["index"], index_element_size=4)
+        return self._vaos[facets]
+
+    def _draw_grid(self, target, camera, view, projection):
+        program = self._grid_program
+        program["view"].write(view)
+        program["projection"].write(projection)
+        program["centre"].value = tuple(camera.target[:2])
+        program["extent"].value = float(max(4.0 * camera.radius, 2.0))
+        program["spacing"].value = 0.5
+        program["line_colour"].value = tuple(min(c + 0.25, 1.0) for c in self.background)
+        self.ctx.enable(moderngl.BLEND)
+        self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        # The floor is see-through: it must not hide mesh parts below z = 0 drawn after it.
+        target.depth_mask = False
+        self._grid_vao.render(moderngl.TRIANGLE_STRIP)
+        target.depth_mask = True
+        self.ctx.disable(moderngl.BLEND)
+
+
+def _contiguous(array, dtype):
+    """The array as C-contiguous ``dtype`` without copying when it already is (memory maps are)."""
+    return np.ascontiguousarray(array, dtype=dtype)
+
+
+def _check(positions, colours, faces, normals):
+    n = len(positions)
+    if np.shape(positions) != (n, 3) or np.shape(colours) != (n, 3) or np.ndim(faces) != 2 or np.shape(faces)[1] != 3:
+        raise ValueError("mesh should be positions (N, 3), colours (N, 3), faces (M, 3), normals (N, 3) or None; "
+                         f"got shapes {np.shape(positions)}, {np.shape(colours)}, {np.shape(faces)}, "
+                         f"{None if normals is None else np.shape(normals)}")
+    if normals is not None and np.shape(normals) != (n, 3):
+        raise ValueError(f"normals should be ({n}, 3) like the positions, got shape {np.shape(normals)}")

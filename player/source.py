@@ -1,0 +1,134 @@
+"""Where the player gets its meshes: the ``MeshSource`` protocol and an in-memory implementation.
+
+A time-varying mesh changes vertex count and topology every frame, so the player asks for one
+frame at a time by key ``(sequence_name, frame_index)`` and receives flat arrays it can upload
+as they are (the library hands out memory-mapped slices; nothing is parsed while playing).
+
+The protocol, which the library implements and ``ArraySource`` shows in miniature:
+
+``frame_mesh(key) -> (positions, colours, faces, normals)``
+    positions : (N, 3) float32, metres, Z up
+    colours   : (N, 3) uint8, sRGB
+    faces     : (M, 3) uint32, indices into the N vertices
+    normals   : (N, 3) float32 unit vertex normals, or None (the renderer then shades facets)
+``bounds() -> ((xmin, ymin, zmin), (xmax, ymax, zmax))``
+    over every stored frame, for framing the camera once for a whole video;
+``max_counts() -> (max_vertices, max_faces)``
+    over every stored frame, so the renderer sizes its GPU buffers once.
+
+Normals are computed when frames are stored (here: at construction), never per displayed frame.
+"""
+
+from typing import Protocol
+
+import numpy as np
+
+from engine.errors import InputError
+
+
+class MeshSource(Protocol):
+    """Anything the renderer can play: see the module docstring for shapes and units."""
+
+    def frame_mesh(self, key): ...
+
+    def bounds(self): ...
+
+    def max_counts(self): ...
+
+
+def vertex_normals(positions, faces):
+    """Area-weighted unit vertex normals.
+
+    Each face adds its unnormalised cross product (twice its area along its normal) to its three
+    vertices, so large faces count more than slivers, which reconstructed meshes have many of.
+    Vertices that no face uses get (0, 0, 0).
+
+    Parameters
+    ----------
+    positions : (N, 3) float
+    faces : (M, 3) int
+
+    Returns
+    -------
+    (N, 3) float32
+
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    >>> vertex_normals(p, np.array([[0, 1, 2]])).tolist()
+    [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
+    """
+    p = np.asarray(positions, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    face_n = np.cross(p[f[:, 1]] - p[f[:, 0]], p[f[:, 2]] - p[f[:, 0]])
+    n = np.zeros_like(p)
+    for corner in range(3):
+        np.add.at(n, f[:, corner], face_n)
+    length = np.linalg.norm(n, axis=1, keepdims=True)
+    np.divide(n, length, out=n, where=length > 0)
+    return n.astype(np.float32)
+
+
+class ArraySource:
+    """A ``MeshSource`` over frames held in memory.
+
+    Parameters
+    ----------
+    frames : dict mapping key -> (positions (N, 3), colours (N, 3) uint8, faces (M, 3))
+        Keys are ``(sequence_name, frame_index)``; arrays are converted once to the protocol's
+        dtypes and normals are computed here.
+
+    >>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
+    >>> c = np.full((3, 3), 200, np.uint8)
+    >>> source = ArraySource({("walk", 0): (p, c, [[0, 1, 2]])})
+    >>> source.max_counts()
+    (3, 1)
+    >>> source.bounds()
+    ((0.0, 0.0, 0.0), (1.0, 1.0, 0.0))
+    """
+
+    def __init__(self, frames):
+        if not frames:
+            raise InputError("ArraySource needs at least one frame")
+        self._frames = {key: self._checked(key, *arrays) for key, arrays in frames.items()}
+        lows = np.array([m[0].min(axis=0) for m in self._frames.values()])
+        highs = np.array([m[0].max(axis=0) for m in self._frames.values()])
+        self._bounds = (tuple(lows.min(axis=0).tolist()), tuple(highs.max(axis=0).tolist()))
+        self._max_counts = (max(len(m[0]) for m in self._frames.values()),
+                            max(len(m[2]) for m in self._frames.values()))
+
+    def keys(self):
+        return list(self._frames)
+
+    def frame_mesh(self, key):
+        try:
+            return self._frames[key]
+        except KeyError:
+            raise InputError(f"frame {key!r} is not in this source") from None
+
+    def bounds(self):
+        return self._bounds
+
+    def max_counts(self):
+        return self._max_counts
+
+    @staticmethod
+    def _checked(key, positions, colours, faces):
+        positions = np.ascontiguousarray(positions, dtype=np.float32)
+        colours = np.asarray(colours)
+        faces = np.asarray(faces)
+        if positions.ndim != 2 or positions.shape[1] != 3 or len(positions) == 0:
+            raise InputError(f"frame {key!r}: positions should be a non-empty (N, 3) array, got shape {positions.shape}")
+        if not np.isfinite(positions).all():
+            raise InputError(f"frame {key!r}: positions contain NaN or infinite values")
+        if colours.shape != positions.shape:
+            raise InputError(f"frame {key!r}: colours should be ({len(positions)}, 3) like the positions, got shape {colours.shape}")
+        if colours.dtype != np.uint8:
+            if colours.min() < 0 or colours.max() > 255:
+                raise InputError(f"frame {key!r}: colours should be uint8 sRGB values in 0..255")
+            colours = colours.astype(np.uint8)
+        if faces.ndim != 2 or faces.shape[1] != 3:
+            raise InputError(f"frame {key!r}: faces should be an (M, 3) array, got shape {faces.shape}")
+        if len(faces) and (faces.min() < 0 or faces.max() >= len(positions)):
+            raise InputError(f"frame {key!r}: faces index vertices outside 0..{len(positions) - 1}")
+        faces = np.ascontiguousarray(faces, dtype=np.uint32)
+        colours = np.ascontiguousarray(colours)
+        return positions, colours, faces, vertex_normals(positions, faces)
