@@ -40,10 +40,12 @@ def test_several_sequences_keep_their_own_names_and_ranges():
 
 def test_ids_follow_sequence_order_then_start_frame():
     # Textons listed out of order still give ids by start frame within the sequence.
-    b = [texton(20, 29, 1, 0.1), texton(30, 39, 1, 0.1), texton(0, 9, 0, 0.1), texton(10, 19, 0, 0.1)]
+    b = [texton(20, 29, 1, 0.1), texton(30, 39, 1, 0.1),
+         texton(0, 9, 0, 0.1), texton(10, 19, 0, 0.1)]
     a = [texton(0, 4, 0, 0.1), texton(5, 9, 0, 0.1)]
     nodes = build_database({"b": (b, [(0, 19), (20, 39)]), "a": (a, [(0, 9)])})
-    assert [(n.id, n.name, n.start) for n in nodes] == [(0, "b/01", 0), (1, "b/02", 20), (2, "a/01", 0)]
+    assert [(n.id, n.name, n.start) for n in nodes] == [
+        (0, "b/01", 0), (1, "b/02", 20), (2, "a/01", 0)]
 
 
 def test_single_texton_cluster_is_left_out():
@@ -59,7 +61,8 @@ def test_database_never_empty_when_only_single_textons_exist():
     seq_b = [texton(0, 7, 0, 0.1)]
     with pytest.warns(UserWarning, match="single textons"):
         nodes = build_database({"a": (seq_a, [(0, 9), (10, 14)]), "b": (seq_b, [(0, 7)])})
-    assert [(n.name, n.start, n.end) for n in nodes] == [("a/01", 0, 9), ("a/02", 10, 14), ("b/01", 0, 7)]
+    assert [(n.name, n.start, n.end) for n in nodes] == [
+        ("a/01", 0, 9), ("a/02", 10, 14), ("b/01", 0, 7)]
 
 
 def test_no_fallback_when_another_sequence_repeats():
@@ -75,7 +78,8 @@ def test_no_textons_gives_an_empty_database():
 
 
 def test_structure_object_is_accepted_in_place_of_the_pair():
-    structure = SimpleNamespace(textons=[texton(0, 4, 0, 0.2), texton(5, 9, 0, 0.1)], clusters=[(0, 9)])
+    structure = SimpleNamespace(textons=[texton(0, 4, 0, 0.2), texton(5, 9, 0, 0.1)],
+                                clusters=[(0, 9)])
     assert [(n.start, n.end) for n in build_database({"s": structure})] == [(5, 9)]
 
 
