@@ -1,0 +1,572 @@
+"""Synthetic capture actor: a procedural human whose frames are made as a capture studio makes them.
+
+A smooth implicit body (ellipsoids and tapered capsules joined by a polynomial smooth-min) is
+posed by cyclic procedural motions. Each frame's surface is reconstructed on its own, with
+marching cubes on a voxel grid that has a random sub-voxel offset per frame, so the vertex
+count and the connectivity change every frame, as in the paper's TVM (Xu, Yamasaki, Aizawa
+2009, sec. 1). Vertices carry a little Gaussian noise and the colour of their garment.
+
+Conventions: Z up, metres, feet on z = 0, subject about 1.70 m tall, facing -Y; the actor
+moves on the spot (walking and running as on a treadmill), so a histogram of vertex positions
+about the first frame's centroid sees only the motion.
+
+Timeline: each motion is repeated for a number of cycles whose period and amplitude jitter a
+little from cycle to cycle; between two motions a transition of ``TRANSITION_S`` blends the
+last pose of one into the first pose of the next. Transition frames are labelled with the
+motion they lead *into*, so each segment of ``truth.json`` starts where the actor starts to
+change exercise. The random state of the timeline depends only on the seed, and that of a
+frame (grid offset, vertex and colour noise) only on the seed and the frame index, so any
+number of workers writes byte-identical files.
+
+>>> sorted(MOTIONS)
+['arm-circles', 'jumping-jacks', 'run', 'side-bends', 'squats', 'walk']
+>>> PRESETS["gym"]["motions"][0], PRESETS["walk"]["motions"]
+('walk', ['walk'])
+"""
+
+import json
+import multiprocessing
+import os
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .errors import InputError
+
+VERSION = 1                 # bump when the output for given options changes
+TRANSITION_S = 0.8          # blend between two motions, seconds
+NOISE_M = 0.002             # Gaussian vertex noise, metres
+PERIOD_JITTER = 0.04        # relative standard deviation of a cycle's period
+AMPLITUDE_JITTER = 0.06     # relative standard deviation of a cycle's amplitude
+# Voxel size that gives about 16,000 vertices per frame for this body (measured on the
+# gym preset); the vertex count grows with the inverse square of the voxel size.
+VOXEL_AT_16K = 0.0122
+
+# ---------------------------------------------------------------------------------------
+# Pose: a small vector of angles (radians) and offsets, one entry per name below.
+
+POSE = ["lift", "pitch", "roll", "yaw",
+        "hip_flex_l", "hip_abd_l", "knee_l", "toe_l", "sh_flex_l", "sh_abd_l", "elbow_l",
+        "hip_flex_r", "hip_abd_r", "knee_r", "toe_r", "sh_flex_r", "sh_abd_r", "elbow_r"]
+_IX = {name: i for i, name in enumerate(POSE)}
+
+
+def _pose(**values):
+    """Pose vector from keyword values; arms hang slightly away from the body by default."""
+    p = np.zeros(len(POSE))
+    p[_IX["sh_abd_l"]] = p[_IX["sh_abd_r"]] = 0.15
+    p[_IX["elbow_l"]] = p[_IX["elbow_r"]] = 0.15
+    p[_IX["hip_abd_l"]] = p[_IX["hip_abd_r"]] = 0.04
+    for name, value in values.items():
+        p[_IX[name]] = value
+    return p
+
+
+# Each motion maps a phase in [0, 1) of one full cycle and an amplitude (about 1) to a pose.
+# Phase 0 is the pose a cycle starts and ends in. The actor is a little asymmetric (left arm
+# swings more, bends go deeper to the left), as people are, so a full cycle is never two
+# mirror-image halves that a vertex histogram could not tell apart.
+
+def _walk(phase, a):
+    th = 2 * np.pi * phase
+    swing_l, swing_r = max(0.0, np.cos(th)) ** 1.5, max(0.0, -np.cos(th)) ** 1.5
+    return _pose(hip_flex_l=0.38 * a * np.sin(th), hip_flex_r=-0.38 * a * np.sin(th),
+                 knee_l=0.08 + 0.65 * a * swing_l, knee_r=0.08 + 0.65 * a * swing_r,
+                 toe_l=0.25 * swing_l, toe_r=0.25 * swing_r,
+                 sh_flex_l=-0.40 * a * np.sin(th), sh_flex_r=0.28 * a * np.sin(th),
+                 elbow_l=0.3 + 0.2 * max(0.0, -np.sin(th)), elbow_r=0.3 + 0.2 * max(0.0, np.sin(th)),
+                 yaw=0.07 * a * np.sin(th), pitch=0.04, roll=0.03 * np.cos(th))
+
+
+def _run(phase, a):
+    th = 2 * np.pi * phase
+    swing_l, swing_r = max(0.0, np.cos(th)), max(0.0, -np.cos(th))
+    return _pose(hip_flex_l=-0.15 + 0.75 * a * max(-0.45, np.sin(th + 0.4)),
+                 hip_flex_r=-0.15 + 0.75 * a * max(-0.45, -np.sin(th + 0.4)),
+                 knee_l=0.3 + 1.3 * a * swing_l, knee_r=0.3 + 1.3 * a * swing_r,
+                 toe_l=0.35, toe_r=0.35,
+                 sh_flex_l=-0.5 * a * np.sin(th), sh_flex_r=0.38 * a * np.sin(th),
+                 elbow_l=1.55, elbow_r=1.45, sh_abd_l=0.25, sh_abd_r=0.2,
+                 lift=0.06 * a * np.sin(th) ** 2, pitch=0.15, yaw=0.1 * a * np.sin(th))
+
+
+def _jumping_jacks(phase, a):
+    th = 2 * np.pi * phase
+    open_ = (1 - np.cos(th)) / 2
+    return _pose(hip_abd_l=0.05 + 0.32 * a * open_, hip_abd_r=0.05 + 0.30 * a * open_,
+                 sh_abd_l=0.15 + 2.75 * a * open_, sh_abd_r=0.15 + 2.6 * a * open_,
+                 elbow_l=0.1 + 0.15 * open_, elbow_r=0.1 + 0.2 * open_,
+                 knee_l=0.15 * open_, knee_r=0.15 * open_,
+                 toe_l=0.3 * abs(np.sin(th)), toe_r=0.3 * abs(np.sin(th)),
+                 lift=0.08 * a * abs(np.sin(th)))
+
+
+def _arm_circles(phase, a):
+    # Both arms sweep one big circle: down, forward, overhead, back, down.
+    th = 2 * np.pi * phase
+    return _pose(sh_flex_l=th, sh_flex_r=th - 0.25 * np.sin(th),
+                 sh_abd_l=0.35 + 0.15 * a * np.sin(th / 2) ** 2, sh_abd_r=0.3 + 0.1 * a * np.sin(th / 2) ** 2,
+                 elbow_l=0.05, elbow_r=0.1,
+                 pitch=-0.06 * a * np.sin(th), knee_l=0.1 + 0.1 * np.sin(th) ** 2,
+                 knee_r=0.1 + 0.1 * np.sin(th) ** 2, hip_flex_l=0.05, hip_flex_r=0.05,
+                 hip_abd_l=0.1, hip_abd_r=0.1)
+
+
+def _squats(phase, a):
+    # Going down takes 60 % of the cycle, coming up 40 %.
+    u = phase / 0.6 if phase < 0.6 else 1 + (phase - 0.6) / 0.4
+    depth = a * (1 - np.cos(np.pi * u)) / 2
+    return _pose(knee_l=1.95 * depth, knee_r=1.95 * depth,
+                 hip_flex_l=1.45 * depth, hip_flex_r=1.45 * depth,
+                 hip_abd_l=0.14, hip_abd_r=0.14, pitch=0.5 * depth,
+                 sh_flex_l=1.5 * depth + 0.1, sh_flex_r=1.4 * depth + 0.1,
+                 sh_abd_l=0.15, sh_abd_r=0.15, elbow_l=0.1, elbow_r=0.1)
+
+
+def _side_bends(phase, a):
+    # Bend to the left with the right arm overhead, then to the right with the left arm up.
+    th = 2 * np.pi * phase
+    left, right = max(0.0, np.sin(th)), max(0.0, -np.sin(th))
+    return _pose(roll=a * (0.55 * left - 0.45 * right),
+                 sh_abd_r=0.15 + 2.75 * a * left, sh_abd_l=0.15 + 2.65 * a * right,
+                 elbow_r=0.15 + 0.5 * left, elbow_l=0.15 + 0.5 * right,
+                 sh_flex_l=0.1 * left, sh_flex_r=0.1 * right,
+                 hip_abd_l=0.16, hip_abd_r=0.16)
+
+
+@dataclass(frozen=True)
+class Motion:
+    """A cyclic motion: pose function of (phase, amplitude), mean period and default cycles."""
+
+    pose: object
+    period_s: float
+    cycles: int
+
+
+MOTIONS = {
+    "walk": Motion(_walk, 1.1, 9),
+    "run": Motion(_run, 0.8, 12),
+    "jumping-jacks": Motion(_jumping_jacks, 1.0, 10),
+    "arm-circles": Motion(_arm_circles, 1.5, 7),
+    "squats": Motion(_squats, 2.2, 5),
+    "side-bends": Motion(_side_bends, 2.5, 4),
+}
+
+PRESETS = {
+    "walk": {"motions": ["walk"], "cycles": {"walk": 9},
+             "source": "tvmedit synth walk (procedural actor, like the paper's Walk)"},
+    "gym": {"motions": ["walk", "run", "jumping-jacks", "arm-circles", "squats", "side-bends"],
+            "cycles": {}, "source": "tvmedit synth gym (procedural actor, like the paper's BroadGym)"},
+}
+
+# ---------------------------------------------------------------------------------------
+# Timeline: cycles with jittered period and amplitude, transitions in between.
+
+
+def _timeline(motions, counts, seed):
+    """Pieces ``(kind, motion_index, t0, duration, amp0, amp1)`` back to back, the cycle
+    periods (seconds) of each motion, and the total duration. kind is "cycle" or
+    "transition" (into ``motion_index``); amp0 and amp1 are the amplitudes at the start and
+    end of a cycle, so the amplitude changes smoothly from one cycle to the next."""
+    rng = np.random.default_rng(np.random.SeedSequence([seed, 0]))
+    pieces, periods, t = [], [], 0.0
+    for m, (name, n) in enumerate(zip(motions, counts)):
+        motion = MOTIONS[name]
+        per = motion.period_s * (1 + np.clip(rng.normal(0, PERIOD_JITTER, n), -0.1, 0.1))
+        amp = 1 + np.clip(rng.normal(0, AMPLITUDE_JITTER, n + 1), -0.15, 0.15)
+        if m > 0:
+            pieces.append(("transition", m, t, TRANSITION_S, 0.0, 0.0))
+            t += TRANSITION_S
+        for i in range(n):
+            pieces.append(("cycle", m, t, float(per[i]), float(amp[i]), float(amp[i + 1])))
+            t += float(per[i])
+        periods.append([float(p) for p in per])
+    return pieces, periods, t
+
+
+def _pose_at(pieces, motions, t):
+    """Pose vector at time t (seconds) and the index of the motion it belongs to."""
+    for j, (kind, m, t0, dur, amp0, amp1) in enumerate(pieces):
+        if t < t0 + dur or j == len(pieces) - 1:
+            u = min(max((t - t0) / dur, 0.0), 1.0)
+            if kind == "cycle":
+                return MOTIONS[motions[m]].pose(u % 1.0, amp0 + (amp1 - amp0) * u), m
+            before = MOTIONS[motions[m - 1]].pose(0.0, pieces[j - 1][5])
+            after = MOTIONS[motions[m]].pose(0.0, pieces[j + 1][4])
+            w = u * u * (3 - 2 * u)
+            return (1 - w) * before + w * after, m
+    raise AssertionError("empty timeline")
+
+
+# ---------------------------------------------------------------------------------------
+# Body: forward kinematics from a pose to primitives.
+
+F, L, U = np.array([0.0, -1.0, 0.0]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
+SKIN, HAIR, SHIRT, TROUSERS, SHOES = range(5)
+PALETTE = np.array([[222, 170, 138], [62, 42, 30], [40, 92, 170], [48, 52, 68], [236, 236, 232]],
+                   dtype=float)
+MATERIALS = ["skin", "hair", "shirt", "trousers", "shoes"]
+BLEND = 0.03                # smooth-min radius, metres
+
+
+def _rot(axis, angle):
+    c, s = np.cos(angle), np.sin(angle)
+    i, j = {"x": (1, 2), "y": (2, 0), "z": (0, 1)}[axis]
+    r = np.eye(3)
+    r[i, i] = r[j, j] = c
+    r[j, i], r[i, j] = s, -s
+    return r
+
+
+def _limb(side_axis, fwd, up, flex, abd):
+    """Unit direction of a limb that hangs down, swung out by abd and forward by flex, and the
+    unit direction perpendicular to it in the swing plane (forward when hanging)."""
+    d = np.cos(abd) * (-np.cos(flex) * up + np.sin(flex) * fwd) + np.sin(abd) * side_axis
+    n = np.sin(flex) * up + np.cos(flex) * fwd
+    return d, n
+
+
+def primitives(pose):
+    """Primitives of the posed body, feet resting on z = 0 (plus the pose's jump lift).
+
+    Returns a list of tuples ``("cap", a, b, ra, rb, part)`` (tapered capsule from a to b)
+    and ``("ell", centre, axes (3, 3) columns, radii (3,), part)``; part names the body
+    part, which decides the colour.
+    """
+    p = dict(zip(POSE, pose))
+    trunk = _rot("z", p["yaw"]) @ _rot("y", p["roll"]) @ _rot("x", p["pitch"])
+    pelvis = _rot("z", 0.4 * p["yaw"])
+    tf, tl, tu = trunk @ F, trunk @ L, trunk @ U
+    prims = []
+    root = np.zeros(3)
+    prims.append(("ell", root + 0.02 * U, pelvis, np.array([0.165, 0.11, 0.11]), "pelvis"))
+    prims.append(("ell", root + tu * 0.17, trunk, np.array([0.145, 0.10, 0.13]), "belly"))
+    prims.append(("ell", root + tu * 0.36 - tf * 0.005, trunk, np.array([0.175, 0.11, 0.15]), "chest"))
+    neck = root + tu * 0.49
+    head = neck + tu * 0.16 + tf * 0.015
+    prims.append(("cap", neck, neck + tu * 0.10, 0.052, 0.048, "neck"))
+    prims.append(("ell", head, trunk, np.array([0.078, 0.095, 0.106]), "head"))
+    shoulder = {}
+    for s, side in ((1.0, "l"), (-1.0, "r")):
+        shoulder[side] = root + tu * 0.46 + tl * (0.175 * s)
+    prims.append(("cap", shoulder["l"], shoulder["r"], 0.058, 0.058, "girdle"))
+    feet = []
+    for s, side in ((1.0, "l"), (-1.0, "r")):
+        arm, n = _limb(tl * s, tf, tu, p["sh_flex_" + side], p["sh_abd_" + side])
+        elbow = shoulder[side] + 0.29 * arm
+        e = p["elbow_" + side]
+        fore = np.cos(e) * arm + np.sin(e) * n
+        wrist = elbow + 0.25 * fore
+        prims.append(("cap", shoulder[side], elbow, 0.05, 0.04, "upperarm"))
+        prims.append(("cap", elbow, wrist, 0.038, 0.03, "forearm"))
+        prims.append(("cap", wrist + 0.02 * fore, wrist + 0.1 * fore, 0.034, 0.03, "hand"))
+        pf, pl = pelvis @ F, pelvis @ L
+        hip = root + pl * (0.09 * s) - 0.06 * U
+        thigh, n = _limb(pl * s, pf, U, p["hip_flex_" + side], p["hip_abd_" + side])
+        knee = hip + 0.42 * thigh
+        k = p["knee_" + side]
+        shin = np.cos(k) * thigh - np.sin(k) * n
+        ankle = knee + 0.41 * shin
+        prims.append(("cap", hip, knee, 0.085, 0.055, "thigh"))
+        prims.append(("cap", knee, ankle, 0.052, 0.038, "shin"))
+        toe = p["toe_" + side]
+        foot = np.cos(toe) * pf - np.sin(toe) * U
+        heel = ankle - 0.045 * pf - 0.035 * U
+        tip = ankle + 0.16 * foot - 0.025 * U
+        prims.append(("cap", heel, tip, 0.042, 0.036, "foot"))
+        feet += [heel, tip, ankle]
+    # Feet rest on the floor, centred under the body, unless the actor jumps.
+    feet = np.array(feet)
+    sole = min(feet[0::3, 2].min() - 0.042, feet[1::3, 2].min() - 0.036)
+    shift = np.array([-feet[2::3, 0].mean(), -feet[2::3, 1].mean(), p["lift"] - sole])
+    moved = []
+    for prim in prims:
+        if prim[0] == "cap":
+            moved.append(("cap", prim[1] + shift, prim[2] + shift, *prim[3:]))
+        else:
+            moved.append(("ell", prim[1] + shift, *prim[2:]))
+    return moved
+
+
+def _part_material(part, local, t):
+    """Material of vertices nearest one primitive (local coords for the head, t for arms)."""
+    if part == "head":
+        hair = (local[:, 2] > 0.015) | ((local[:, 1] > 0.02) & (local[:, 2] > -0.045))
+        return np.where(hair, HAIR, SKIN)
+    if part == "upperarm":
+        return np.where(t < 0.5, SHIRT, SKIN)
+    return {"pelvis": TROUSERS, "belly": SHIRT, "chest": SHIRT, "neck": SKIN, "girdle": SHIRT,
+            "forearm": SKIN, "hand": SKIN, "thigh": TROUSERS, "shin": TROUSERS, "foot": SHOES}[part]
+
+
+# ---------------------------------------------------------------------------------------
+# Reconstruction: signed distance on a grid, marching cubes, colour.
+
+
+def _distance(prim, x, y, z):
+    """Signed distance of one primitive (negative inside) and, for capsules, the position t
+    along the axis; x, y, z broadcast (grid axes or flat vertex coordinates)."""
+    if prim[0] == "cap":
+        _, a, b, ra, rb, _ = prim
+        ba = b - a
+        qx, qy, qz = x - a[0], y - a[1], z - a[2]
+        t = np.clip((qx * ba[0] + qy * ba[1] + qz * ba[2]) / (ba @ ba + 1e-12), 0.0, 1.0)
+        d = np.sqrt((qx - t * ba[0]) ** 2 + (qy - t * ba[1]) ** 2 + (qz - t * ba[2]) ** 2)
+        return d - (ra + (rb - ra) * t), t
+    _, c, axes, r, _ = prim
+    qx, qy, qz = x - c[0], y - c[1], z - c[2]
+    k0 = k1 = 0.0
+    for i in range(3):
+        q = qx * axes[0, i] + qy * axes[1, i] + qz * axes[2, i]
+        k0 = k0 + (q / r[i]) ** 2
+        k1 = k1 + (q / r[i] ** 2) ** 2
+    k0 = np.sqrt(k0)
+    return k0 * (k0 - 1.0) / (np.sqrt(k1) + 1e-9), None
+
+
+def _bounds(prim):
+    if prim[0] == "cap":
+        _, a, b, ra, rb, _ = prim
+        r = max(ra, rb)
+        return np.minimum(a, b) - r, np.maximum(a, b) + r
+    _, c, axes, r, _ = prim
+    half = np.sqrt(((axes * r) ** 2).sum(axis=1))
+    return c - half, c + half
+
+
+def _field(prims, h, origin, shape):
+    """Smooth-min of all primitives on the grid ``origin + h * index``; each primitive is
+    evaluated only inside its own bounding box (grown by the blend radius)."""
+    field = np.full(shape, 1.0, dtype=np.float32)
+    k = np.float32(BLEND)
+    for prim in prims:
+        lo, hi = _bounds(prim)
+        i0 = np.maximum(np.floor((lo - BLEND - origin) / h).astype(int), 0)
+        i1 = np.minimum(np.ceil((hi + BLEND - origin) / h).astype(int) + 1, shape)
+        axes = [(origin[i] + h * np.arange(i0[i], i1[i])).astype(np.float32) for i in range(3)]
+        d, _ = _distance(prim, axes[0][:, None, None], axes[1][None, :, None], axes[2][None, None, :])
+        sub = field[i0[0]:i1[0], i0[1]:i1[1], i0[2]:i1[2]]
+        w = np.clip(0.5 + (sub - d) / (2 * k), 0.0, 1.0)
+        sub[...] = sub + w * (d - sub) - k * w * (1.0 - w)
+    return field
+
+
+def make_frame(pose, voxel, rng):
+    """One reconstructed frame of the actor in the given pose.
+
+    Returns ``vertices (V, 3) float32``, ``faces (F, 3) int32`` (outward winding) and
+    ``colours (V, 3) uint8``.
+    """
+    from skimage.measure import marching_cubes
+
+    prims = primitives(pose)
+    boxes = np.array([_bounds(p) for p in prims])
+    lo, hi = boxes[:, 0].min(axis=0) - 2 * voxel, boxes[:, 1].max(axis=0) + 2 * voxel
+    origin = lo - rng.uniform(0.0, voxel, 3)
+    shape = tuple(np.ceil((hi - origin) / voxel).astype(int) + 1)
+    field = _field(prims, voxel, origin, shape)
+    verts, faces, _, _ = marching_cubes(field, 0.0, spacing=(voxel,) * 3,
+                                        gradient_direction="descent", allow_degenerate=False)
+    verts = verts + origin + rng.normal(0.0, NOISE_M, verts.shape)
+    colours = _colours(prims, verts, rng)
+    return verts.astype(np.float32), faces.astype(np.int32), colours
+
+
+def _colours(prims, verts, rng):
+    """Garment colour of the nearest primitive, with a little brightness and hue noise."""
+    x, y, z = verts.T
+    dist = np.empty((len(prims), len(verts)))
+    ts = []
+    for i, prim in enumerate(prims):
+        dist[i], t = _distance(prim, x, y, z)
+        ts.append(t)
+    nearest = dist.argmin(axis=0)
+    material = np.empty(len(verts), dtype=int)
+    for i, prim in enumerate(prims):
+        sel = nearest == i
+        if not sel.any():
+            continue
+        part = prim[-1]
+        local = (verts[sel] - prim[1]) @ prim[2] if prim[0] == "ell" else None
+        t = ts[i][sel] if ts[i] is not None else None
+        material[sel] = _part_material(part, local, t)
+    colour = PALETTE[material] * rng.uniform(0.92, 1.06, (len(verts), 1))
+    colour += rng.normal(0.0, 3.0, colour.shape)
+    return np.clip(np.rint(colour), 0, 255).astype(np.uint8)
+
+
+def write_ply(path, verts, faces, colours):
+    """Binary little-endian PLY: float x, y, z, uchar red, green, blue; uchar-int face lists."""
+    vertex = np.empty(len(verts), dtype=[("p", "<f4", 3), ("c", "u1", 3)])
+    vertex["p"], vertex["c"] = verts, colours
+    face = np.empty(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
+    face["n"], face["i"] = 3, faces
+    header = ("ply\nformat binary_little_endian 1.0\ncomment tvmedit synth\n"
+              f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
+              "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    with open(path, "wb") as f:
+        f.write(header.encode("ascii"))
+        f.write(vertex.tobytes())
+        f.write(face.tobytes())
+
+
+# ---------------------------------------------------------------------------------------
+# Sequence generation.
+
+
+def _frame_job(job):
+    out, index, pose, voxel, seed = job
+    rng = np.random.default_rng(np.random.SeedSequence([seed, 1, index]))
+    verts, faces, colours = make_frame(pose, voxel, rng)
+    write_ply(Path(out) / f"frame_{index:05d}.ply", verts, faces, colours)
+    return index, len(verts)
+
+
+def _segments(labels):
+    segments, start = [], 0
+    for i in range(1, len(labels) + 1):
+        if i == len(labels) or labels[i] != labels[start]:
+            segments.append({"start": start, "end": i - 1, "label": labels[start]})
+            start = i
+    return segments
+
+
+def _acf_at(poses, lag):
+    """Normalised autocorrelation of a pose sequence (T, D) at an integer lag."""
+    x = poses - poses.mean(axis=0)
+    if lag < 1 or lag >= len(x):
+        return None
+    den = (x * x).sum()
+    return float((x[:-lag] * x[lag:]).sum() / den * len(x) / (len(x) - lag)) if den > 0 else None
+
+
+
+
+def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0):
+    """Pose and label of every frame, without reconstructing any surface.
+
+    Returns ``(poses, labels, motions, periods)``: poses ``(N, len(POSE)) float``, one label
+    per frame, the motion names in order, and each motion's cycle periods in seconds.
+
+    >>> poses, labels, motions, periods = plan("walk")
+    >>> poses.shape[1] == len(POSE), labels[0], len(periods[0])
+    (True, 'walk', 9)
+    """
+    if preset not in PRESETS:
+        raise InputError(f"Unknown preset '{preset}'; choose one of {', '.join(PRESETS)}.")
+    motions = list(PRESETS[preset]["motions"] if motions is None else motions)
+    unknown = [m for m in motions if m not in MOTIONS]
+    if unknown or not motions:
+        raise InputError(f"Unknown motion '{unknown[0] if unknown else ''}'; "
+                         f"choose from {', '.join(MOTIONS)}.")
+    if cycles is not None and (int(cycles) != cycles or cycles < 1):
+        raise InputError(f"The number of cycles must be a positive whole number, not {cycles}.")
+    if not 0 < fps <= 120:
+        raise InputError(f"The frame rate must be above 0 and at most 120 fps, not {fps}.")
+    counts = [cycles if cycles is not None else PRESETS[preset]["cycles"].get(m, MOTIONS[m].cycles)
+              for m in motions]
+    pieces, periods, total = _timeline(motions, counts, seed)
+    n = max(1, int(round(total * fps)))
+    poses, labels = [], []
+    for k in range(n):
+        pose, m = _pose_at(pieces, motions, min(k / fps, total))
+        poses.append(pose)
+        labels.append(motions[m])
+    return np.array(poses), labels, motions, periods
+
+
+def voxel_size(vertices):
+    """Grid spacing (metres) that gives about ``vertices`` vertices per frame."""
+    return VOXEL_AT_16K * np.sqrt(16000.0 / vertices)
+
+
+def _prepare(out, overwrite):
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"Output path {out} is a file, not a folder.")
+    if out.exists() and any(out.iterdir()):
+        if not overwrite:
+            raise InputError(f"Output folder {out} is not empty; pass --overwrite to replace it.")
+        # truth.json goes first, so an interrupted run leaves a folder marked incomplete.
+        for name in ["truth.json", *sorted(p.name for p in out.glob("frame_*.ply"))]:
+            (out / name).unlink(missing_ok=True)
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=16000, seed=0,
+             workers=None, overwrite=False, progress=True):
+    """Write a synthetic TVM take into folder ``out`` and return its truth (``truth.json``).
+
+    ``out/frame_00000.ply, ...`` are binary PLY frames; ``truth.json`` (written last, by
+    rename) holds fps, frames, per-frame labels, segments ``{start, end (inclusive), label}``,
+    ``periods_hint`` (the true mean period of each segment), ``vertex_counts`` and the
+    generator settings. ``motions`` (names from :data:`MOTIONS`) and ``cycles`` override the
+    preset. Files are identical for any number of ``workers`` (default: all cores).
+    """
+    if not 1000 <= vertices <= 1_000_000:
+        raise InputError(f"The vertex target must be between 1000 and 1000000, not {vertices}.")
+    if workers is not None and workers < 1:
+        raise InputError(f"The number of workers must be at least 1, not {workers}.")
+    poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed)
+    out = _prepare(out, overwrite)
+    voxel = float(voxel_size(vertices))
+    jobs = [(str(out), k, pose, voxel, seed) for k, pose in enumerate(poses)]
+    workers = min(workers or os.cpu_count() or 1, len(jobs))
+    counts = [0] * len(jobs)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=len(jobs), unit="frame", desc=f"synth {out.name}")
+    try:
+        if workers == 1:
+            results = map(_frame_job, jobs)
+            pool = None
+        else:
+            pool = multiprocessing.get_context("fork").Pool(workers)
+            results = pool.imap_unordered(_frame_job, jobs)
+        for index, count in results:
+            counts[index] = count
+            if bar is not None:
+                bar.update()
+    finally:
+        if workers > 1:
+            pool.terminate()
+        if bar is not None:
+            bar.close()
+    segments = _segments(labels)
+    hints = []
+    for seg in segments:
+        per = periods[motions.index(seg["label"])]
+        period_s = float(np.mean(per))
+        lag = int(round(period_s * fps))
+        acf = _acf_at(poses[seg["start"]:seg["end"] + 1], lag)
+        hints.append({**seg, "period_s": round(period_s, 4), "period_frames": round(period_s * fps, 3),
+                      "acf_peak": None if acf is None else round(acf, 3)})
+    truth = {
+        "source": PRESETS[preset]["source"] if motions == PRESETS[preset]["motions"]
+        else f"tvmedit synth ({', '.join(motions)})",
+        "fps": fps,
+        "frames": len(jobs),
+        "labels": labels,
+        "segments": segments,
+        "periods_hint": hints,
+        "periods_hint_note": "true mean period of the segment's cycles (the actor's timeline); "
+                             "acf_peak is the pose autocorrelation at that lag",
+        "transitions": f"the {TRANSITION_S} s blend between two motions is labelled with the "
+                       "motion it leads into",
+        "coordinates": "Z up, metres, feet on z = 0; subject faces -Y and moves on the spot",
+        "vertex_counts": counts,
+        "generator": {"tool": "tvmedit synth", "version": VERSION, "preset": preset,
+                      "motions": motions, "cycles": cycles, "seed": seed, "vertices": vertices,
+                      "voxel_m": round(voxel, 6), "noise_m": NOISE_M,
+                      "transition_s": TRANSITION_S, "cycle_periods_s": [
+                          [round(p, 4) for p in per] for per in periods]},
+    }
+    part = out / "truth.json.part"
+    part.write_text(json.dumps(truth, indent=1))
+    os.replace(part, out / "truth.json")
+    return truth
