@@ -1,0 +1,540 @@
+"""The report of a built library (``tvmedit report``): one HTML page with the paper's figures.
+
+What a build found, in the order of the paper:
+
+* **Motion structure** (section 4), per sequence: the atom distance d_A(t, t_first) from the
+  first atom of the current texton, with the texton starts as black points (Figure 4) and the
+  motion clusters as alternating bands. Where a ``truth.json`` sits beside the sequence's
+  frames, its segments are drawn as a labelled band under the detected clusters and the
+  boundary precision and recall of the clusters are printed (Figure 5's measure), computed
+  with ``engine.evaluate.boundary_scores`` at the tolerance of ``benchmarks/accuracy.py``.
+* **Motion database** (section 5, eq. (9)): one contact sheet of evenly spaced frames per
+  node, captioned with its length, texton distance d_T (eq. (6)) and motion intensity
+  (eq. (11)), as Figure 6 shows selected textons.
+* **Motion graph** (section 6, Figure 7): nodes on a circle with a rendered frame each, kept
+  edges labelled with their weight (eq. (12)); edges pruned by eq. (14) are hidden, or drawn
+  faint with ``show_pruned``.
+* **Transitions**: every kept edge with its transition frames (eq. (10)), cheapest first, and
+  the two frames side by side for the cheapest and the costliest.
+
+The page is self-contained: ``index.html`` with PNG files beside it, referenced relatively,
+no script and no external style. ``report.json`` holds the same numbers (the texton starts
+each curve marks, precision, recall) for scripts and tests. Everything is written into a
+temporary folder next to the target and renamed at the end, so a failure leaves nothing
+half-written.
+
+Matplotlib is an optional dependency (``pip install 'tvmedit[report]'``) and is imported
+only when a figure is drawn, with the Agg backend, so no display is needed.
+"""
+
+import html
+import json
+import math
+import os
+import shutil
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from engine.errors import TvmError
+
+#: Largest |detected - true| cluster start, in frames, that counts as a hit; the value
+#: ``benchmarks/accuracy.py`` scores with, so the page and the benchmark print the same figures.
+TOLERANCE_FRAMES = 10
+
+#: Frames per node contact sheet (evenly spaced over the texton, first and last included).
+SHEET_FRAMES = 8
+
+#: Cheapest and costliest transitions shown as frame pairs (each end of the sorted table).
+PAIRS_EACH_END = 3
+
+CURVE_SIZE = (960, 300)
+GRAPH_SIZE = (900, 900)
+SHEET_TILE = (120, 160)
+THUMB_SIZE = (60, 80)
+PAIR_TILE = (150, 200)
+
+_INSTALL = "matplotlib is needed for reports; install it with: pip install 'tvmedit[report]'"
+_BAND_COLOURS = ("#dfe9f5", "#f5e9d9")
+
+
+def pyplot():
+    """``matplotlib.pyplot`` on the Agg backend, or a TvmError saying how to install it."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise TvmError(_INSTALL) from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _figure(size):
+    plt = pyplot()
+    # 100 dpi and no tight bounding box, so the PNG is exactly ``size`` pixels.
+    return plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
+
+
+def _save(fig, out_png):
+    fig.savefig(out_png, dpi=100, facecolor="white")
+    pyplot().close(fig)
+
+
+def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None, fps=None,
+                         title="", size=CURVE_SIZE):
+    """Figure 4 for one sequence: d_A(t, t_first) with texton starts and cluster bands.
+
+    Parameters
+    ----------
+    curve : (T,) array_like
+        d_A(t, t_first) for every frame t (NaN where undefined, e.g. near the ends).
+    textons : list of (start, end) or objects with ``.start`` and ``.end``
+        The sequence's textons; each start is marked with a black point on the curve.
+    clusters : list of (start, end)
+        Motion clusters, inclusive; drawn as alternating bands behind the curve and as a
+        numbered strip under it.
+    truth_segments : list of dicts with "start", "end" (inclusive) and "label", optional
+        True segments (``truth.json``), drawn as a labelled strip under the clusters.
+    fps : float, optional
+        Adds the time in seconds to the x-axis label.
+    size : (width, height) of the PNG in pixels
+
+    Returns
+    -------
+    dict
+        ``texton_starts``: the x positions (frames) of the plotted markers, in order;
+        ``size``: the PNG's (width, height).
+    """
+    curve = np.asarray(curve, dtype=np.float64)
+    starts = sorted(int(_start_end(t)[0]) for t in textons)
+    clusters = [tuple(int(v) for v in _start_end(c)) for c in clusters]
+    strips = 2 if truth_segments is not None else 1
+    fig = _figure(size)
+    grid = fig.add_gridspec(1 + strips, 1, height_ratios=[6] + [1] * strips, hspace=0.08,
+                            left=0.07, right=0.99, top=0.9 if title else 0.96, bottom=0.16)
+    ax = fig.add_subplot(grid[0])
+    for k, (s, e) in enumerate(clusters):
+        ax.axvspan(s - 0.5, e + 0.5, color=_BAND_COLOURS[k % 2], lw=0)
+    t = np.arange(len(curve))
+    ax.plot(t, curve, color="#3060a0", lw=1.2, label="d_A(t, t_first)")
+    ys = [curve[s] if 0 <= s < len(curve) and np.isfinite(curve[s]) else 0.0 for s in starts]
+    ax.plot(starts, ys, "o", color="black", ms=4, label="texton start")
+    ax.set_xlim(-0.5, max(len(curve), 1) - 0.5)
+    ax.set_ylabel("atom distance")
+    ax.tick_params(labelbottom=False)
+    ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
+    if title:
+        ax.set_title(title, fontsize=10)
+    rows = [("detected", [(s, e, f"C{k}") for k, (s, e) in enumerate(clusters)])]
+    if truth_segments is not None:
+        rows.append(("truth", [(int(g["start"]), int(g["end"]), str(g.get("label", "")))
+                               for g in truth_segments]))
+    for r, (name, spans) in enumerate(rows):
+        strip = fig.add_subplot(grid[1 + r], sharex=ax)
+        for k, (s, e, label) in enumerate(spans):
+            strip.axvspan(s - 0.5, e + 0.5, color=_BAND_COLOURS[k % 2], ec="#808080", lw=0.5)
+            strip.text((s + e) / 2, 0.5, label, ha="center", va="center", fontsize=7, clip_on=True)
+        strip.set_yticks([0.5], [name], fontsize=8)
+        strip.set_ylim(0, 1)
+        strip.tick_params(labelbottom=r == len(rows) - 1)
+    unit = f"frame ({fps:g} fps)" if fps else "frame"
+    fig.axes[-1].set_xlabel(unit)
+    _save(fig, out_png)
+    return {"texton_starts": starts, "size": list(size)}
+
+
+def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_SIZE):
+    """Figure 7: the motion graph with weights on the edges and a rendered frame per node.
+
+    Parameters
+    ----------
+    graph : networkx.DiGraph
+        As ``engine.graph.graph_from`` makes it: node attribute ``name``, edge attribute
+        ``weight``, and ``graph.graph["unpruned"]`` ({(i, j): weight}) for the pruned edges.
+    thumbnails : dict of node -> (H, W, 3) uint8, optional
+        Drawn at the node's place; nodes without one are drawn as discs.
+    show_pruned : bool
+        Draw the edges that pruning removed, faint and dashed, without labels.
+    size : (width, height) of the PNG in pixels
+
+    Returns
+    -------
+    dict
+        ``positions``: {node: (x, y)} in the unit square; ``edges``: kept edges drawn;
+        ``pruned``: pruned edges drawn (empty unless ``show_pruned``); ``size``.
+    """
+    from matplotlib.offsetbox import AnnotationBbox, OffsetImage
+    from matplotlib.patches import FancyArrowPatch
+
+    nodes = sorted(graph.nodes)
+    positions = _circle(nodes)
+    thumbnails = thumbnails or {}
+    fig = _figure(size)
+    ax = fig.add_axes([0, 0, 1, 1])
+    ax.set_xlim(-0.2, 1.2)
+    ax.set_ylim(-0.2, 1.2)
+    ax.set_aspect("equal")
+    ax.axis("off")
+    # Node radius in data units (the axes span 1.4 units): half the larger side of a
+    # thumbnail, or a fixed disc.
+    thumb_px = max((max(im.shape[:2]) for im in thumbnails.values()), default=0)
+    radius = max(0.03, 0.55 * thumb_px * 1.4 / min(size))
+    kept = sorted(graph.edges)
+    pruned = []
+    if show_pruned:
+        pruned = sorted(e for e in graph.graph.get("unpruned", {}) if not graph.has_edge(*e)
+                        and e[0] in graph and e[1] in graph)
+    weights = [graph.edges[e]["weight"] for e in kept]
+    cmap = pyplot().get_cmap("viridis")
+    low, high = (min(weights), max(weights)) if weights else (0.0, 1.0)
+    for edge in pruned:
+        _arrow(ax, FancyArrowPatch, positions, edge, radius, color="#b0b0b0", lw=0.7, ls="--",
+               alpha=0.6, zorder=1)
+    for edge, w in zip(kept, weights):
+        colour = cmap(0.85 * (w - low) / (high - low) if high > low else 0.0)
+        mid = _arrow(ax, FancyArrowPatch, positions, edge, radius, color=colour, lw=1.4, zorder=2)
+        ax.text(*mid, _fmt(w), fontsize=7, ha="center", va="center", zorder=4,
+                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": colour, "lw": 0.6})
+    for n in nodes:
+        x, y = positions[n]
+        if n in thumbnails:
+            image = OffsetImage(thumbnails[n], zoom=1.0)
+            ax.add_artist(AnnotationBbox(image, (x, y), frameon=True, pad=0.1, zorder=3))
+        else:
+            ax.add_patch(pyplot().Circle((x, y), radius * 0.5, color="#3060a0", zorder=3))
+        label = str(graph.nodes[n].get("name", n))
+        dx, dy = x - 0.5, y - 0.5
+        norm = math.hypot(dx, dy) or 1.0
+        ax.text(x + dx / norm * (radius + 0.04), y + dy / norm * (radius + 0.04), f"{n}: {label}",
+                fontsize=8, ha="center", va="center", zorder=5,
+                bbox={"boxstyle": "round,pad=0.2", "fc": "#fff8e0", "ec": "none", "alpha": 0.9})
+    mu = graph.graph.get("mu")
+    note = f"{len(kept)} transitions kept" + (f" (mu = {mu:g})" if mu is not None else "")
+    if show_pruned:
+        note += f", {len(pruned)} pruned (dashed)"
+    ax.text(0.01, 0.01, note, transform=ax.transAxes, fontsize=8, color="#404040")
+    _save(fig, out_png)
+    return {"positions": {n: tuple(positions[n]) for n in nodes}, "edges": kept,
+            "pruned": pruned, "size": list(size)}
+
+
+def _circle(nodes):
+    # A circle keeps every node visible and every chord distinct, which a dense graph of a
+    # few dozen nodes needs more than a force layout's clusters; first node at the top.
+    n = len(nodes)
+    if n == 1:
+        return {nodes[0]: (0.5, 0.5)}
+    return {node: (0.5 + 0.5 * math.sin(2 * math.pi * k / n), 0.5 + 0.5 * math.cos(2 * math.pi * k / n))
+            for k, node in enumerate(nodes)}
+
+
+def _arrow(ax, arrow_class, positions, edge, radius, **style):
+    # Both directions of a pair bend to their own side (arc3 bends to the right of travel),
+    # so i -> j and j -> i are two arcs with a label each; returns the label position.
+    (x1, y1), (x2, y2) = positions[edge[0]], positions[edge[1]]
+    # Stop at the thumbnail's edge: shorten the chord by the node radius at both ends.
+    length = math.hypot(x2 - x1, y2 - y1) or 1.0
+    ux, uy = (x2 - x1) / length * radius, (y2 - y1) / length * radius
+    x1, y1, x2, y2 = x1 + ux, y1 + uy, x2 - ux, y2 - uy
+    rad = 0.15
+    patch = arrow_class((x1, y1), (x2, y2), connectionstyle=f"arc3,rad={rad}", arrowstyle="-|>",
+                        mutation_scale=12, shrinkA=0, shrinkB=0, **style)
+    ax.add_patch(patch)
+    # Midpoint of the quadratic Bezier that arc3 draws: chord midpoint + rad/2 * (dy, -dx).
+    return ((x1 + x2) / 2 + rad / 2 * (y2 - y1), (y1 + y2) / 2 - rad / 2 * (x2 - x1))
+
+
+def _fmt(value):
+    return f"{value:.3g}" if math.isfinite(value) else "inf"
+
+
+def _start_end(item):
+    if hasattr(item, "start"):
+        return item.start, item.end
+    if isinstance(item, dict):
+        return item["start"], item["end"]
+    return item[0], item[1]
+
+
+def write_report(library, out, show_pruned=False, progress=True, source=None):
+    """Write the report of ``library`` into folder ``out`` and return the path of its index.html.
+
+    Parameters
+    ----------
+    library : engine.Library
+        An opened library (``sequences``, ``structure(name)``, ``nodes``, ``graph``).
+    out : str or Path
+        Folder to create; an existing report there is replaced, any other existing folder
+        is refused.
+    show_pruned : bool
+        Draw the pruned edges faintly in the motion graph.
+    progress : bool
+        Print one line per step on stderr.
+    source : MeshSource, optional
+        Where rendered frames come from; the library itself by default.
+    """
+    pyplot()
+    out = Path(out)
+    if out.exists() and not _is_report(out):
+        raise TvmError(f"{out} exists and is not a report folder; choose another output folder")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    temporary = out.with_name(f".{out.name}.partial-{os.getpid()}")
+    if temporary.exists():
+        shutil.rmtree(temporary)
+    temporary.mkdir()
+    say = _say if progress else (lambda *a: None)
+    try:
+        page = _Report(library, source if source is not None else library, temporary, say)
+        html_text, summary = page.build(show_pruned)
+        (temporary / "index.html").write_text(html_text, encoding="utf-8")
+        (temporary / "report.json").write_text(json.dumps(summary, indent=1), encoding="utf-8")
+        if out.exists():
+            shutil.rmtree(out)
+        os.replace(temporary, out)
+    finally:
+        if temporary.exists():
+            shutil.rmtree(temporary)
+    return out / "index.html"
+
+
+def _is_report(path):
+    return path.is_dir() and (not any(path.iterdir()) or (path / "report.json").exists())
+
+
+def _say(message):
+    print(message, file=sys.stderr, flush=True)
+
+
+class _Report:
+    """Builds the page section by section, writing figures into ``folder`` as it goes."""
+
+    def __init__(self, library, source, folder, say):
+        self.library = library
+        self.source = source
+        self.folder = folder
+        self.say = say
+        self.fps = {seq.name: float(seq.fps) for seq in library.sequences}
+
+    def build(self, show_pruned):
+        graph = self.library.graph
+        nodes = sorted(self.library.nodes, key=lambda n: n.id)
+        summary = {"sequences": [], "nodes": [], "graph": {}, "transitions": []}
+        sections = [
+            self.structure_section(summary),
+            self.database_section(nodes, summary),
+            self.graph_section(graph, nodes, show_pruned, summary),
+            self.transitions_section(graph, nodes, summary),
+        ]
+        summary["images"] = sorted(p.name for p in self.folder.glob("*.png"))
+        return _page(sections), summary
+
+    def structure_section(self, summary):
+        parts = ["<h2 id='structure'>Motion structure</h2>",
+                 "<p>Atom distance d<sub>A</sub>(t, t<sub>first</sub>) from the first atom of the "
+                 "current texton (Figure 4); black points mark texton starts, bands the motion "
+                 "clusters.</p>"]
+        for k, seq in enumerate(self.library.sequences):
+            self.say(f"report: structure of {seq.name}")
+            structure = self.library.structure(seq.name)
+            truth = _truth_beside(seq)
+            segments = _scaled_segments(truth, seq.fps) if truth else None
+            png = f"structure-{k:02d}.png"
+            plotted = atom_distance_figure(structure.curve, structure.textons, structure.clusters,
+                                           self.folder / png, truth_segments=segments, fps=seq.fps,
+                                           title=seq.name)
+            row = {"name": seq.name, "image": png, "texton_starts": plotted["texton_starts"],
+                   "clusters": [list(map(int, c)) for c in structure.clusters],
+                   "textons": len(structure.textons)}
+            facts = (f"{len(structure.clusters)} clusters, {len(structure.textons)} textons, "
+                     f"{len(structure.curve)} frames at {seq.fps:g} fps")
+            parts.append(f"<h3>{_e(seq.name)}</h3><p>{_e(facts)}</p>"
+                         f"<img src='{png}' width='{CURVE_SIZE[0]}' height='{CURVE_SIZE[1]}' "
+                         f"alt='atom distance of {_e(seq.name)}'>")
+            if segments is not None:
+                from engine.evaluate import boundary_scores
+
+                precision, recall, matches = boundary_scores(structure.clusters, segments,
+                                                             TOLERANCE_FRAMES)
+                self.say(f"report: {seq.name}: cluster boundaries against truth.json: precision "
+                         f"{precision:.3f}, recall {recall:.3f}")
+                row.update(precision=precision, recall=recall, tolerance_frames=TOLERANCE_FRAMES,
+                           truth_segments=len(segments))
+                parts.append(
+                    f"<p class='score'>Cluster boundaries against truth.json "
+                    f"(tolerance {TOLERANCE_FRAMES} frames): precision {precision:.3f}, "
+                    f"recall {recall:.3f} ({len(matches)} of {len(_inner(structure.clusters))} "
+                    f"detected, {len(_inner(segments))} true boundaries matched)</p>")
+            summary["sequences"].append(row)
+        return "\n".join(parts)
+
+    def database_section(self, nodes, summary):
+        from player.headless import contact_sheet
+
+        parts = ["<h2 id='database'>Motion database</h2>",
+                 "<p>The representative texton of each cluster, eq. (9): the one with the smallest "
+                 "texton distance d<sub>T</sub> (Figure 6).</p>"]
+        if not nodes:
+            parts.append("<p>The database holds no motions.</p>")
+        for node in nodes:
+            self.say(f"report: contact sheet of {node.name}")
+            frames = _spread(node.start, node.end, SHEET_FRAMES)
+            png = f"node-{node.id:03d}.png"
+            contact_sheet(self.source, [(node.sequence, f) for f in frames], self.folder / png,
+                          columns=len(frames), tile=SHEET_TILE,
+                          labels=[f"{f}" for f in frames])
+            n_frames = node.end - node.start + 1
+            fps = self.fps.get(node.sequence, 0.0)
+            seconds = n_frames / fps if fps else float("nan")
+            intensity = node.intensity if node.intensity is not None else float("nan")
+            caption = (f"{node.id}: {node.name}, frames {node.start}-{node.end} of {node.sequence}, "
+                       f"{n_frames} frames ({seconds:.2f} s), texton distance "
+                       f"{node.texton_distance:.4g}, motion intensity {intensity:.4g}")
+            parts.append(f"<figure><img src='{png}' width='{SHEET_TILE[0] * len(frames)}' "
+                         f"height='{SHEET_TILE[1]}' alt='{_e(node.name)}'>"
+                         f"<figcaption>{_e(caption)}</figcaption></figure>")
+            summary["nodes"].append({"id": node.id, "name": node.name, "image": png,
+                                     "frames": frames, "n_frames": n_frames, "seconds": seconds,
+                                     "texton_distance": node.texton_distance,
+                                     "intensity": node.intensity})
+        return "\n".join(parts)
+
+    def graph_section(self, graph, nodes, show_pruned, summary):
+        from player.headless import render_frame
+
+        self.say("report: motion graph")
+        thumbnails = {}
+        for node in nodes:
+            key = (node.sequence, (node.start + node.end) // 2)
+            thumbnails[node.id] = render_frame(self.source, key, camera=self._framing(key, THUMB_SIZE),
+                                               size=THUMB_SIZE)
+        drawn = graph_figure(graph, self.folder / "graph.png", thumbnails=thumbnails,
+                             show_pruned=show_pruned)
+        unpruned = graph.graph.get("unpruned", {})
+        summary["graph"] = {"image": "graph.png", "edges": [list(e) for e in drawn["edges"]],
+                            "pruned_drawn": [list(e) for e in drawn["pruned"]],
+                            "pruned": len(unpruned) - graph.number_of_edges() if unpruned else 0,
+                            "mu": graph.graph.get("mu")}
+        hidden = "drawn dashed" if show_pruned else "hidden (show them with --show-pruned)"
+        return ("<h2 id='graph'>Motion graph</h2>"
+                f"<p>{graph.number_of_nodes()} motions, {graph.number_of_edges()} transitions kept by "
+                f"pruning, eq. (14); edge labels are weights, eq. (12); pruned edges are {hidden}. "
+                "Each node shows the middle frame of its texton (Figure 7).</p>"
+                f"<img src='graph.png' width='{GRAPH_SIZE[0]}' height='{GRAPH_SIZE[1]}' "
+                "alt='motion graph'>")
+
+    def transitions_section(self, graph, nodes, summary):
+        from player.headless import contact_sheet
+
+        names = {node.id: node.name for node in nodes}
+        sequence_of = {node.id: node.sequence for node in nodes}
+        edges = sorted(graph.edges(data=True), key=lambda e: (e[2]["weight"], e[0], e[1]))
+        shown = set(range(min(PAIRS_EACH_END, len(edges))))
+        shown |= set(range(max(0, len(edges) - PAIRS_EACH_END), len(edges)))
+        rows = []
+        for rank, (i, j, data) in enumerate(edges):
+            pair = ""
+            if rank in shown:
+                self.say(f"report: transition {names[i]} -> {names[j]}")
+                png = f"transition-{i:03d}-{j:03d}.png"
+                keys = [(sequence_of[i], data["exit_frame"]), (sequence_of[j], data["entry_frame"])]
+                contact_sheet(self.source, keys, self.folder / png, columns=2, tile=PAIR_TILE,
+                              labels=[f"exit {data['exit_frame']}", f"entry {data['entry_frame']}"])
+                pair = (f"<img src='{png}' width='{2 * PAIR_TILE[0]}' height='{PAIR_TILE[1]}' "
+                        f"alt='{_e(names[i])} to {_e(names[j])}'>")
+            rows.append(f"<tr><td>{rank + 1}</td><td>{_e(names[i])}</td><td>{_e(names[j])}</td>"
+                        f"<td class='num'>{_fmt(data['weight'])}</td>"
+                        f"<td class='num'>{data['exit_frame']}</td><td class='num'>{data['entry_frame']}</td>"
+                        f"<td>{pair}</td></tr>")
+            summary["transitions"].append({"from": i, "to": j, "weight": data["weight"],
+                                           "exit_frame": data["exit_frame"],
+                                           "entry_frame": data["entry_frame"],
+                                           "image": png if pair else None})
+        if not rows:
+            return "<h2 id='transitions'>Transitions</h2><p>The motion graph has no transitions.</p>"
+        return ("<h2 id='transitions'>Transitions</h2>"
+                "<p>Every kept edge, cheapest first: weight, eq. (12), and the transition frames "
+                f"t<sub>i</sub>* (exit, in the source motion's sequence) and t<sub>j</sub>* (entry, in "
+                f"the target's), eq. (10). The {PAIRS_EACH_END} cheapest and costliest show the two "
+                "frames side by side.</p>"
+                "<table><tr><th>#</th><th>from</th><th>to</th><th>weight</th><th>exit frame</th>"
+                "<th>entry frame</th><th>exit | entry</th></tr>" + "\n".join(rows) + "</table>")
+
+    def _framing(self, key, size):
+        from player.camera import Camera
+
+        positions = self.source.frame_mesh(key)[0]
+        return Camera.framing((positions.min(axis=0), positions.max(axis=0)), size[0] / size[1])
+
+
+def _truth_beside(sequence):
+    """The ``truth.json`` in the sequence's source folder, or None."""
+    folder = _sequence_folder(sequence)
+    if folder is None or not (folder / "truth.json").is_file():
+        return None
+    try:
+        return json.loads((folder / "truth.json").read_text())
+    except (OSError, ValueError) as error:
+        raise TvmError(f"{folder / 'truth.json'} cannot be read as JSON ({error})") from None
+
+
+def _sequence_folder(sequence):
+    for name in ("folder", "source"):
+        value = getattr(sequence, name, None)
+        if value and Path(value).is_dir():
+            return Path(value)
+    paths = getattr(sequence, "paths", None)
+    if paths:
+        return Path(paths[0]).parent
+    return None
+
+
+def _scaled_segments(truth, fps):
+    # truth.json counts frames at its own rate; a library may hold the sequence at another.
+    scale = float(fps) / float(truth.get("fps", fps) or fps)
+    if abs(scale - 1.0) < 1e-9:
+        return list(truth["segments"])
+    return [{**seg, "start": int(round(seg["start"] * scale)), "end": int(round(seg["end"] * scale))}
+            for seg in truth["segments"]]
+
+
+def _inner(ranges):
+    return [r for r in ranges if int(_start_end(r)[0]) != 0]
+
+
+def _spread(start, end, count):
+    """Up to ``count`` evenly spaced frames from ``start`` to ``end`` inclusive, no repeats.
+
+    >>> _spread(10, 24, 8)
+    [10, 12, 14, 16, 18, 20, 22, 24]
+    >>> _spread(3, 5, 8)
+    [3, 4, 5]
+    """
+    return sorted({int(round(v)) for v in np.linspace(start, end, min(count, end - start + 1))})
+
+
+def _e(text):
+    return html.escape(str(text), quote=True)
+
+
+_STYLE = """
+body { font-family: sans-serif; margin: 2em auto; max-width: 1000px; color: #202020; }
+h2 { border-bottom: 1px solid #c0c0c0; padding-bottom: 0.2em; margin-top: 2em; }
+figure { margin: 1em 0; }
+figcaption { font-size: 0.9em; color: #404040; }
+img { max-width: 100%; height: auto; }
+table { border-collapse: collapse; font-size: 0.9em; }
+td, th { border: 1px solid #d0d0d0; padding: 0.2em 0.5em; vertical-align: middle; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+p.score { font-weight: bold; }
+"""
+
+
+def _page(sections):
+    nav = " | ".join(f"<a href='#{a}'>{t}</a>" for a, t in [
+        ("structure", "Motion structure"), ("database", "Motion database"),
+        ("graph", "Motion graph"), ("transitions", "Transitions")])
+    return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+            f"<title>tvmedit report</title><style>{_STYLE}</style></head><body>"
+            f"<h1>tvmedit report</h1><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")
