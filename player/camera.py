@@ -9,9 +9,8 @@ import dataclasses
 import math
 
 import numpy as np
-from pyrr import Matrix44
+from pyrr import matrix44
 
-_UP = np.array([0.0, 0.0, 1.0])
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,13 +101,13 @@ class Camera:
         return (self.distance + self.radius) * 10.0
 
     def view_matrix(self):
-        """World -> camera (4, 4) float32, in pyrr's layout (bytes upload as a GL mat4)."""
+        """World -> camera (4, 4) float32 for row vectors (``p @ view``), so its bytes upload as a GL mat4."""
         _, up, _ = _basis(self.azimuth, self.elevation)
-        return Matrix44.look_at(self.eye, np.asarray(self.target, dtype=np.float64), up, dtype=np.float32)
+        return matrix44.create_look_at(self.eye, np.asarray(self.target, dtype=np.float64), up, dtype=np.float32)
 
     def projection_matrix(self):
-        """Camera -> clip (4, 4) float32, in pyrr's layout."""
-        return Matrix44.perspective_projection(self.fov, self.aspect, self.near, self.far, dtype=np.float32)
+        """Camera -> clip (4, 4) float32 for row vectors (``p @ view @ projection``)."""
+        return matrix44.create_perspective_projection(self.fov, self.aspect, self.near, self.far, dtype=np.float32)
 
 
 def _basis(azimuth, elevation):

@@ -62,7 +62,8 @@ class Renderer:
 
         self._grid_program = load_program(ctx, "grid")
         corners = np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32)
-        self._grid_vao = ctx.vertex_array(self._grid_program, [(ctx.buffer(corners), "2f", "in_corner")])
+        self._grid_corners = ctx.buffer(corners)
+        self._grid_vao = ctx.vertex_array(self._grid_program, [(self._grid_corners, "2f", "in_corner")])
 
     def draw(self, mesh, camera, framebuffer=None):
         """Draw one frame.
@@ -109,6 +110,10 @@ class Renderer:
         return self._pixels[::-1].copy()
 
     def release(self):
+        if self.ctx.fbo in (self.framebuffer, self._multisample):
+            # moderngl rebinds the current framebuffer when it creates the next one; a deleted
+            # name there is GL_INVALID_OPERATION, so hand the context back its default one.
+            self.ctx.detect_framebuffer(0).use()
         for vao in self._vaos.values():
             vao.release()
         for buffer in (self._buffers or {}).values():
@@ -116,6 +121,7 @@ class Renderer:
         for program in self._programs.values():
             program.release()
         self._grid_vao.release()
+        self._grid_corners.release()
         self._grid_program.release()
         if self._multisample is not None:
             self._multisample.release()

@@ -1,0 +1,249 @@
+"""Renderer and headless output on an EGL context (skipped with the reason where EGL is missing).
+
+Scenes are built from fixed numpy/trimesh primitives, never from generated data, so the
+reference images in ``tests/reference`` change only when the renderer does
+(``tests/regen_references.py`` rewrites them).
+"""
+
+import os
+from pathlib import Path
+from types import SimpleNamespace
+
+import imageio.v2 as iio2
+import imageio.v3 as iio
+import numpy as np
+import pytest
+import trimesh
+
+import player
+from engine.errors import InputError
+from player.camera import Camera
+from player.context import ContextError, shared_headless_context
+from player.renderer import BACKGROUND, Renderer
+
+pytestmark = pytest.mark.gl
+
+REFERENCE = Path(__file__).resolve().parent / "reference"
+SIZE = (160, 120)
+BACKGROUND_RGB = np.round(np.asarray(BACKGROUND) * 255).astype(np.uint8)
+TOLERANCE = 2.0
+"""Mean absolute error (0..255 levels) allowed against a reference image: drivers rasterise edges
+and round colours slightly differently; a wrong colour, light or pose moves it far above this."""
+
+
+def figure():
+    """A red tower (0.4 x 0.3 x 1.6 m) with a blue arm sticking out to +X at shoulder height:
+    asymmetric, so turning the camera changes its silhouette. 16 vertices, 24 faces."""
+    tower = trimesh.creation.box((0.4, 0.3, 1.6))
+    tower.apply_translation((0.0, 0.0, 0.8))
+    arm = trimesh.creation.box((0.6, 0.15, 0.15))
+    arm.apply_translation((0.5, 0.0, 1.3))
+    positions = np.vstack([tower.vertices, arm.vertices])
+    faces = np.vstack([tower.faces, arm.faces + len(tower.vertices)])
+    colours = np.vstack([np.tile([200, 40, 30], (len(tower.vertices), 1)),
+                         np.tile([40, 70, 210], (len(arm.vertices), 1))]).astype(np.uint8)
+    return positions, colours, faces
+
+
+def ball():
+    """An icosphere of radius 0.5 m at z = 1 coloured by height, 642 vertices, 1280 faces."""
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.5)
+    positions = sphere.vertices + (0.0, 0.0, 1.0)
+    t = (positions[:, 2:3] - 0.5)
+    colours = np.round(255 * np.hstack([t, 0.3 + 0.4 * t, 1 - t])).clip(0, 255).astype(np.uint8)
+    return positions, colours, sphere.faces
+
+
+def slab(colour):
+    """A 1 x 1 m slab facing -Y (the default camera), 0.1 m thick, of one colour."""
+    box = trimesh.creation.box((1.0, 0.1, 1.0))
+    box.apply_translation((0.0, 0.0, 1.0))
+    return box.vertices, np.tile(colour, (len(box.vertices), 1)).astype(np.uint8), box.faces
+
+
+def scene_source():
+    return player.ArraySource({("figure", 0): figure(), ("ball", 0): ball()})
+
+
+def reference_scenes():
+    """name -> function(ctx) returning the (120, 160, 3) image that ``tests/reference/<name>.png`` holds."""
+    source = scene_source()
+    aspect = SIZE[0] / SIZE[1]
+    front = Camera.framing(source.bounds(), aspect, azimuth=-90, elevation=10)
+
+    def figure_front(ctx):
+        return _render(ctx, source.frame_mesh(("figure", 0)), front)
+
+    def figure_orbit_grid(ctx):
+        return _render(ctx, source.frame_mesh(("figure", 0)), front.orbit(50), grid=True)
+
+    def ball_facets(ctx):
+        positions, colours, faces, _ = source.frame_mesh(("ball", 0))
+        return _render(ctx, (positions, colours, faces, None), front)
+
+    return {"figure_front": figure_front, "figure_orbit_grid": figure_orbit_grid, "ball_facets": ball_facets}
+
+
+def _render(ctx, mesh, camera, size=SIZE, **options):
+    renderer = Renderer(ctx, size, **options)
+    try:
+        renderer.draw(mesh, camera)
+        return renderer.read()
+    finally:
+        renderer.release()
+
+
+@pytest.fixture(scope="module")
+def ctx():
+    try:
+        return shared_headless_context()
+    except ContextError as error:
+        pytest.skip(str(error))
+
+
+@pytest.fixture(autouse=True)
+def no_gl_errors(ctx):
+    assert ctx.error == "GL_NO_ERROR"
+    yield
+    assert ctx.error == "GL_NO_ERROR"
+
+
+def foreground(image):
+    return np.any(image != BACKGROUND_RGB, axis=2)
+
+
+@pytest.mark.parametrize("name", sorted(reference_scenes()))
+def test_matches_reference_image(ctx, name):
+    image = reference_scenes()[name](ctx)
+    path = REFERENCE / f"{name}.png"
+    assert path.exists(), f"{path} is missing: run .venv/bin/python tests/regen_references.py"
+    expected = iio.imread(path)[..., :3]
+    error = np.abs(image.astype(np.int16) - expected.astype(np.int16))
+    if error.mean() > TOLERANCE:
+        iio.imwrite(path.with_suffix(".actual.png"), image)
+        iio.imwrite(path.with_suffix(".diff.png"), np.clip(error * 4, 0, 255).astype(np.uint8))
+        pytest.fail(f"{name}: mean abs error {error.mean():.2f} > {TOLERANCE}; "
+                    f"see {path.with_suffix('.actual.png').name} and {path.with_suffix('.diff.png').name}")
+
+
+def test_colour_of_a_front_facing_surface_survives_and_background_stays(ctx):
+    colour = np.array([200, 120, 40])
+    source = player.ArraySource({("slab", 0): slab(colour)})
+    image = _render(ctx, source.frame_mesh(("slab", 0)), Camera.framing(source.bounds(), 4 / 3, elevation=0))
+    centre = image[50:70, 70:90].reshape(-1, 3).astype(int)
+    assert np.abs(centre - colour).max() <= 20, centre.mean(axis=0)
+    assert (image[:3, :3] == BACKGROUND_RGB).all() and (image[-3:, -3:] == BACKGROUND_RGB).all()
+    assert foreground(image).mean() > 0.4, "the framed slab should fill a large part of the view"
+
+
+def test_orbit_moves_the_silhouette_and_a_full_turn_restores_it(ctx):
+    positions, colours, faces = figure()
+    source = player.ArraySource({("figure", 0): (positions, colours, faces)})
+    mesh = source.frame_mesh(("figure", 0))
+    camera = Camera.framing(source.bounds(), 4 / 3, all_azimuths=True)
+    masks = [foreground(_render(ctx, mesh, camera.orbit(deg))) for deg in (0, 90, 360)]
+    assert (masks[0] != masks[1]).mean() > 0.02
+    assert (masks[0] != masks[2]).mean() < 0.001
+
+
+def test_frames_of_different_sizes_back_to_back_share_buffers_without_stale_triangles(ctx):
+    source = scene_source()
+    small, large = source.frame_mesh(("figure", 0)), source.frame_mesh(("ball", 0))
+    camera = Camera.framing(source.bounds(), 4 / 3)
+    renderer = Renderer(ctx, SIZE, max_counts=(len(small[0]), len(small[2])))
+    try:
+        images = []
+        for mesh in (small, large, small):
+            renderer.draw(mesh, camera)
+            images.append(renderer.read())
+    finally:
+        renderer.release()
+    assert np.array_equal(images[0], images[2])
+    assert np.array_equal(images[1], _render(ctx, large, camera))
+    assert not np.array_equal(images[0], images[1])
+
+
+def test_draws_only_the_frames_own_faces(ctx):
+    positions, colours, faces, normals = scene_source().frame_mesh(("figure", 0))
+    camera = Camera.framing(scene_source().bounds(), 4 / 3)
+    tower_only = faces[:12]
+    renderer = Renderer(ctx, SIZE)
+    try:
+        renderer.draw((positions, colours, faces, normals), camera)
+        renderer.draw((positions, colours, tower_only, normals), camera)
+        image = renderer.read()
+    finally:
+        renderer.release()
+    blue = (image[..., 2] > 120) & (image[..., 0] < 100)
+    assert not blue.any(), "the arm's faces of the previous frame are still drawn"
+    assert foreground(image).any()
+
+
+def test_without_multisampling_draws_the_same_picture_with_harder_edges(ctx):
+    source = scene_source()
+    mesh, camera = source.frame_mesh(("figure", 0)), Camera.framing(source.bounds(), 4 / 3)
+    smooth, hard = _render(ctx, mesh, camera, samples=4), _render(ctx, mesh, camera, samples=0)
+    assert (foreground(smooth) != foreground(hard)).mean() < 0.02
+    assert np.abs(smooth.astype(int) - hard.astype(int)).mean() < 3
+
+
+def test_render_frame_fits_the_subject_in_view(ctx):
+    image = player.render_frame(scene_source(), ("figure", 0), size=SIZE)
+    assert image.shape == (120, 160, 3) and image.dtype == np.uint8
+    rows = np.flatnonzero(foreground(image).any(axis=1))
+    assert rows[0] > 0 and rows[-1] < 119, "the subject touches the image edge"
+    assert rows[-1] - rows[0] > 0.7 * 120, "the subject should fill most of the image height"
+
+
+@pytest.mark.parametrize("name", ["out.mp4", "out.gif", "frames"])
+def test_video_has_one_frame_per_scheduled_key(ctx, tmp_path, name):
+    source = scene_source()
+    keys = [("figure", 0), ("ball", 0), ("figure", 0), ("ball", 0), ("figure", 0)]
+    out = player.render_frames(source, keys, tmp_path / name, size=(96, 72), fps=10, orbit_deg_per_s=90,
+                               progress=False)
+    assert sorted(os.listdir(tmp_path)) == [name], "a temporary file was left behind"
+    if name == "frames":
+        files = sorted(os.listdir(out))
+        assert files == [f"frame_{i:05d}.png" for i in range(len(keys))]
+        assert iio.imread(out / files[0]).shape == (72, 96, 3)
+    elif name.endswith(".mp4"):
+        reader = iio2.get_reader(out)
+        assert reader.count_frames() == len(keys)
+        assert reader.get_data(0).shape == (72, 96, 3)
+    else:
+        assert len(iio2.mimread(out)) == len(keys)
+
+
+def test_mp4_sizes_are_made_even(ctx, tmp_path):
+    out = player.render_frames(scene_source(), [("ball", 0)], tmp_path / "odd.mp4", size=(97, 73), progress=False)
+    assert iio2.get_reader(out).get_data(0).shape == (72, 96, 3)
+
+
+def test_a_failed_render_leaves_nothing_behind(ctx, tmp_path):
+    with pytest.raises(InputError, match="missing"):
+        player.render_frames(scene_source(), [("figure", 0), ("missing", 3)], tmp_path / "out.mp4",
+                             size=(96, 72), progress=False)
+    assert os.listdir(tmp_path) == []
+
+
+def test_render_takes_an_edits_library_and_schedule(ctx, tmp_path):
+    schedule = [SimpleNamespace(sequence="figure", frame=0), ("ball", 0), SimpleNamespace(sequence="ball", frame=0)]
+    edit = SimpleNamespace(library=scene_source(), schedule=schedule)
+    out = player.render(edit, tmp_path / "edit", size=(64, 48), progress=False)
+    assert len(os.listdir(out)) == 3
+
+
+def test_contact_sheet_tiles_frames_row_by_row(ctx, tmp_path):
+    source = scene_source()
+    keys = [("figure", 0), ("ball", 0), ("figure", 0)]
+    sheet = player.contact_sheet(source, keys, tmp_path / "sheet.png", columns=2, tile=(80, 60), labels=False)
+    assert sheet.shape == (120, 160, 3)
+    assert np.array_equal(iio.imread(tmp_path / "sheet.png")[..., :3], sheet)
+    tiles = [sheet[:60, :80], sheet[:60, 80:], sheet[60:, :80], sheet[60:, 80:]]
+    assert np.array_equal(tiles[0], tiles[2])
+    assert foreground(tiles[1]).any() and not np.array_equal(tiles[0], tiles[1])
+    assert not foreground(tiles[3]).any(), "the empty slot should be background"
+    labelled = player.contact_sheet(source, keys, tmp_path / "labelled.png", columns=2, tile=(80, 60))
+    changed = np.any(labelled != sheet, axis=2)
+    assert changed[:12, :60].any() and changed[60:72, :60].any(), "each tile should carry its label"
+    assert not changed[12:60].any() and not changed[72:].any(), "labels belong in each tile's top-left corner"
