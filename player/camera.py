@@ -12,7 +12,6 @@ import numpy as np
 from pyrr import matrix44
 
 
-
 @dataclasses.dataclass(frozen=True)
 class Camera:
     """A perspective camera on a sphere around ``target``.
