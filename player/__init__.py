@@ -3,9 +3,13 @@
 The player consumes a ``MeshSource`` (``player.source``): the library implements it, and
 ``ArraySource`` holds frames in memory for tests and small scripts.
 
->>> import player
->>> sorted(player.__all__)[:4]
-['ArraySource', 'Camera', 'MeshSource', 'Renderer']
+>>> import numpy as np, player
+>>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 1]], np.float32)
+>>> source = player.ArraySource({("demo", 0): (p, np.full((3, 3), 200, np.uint8), [[0, 1, 2]])})
+>>> player.render_frame(source, ("demo", 0), size=(64, 48)).shape      # doctest: +SKIP
+(48, 64, 3)
+>>> player.render_frames(source, [("demo", 0)] * 10, "demo.mp4")       # doctest: +SKIP
+PosixPath('demo.mp4')
 """
 
 from player.camera import Camera
