@@ -1,0 +1,409 @@
+"""The edited sequence: best paths between key motions played as a frame schedule (section 8).
+
+The user picks two or more key motions; between each neighbouring pair the best path of
+eq. (15)-(16) is searched, and the paths are played one after another. Every texton is a
+cycle (section 5: after its last frame comes its first), and section 8 plays it so that "the
+transition is as fast as possible but every frame in the motion texton is rendered at least
+once before transition". A texton of L frames, entered at frame e and left at frame x (both
+absolute, start <= e, x <= end), is therefore shown for
+
+    n(e, x) = L + ((x - e + 1) mod L)                                         (play length)
+
+frames: the smallest n >= L whose last frame, e + n - 1 taken cyclically, is x. The first
+key motion starts at its first frame; the last is played ``loops`` full cycles from where it
+is entered (forever with ``loops=None``).
+
+A leg whose two key motions are the same motion is empty: path ``[key]``, cost 0, no edges,
+no frames. The motion simply continues, and the next leg starts where it would have.
+
+:func:`compose` plans a whole edit at once; :class:`Playhead` plays the same schedule one
+frame at a time while key motions are queued and unqueued, for the realtime player.
+"""
+
+import itertools
+from collections import deque
+from dataclasses import dataclass, field
+
+from .errors import LibraryError, TvmError, UnknownMotion
+from .search import SearchIndex, _known_motions, best_path, motion_label
+
+__all__ = ["ScheduleEntry", "Transition", "Leg", "Composition", "Playhead", "compose",
+           "play_length", "resolve_motion"]
+
+
+@dataclass(frozen=True)
+class ScheduleEntry:
+    """One frame of the edited sequence: frame ``frame`` of ``sequence``, inside texton ``node``."""
+
+    node: int
+    sequence: str
+    frame: int
+
+    def to_json(self):
+        return {"node": self.node, "sequence": self.sequence, "frame": self.frame}
+
+
+@dataclass(frozen=True)
+class Transition:
+    """An edge taken: the texton ``target`` starts at schedule position ``index``."""
+
+    index: int
+    source: int
+    target: int
+    weight: float
+    exit_frame: int
+    entry_frame: int
+
+    def to_json(self):
+        return {"index": self.index, "from": self.source, "to": self.target, "weight": self.weight,
+                "exit_frame": self.exit_frame, "entry_frame": self.entry_frame}
+
+
+@dataclass(frozen=True)
+class Leg:
+    """Best path between two neighbouring key motions, eq. (16).
+
+    ``frames`` counts the schedule from the first frame of key motion ``source`` up to the
+    first frame of key motion ``target``: the source's own play and the textons between.
+    """
+
+    source: int
+    target: int
+    path: tuple
+    cost: float
+    edges: int
+    frames: int
+
+    def to_json(self):
+        return {"from": self.source, "to": self.target, "path": list(self.path), "cost": self.cost,
+                "edges": self.edges, "frames": self.frames}
+
+
+@dataclass
+class Composition:
+    """A composed edit: its legs, its frame schedule and the transitions in it.
+
+    With ``loops=None`` the schedule holds one cycle of the last key motion and
+    :meth:`frames` repeats that cycle forever.
+    """
+
+    keys: list
+    legs: list
+    schedule: list
+    transitions: list
+    loops: int | None = 1
+    cycle: int = field(default=0, repr=False)  # frames in one cycle of the last key motion
+
+    def frames(self):
+        """Iterate the schedule; without end when ``loops`` is None."""
+        yield from self.schedule
+        if self.loops is None:
+            yield from itertools.cycle(self.schedule[len(self.schedule) - self.cycle:])
+
+    def to_json(self):
+        """The JSON of ``tvmedit path --json``."""
+        return {"keys": list(self.keys), "loops": self.loops,
+                "legs": [leg.to_json() for leg in self.legs],
+                "schedule": [entry.to_json() for entry in self.schedule],
+                "transitions": [t.to_json() for t in self.transitions]}
+
+
+def play_length(start, end, entry, exit):
+    """Frames a texton ``start..end`` shows when entered at ``entry`` and left at ``exit``.
+
+    The smallest count >= L = end - start + 1 whose last frame is ``exit``, playing
+    cyclically from ``entry``: n(e, x) = L + ((x - e + 1) mod L).
+
+    >>> play_length(10, 15, 14, 13)  # 14 15 10 11 12 13
+    6
+    >>> play_length(10, 15, 14, 14)  # 14 15 10 11 12 13 14
+    7
+    >>> play_length(10, 15, 14, 12)  # 14 15 10 11 12 13 14 15 10 11 12
+    11
+    """
+    length = end - start + 1
+    return length + (exit - entry + 1) % length
+
+
+def _cycle(start, end, entry, count, offset=0):
+    """Frames ``offset .. offset + count - 1`` of the texton played cyclically from ``entry``."""
+    length = end - start + 1
+    first = entry - start + offset
+    return [start + (first + k) % length for k in range(count)]
+
+
+def resolve_motion(graph, key, index=None):
+    """Node id of a key motion given as an id or as its ``name`` attribute.
+
+    Raises :class:`~engine.errors.UnknownMotion` naming the known motions.
+
+    >>> import networkx as nx
+    >>> g = nx.DiGraph()
+    >>> g.add_node(0, name="gym/03")
+    >>> resolve_motion(g, "gym/03"), resolve_motion(g, 0), resolve_motion(g, "0")
+    (0, 0, 0)
+    """
+    if key in graph:
+        return key
+    names = index if index is not None else _names(graph)
+    if key in names:
+        return names[key]
+    if isinstance(key, str) and key.strip().lstrip("-").isdigit() and int(key) in graph:
+        return int(key)
+    raise UnknownMotion(f"No motion {key!r} in the motion graph; known motions are "
+                        f"{_known_motions(graph)}.")
+
+
+def _names(graph):
+    names = {}
+    for node, name in graph.nodes(data="name"):
+        if name is not None:
+            names.setdefault(name, node)
+    return names
+
+
+def _texton(graph, node):
+    data = graph.nodes[node]
+    return data["sequence"], data["start"], data["end"]
+
+
+def _check_frame(graph, node, frame, edge, role):
+    _, start, end = _texton(graph, node)
+    if not start <= frame <= end:
+        raise LibraryError(f"Edge {edge[0]} -> {edge[1]} of the motion graph has {role} frame "
+                           f"{frame} outside texton {motion_label(graph, node)} (frames {start}-{end}); "
+                           f"rebuild the library.")
+
+
+def _edge(graph, u, v, weight):
+    data = graph.edges[u, v]
+    _check_frame(graph, u, data["exit_frame"], (u, v), "exit")
+    _check_frame(graph, v, data["entry_frame"], (u, v), "entry")
+    return float(data[weight]), data["exit_frame"], data["entry_frame"]
+
+
+def _check_loops(loops):
+    if loops is not None and (not isinstance(loops, int) or loops < 1):
+        raise TvmError(f"loops should be a whole number of cycles, 1 or more (or None for "
+                       f"forever); got {loops!r}.")
+
+
+def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
+    """Compose an edit through the key motions, section 8.
+
+    Parameters
+    ----------
+    graph : networkx.DiGraph
+        The pruned motion graph; nodes carry ``sequence``, ``start``, ``end``, edges
+        ``weight``, ``exit_frame`` and ``entry_frame``.
+    keys : sequence of node ids or names
+        Two or more key motions, in order.
+    forbidden : iterable of node ids or names
+        Motions no path may visit (section 8).
+    loops : int or None
+        Full cycles of the last key motion; None plays it forever (see
+        :meth:`Composition.frames`).
+    weight : str
+        Edge attribute of the transition cost, eq. (12).
+    index : SearchIndex, optional
+        Prebuilt index of ``graph``.
+
+    Returns
+    -------
+    Composition
+
+    Raises
+    ------
+    NoPath, UnknownMotion
+
+    Examples
+    --------
+    Two textons of three frames; the edge leaves motion 0 at frame 11 and enters motion 1 at 21:
+
+    >>> import networkx as nx
+    >>> g = nx.DiGraph()
+    >>> g.add_node(0, name="walk", sequence="a", start=10, end=12)
+    >>> g.add_node(1, name="run", sequence="b", start=20, end=22)
+    >>> g.add_edge(0, 1, weight=0.5, exit_frame=11, entry_frame=21)
+    >>> edit = compose(g, ["walk", "run"])
+    >>> [(e.node, e.frame) for e in edit.schedule]
+    [(0, 10), (0, 11), (0, 12), (0, 10), (0, 11), (1, 21), (1, 22), (1, 20)]
+    >>> edit.legs[0].to_json()
+    {'from': 0, 'to': 1, 'path': [0, 1], 'cost': 0.5, 'edges': 1, 'frames': 5}
+    """
+    _check_loops(loops)
+    names = _names(graph)
+    keys = [resolve_motion(graph, key, names) for key in keys]
+    if len(keys) < 2:
+        raise TvmError(f"An edit needs at least two key motions; got {len(keys)}.")
+    forbidden = {resolve_motion(graph, key, names) for key in forbidden}
+    index = SearchIndex.of(graph, weight) if index is None else index
+
+    schedule, transitions, legs = [], [], []
+    node = keys[0]
+    sequence, start, end = _texton(graph, node)
+    entry = start
+    for source, target in zip(keys, keys[1:]):
+        path = best_path(graph, source, target, weight, forbidden, index=index)
+        began = len(schedule)
+        cost = 0.0
+        for u, v in zip(path, path[1:]):
+            w, exit_frame, entry_frame = _edge(graph, u, v, weight)
+            cost = max(cost, w)
+            schedule.extend(ScheduleEntry(u, sequence, f)
+                            for f in _cycle(start, end, entry, play_length(start, end, entry, exit_frame)))
+            transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame))
+            sequence, start, end = _texton(graph, v)
+            entry = entry_frame
+        legs.append(Leg(source, target, tuple(path), cost, len(path) - 1, len(schedule) - began))
+    length = end - start + 1
+    schedule.extend(ScheduleEntry(keys[-1], sequence, f)
+                    for f in _cycle(start, end, entry, length * (loops or 1)))
+    return Composition(keys, legs, schedule, transitions, loops, cycle=length)
+
+
+@dataclass
+class _Visit:
+    """One stay in a texton: entered at ``entry``, left after ``exit`` (None: it rests there)."""
+
+    node: int
+    sequence: str
+    start: int
+    end: int
+    entry: int
+    exit: int | None = None
+    shown: int = 0
+    leg: int | None = None        # serial of the queued key motion whose path planned it
+    key: bool = False             # this visit is that key motion
+    arrival: Transition | None = None  # the edge that leads in (index filled in when taken)
+
+    @property
+    def length(self):
+        return self.end - self.start + 1
+
+    def remaining(self):
+        """Frames still to show before leaving: the play length rule, counted from now."""
+        if self.exit is None:
+            return None
+        least = max(self.length, self.shown)
+        last = self.entry - self.start + least - 1
+        return least + (self.exit - self.start - last) % self.length - self.shown
+
+
+class Playhead:
+    """Frame-by-frame playback of an edit whose key motions arrive while it plays.
+
+    The state machine behind the realtime player, free of any clock or window: each
+    :meth:`advance` returns the next :class:`ScheduleEntry`. With nothing queued the current
+    texton loops. :meth:`queue` plans the best path from the last queued key motion (or the
+    current texton) to a new one; the current texton is finished first, by the same
+    play length rule as :func:`compose`, so that queuing ``keys[1:]`` after starting at
+    ``keys[0]`` plays exactly ``compose(graph, keys)``.
+
+    >>> import networkx as nx
+    >>> g = nx.DiGraph()
+    >>> g.add_node(0, name="walk", sequence="a", start=10, end=12)
+    >>> g.add_node(1, name="run", sequence="b", start=20, end=22)
+    >>> g.add_edge(0, 1, weight=0.5, exit_frame=11, entry_frame=21)
+    >>> head = Playhead(g, "walk")
+    >>> head.advance().frame, head.queue("run"), head.frames_until_next_key()
+    (10, [0, 1], 4)
+    >>> [head.advance().frame for _ in range(6)], head.current_node, head.queue_list
+    ([11, 12, 10, 11, 21, 22], 1, [])
+    """
+
+    def __init__(self, graph, start_node, forbidden=(), weight="weight", index=None):
+        self.graph = graph
+        self.weight = weight
+        self._names = _names(graph)
+        self.forbidden = {resolve_motion(graph, key, self._names) for key in forbidden}
+        self.index = SearchIndex.of(graph, weight) if index is None else index
+        node = resolve_motion(graph, start_node, self._names)
+        sequence, start, end = _texton(graph, node)
+        self._visit = _Visit(node, sequence, start, end, start)
+        self._plan = deque()
+        self._queue = []            # (key node, leg serial), in play order
+        self._serial = itertools.count()
+        self.played = 0             # frames returned so far: the schedule index of the next one
+        self.transitions = []
+
+    @property
+    def current_node(self):
+        """The texton now playing."""
+        return self._visit.node
+
+    @property
+    def queue_list(self):
+        """Key motions queued and not yet begun, in the order they will play."""
+        return [node for node, _ in self._queue]
+
+    def _last_visit(self):
+        return self._plan[-1] if self._plan else self._visit
+
+    def queue(self, node):
+        """Plan the best path to key motion ``node`` after the ones already queued.
+
+        Returns the path (node ids). Queuing the motion the plan already ends at is an
+        empty leg: nothing changes and the path is ``[node]``. Raises
+        :class:`~engine.errors.NoPath` (or :class:`~engine.errors.UnknownMotion`) and leaves
+        the queue unchanged when the motion cannot be reached.
+        """
+        node = resolve_motion(self.graph, node, self._names)
+        last = self._last_visit()
+        path = best_path(self.graph, last.node, node, self.weight, self.forbidden, index=self.index)
+        if len(path) == 1:
+            return path
+        edges = [_edge(self.graph, u, v, self.weight) for u, v in zip(path, path[1:])]
+        serial = next(self._serial)
+        previous = last
+        for (u, v), (w, exit_frame, entry_frame) in zip(zip(path, path[1:]), edges):
+            previous.exit = exit_frame
+            sequence, start, end = _texton(self.graph, v)
+            previous = _Visit(v, sequence, start, end, entry_frame, leg=serial, key=v == node,
+                              arrival=Transition(-1, u, v, w, exit_frame, entry_frame))
+            self._plan.append(previous)
+        self._queue.append((node, serial))
+        return path
+
+    def unqueue_last(self):
+        """Drop the last queued key motion and its path; returns it, or None if none is queued.
+
+        When the playhead is already inside that path, the texton now playing stays and loops.
+        """
+        if not self._queue:
+            return None
+        node, serial = self._queue.pop()
+        while self._plan and self._plan[-1].leg == serial:
+            self._plan.pop()
+        self._last_visit().exit = None
+        return node
+
+    def frames_until_next_key(self):
+        """Frames :meth:`advance` returns before the next queued key motion's first one.
+
+        None when nothing is queued; 0 when the next frame already belongs to it.
+        """
+        if not self._queue:
+            return None
+        total = self._visit.remaining()
+        for visit in self._plan:
+            if visit.key:
+                return total
+            total += play_length(visit.start, visit.end, visit.entry, visit.exit)
+        raise AssertionError("a queued key motion is missing from the plan")
+
+    def advance(self):
+        """The next frame of the edited sequence."""
+        visit = self._visit
+        if visit.remaining() == 0:
+            visit = self._plan.popleft()
+            a = visit.arrival
+            self.transitions.append(Transition(self.played, a.source, a.target, a.weight,
+                                               a.exit_frame, a.entry_frame))
+            if visit.key:
+                self._queue.pop(0)
+            self._visit = visit
+        frame = visit.start + (visit.entry - visit.start + visit.shown) % visit.length
+        visit.shown += 1
+        self.played += 1
+        return ScheduleEntry(visit.node, visit.sequence, frame)
