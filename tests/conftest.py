@@ -57,3 +57,26 @@ def take_13_30():
 def take_13_29():
     """CMU 13_29 at 10 fps, whole take (383 frames, six exercises)."""
     return mocap_take("13_29")
+
+
+def synth_take(preset, **options):
+    """Folder of a take made by the synthetic actor (:func:`engine.synth.generate` options)."""
+    from engine import synth
+
+    options = {"fps": 10, "vertices": 16000, "seed": 0, **options}
+    out = CACHE / f"synth-{preset}-{_key(preset, options, synth.VERSION)}"
+    if not (out / "truth.json").exists():
+        synth.generate(out, preset=preset, workers=2, progress=False, overwrite=True, **options)
+    return out
+
+
+@pytest.fixture(scope="session")
+def synth_walk():
+    """Synthetic walk preset: about 100 frames at 10 fps, one motion, 16,000 vertices a frame."""
+    return synth_take("walk")
+
+
+@pytest.fixture(scope="session")
+def synth_gym():
+    """Synthetic gym preset: six exercises, about 650 frames at 10 fps, 16,000 vertices a frame."""
+    return synth_take("gym")

@@ -1,0 +1,167 @@
+"""The synthetic capture actor: frames as a capture studio makes them, and a truth that matches."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+from engine import synth
+from engine.errors import InputError
+
+
+def _frame(folder, k):
+    return trimesh.load(folder / f"frame_{k:05d}.ply", process=False)
+
+
+def _truth(folder):
+    return json.loads((folder / "truth.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def gym_vertices(synth_gym):
+    return [np.asarray(_frame(synth_gym, k).vertices) for k in range(_truth(synth_gym)["frames"])]
+
+
+def _descriptor(vertices, centre):
+    """Histograms of vertex (r, theta, phi) about a centre, as the analysis uses."""
+    q = vertices - centre
+    r = np.linalg.norm(q, axis=1)
+    theta = np.arccos(np.clip(q[:, 2] / r, -1, 1))
+    phi = np.arctan2(q[:, 1], q[:, 0])
+    hist = [np.histogram(r, 32, (0, 1.2))[0], np.histogram(theta, 32, (0, np.pi))[0],
+            np.histogram(phi, 32, (-np.pi, np.pi))[0]]
+    return np.concatenate(hist) / len(vertices)
+
+
+def _dominant_lag(x):
+    """Lag (frames, interpolated) of the first local maximum of the autocorrelation that comes
+    within 80 % of the highest one (a multiple of the period can score as high)."""
+    x = x - x.mean(axis=0)
+    n = len(x)
+    acf = np.array([(x[:n - lag] * x[lag:]).sum() / (n - lag) for lag in range(n)])
+    acf /= acf[0]
+    peaks = [lag for lag in range(2, int(0.6 * n)) if acf[lag - 1] < acf[lag] >= acf[lag + 1]]
+    best = next(lag for lag in peaks if acf[lag] >= 0.8 * max(acf[peaks]))
+    y0, y1, y2 = acf[best - 1:best + 2]
+    return best + 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
+
+
+def test_vertex_count_and_connectivity_change_every_frame(synth_walk):
+    truth = _truth(synth_walk)
+    meshes = [_frame(synth_walk, k) for k in range(5)]
+    counts = [len(m.vertices) for m in meshes]
+    assert counts == truth["vertex_counts"][:5]
+    assert len(set(truth["vertex_counts"])) > truth["frames"] // 2
+    assert not np.array_equal(meshes[0].faces[:100], meshes[1].faces[:100])
+    assert 12000 < np.mean(truth["vertex_counts"]) < 20000
+
+
+def test_actor_stands_on_the_floor_and_is_a_closed_surface(synth_walk):
+    for k in (0, 33, 66):
+        mesh = _frame(synth_walk, k)
+        (_, _, bottom), (_, _, top) = mesh.bounds
+        assert abs(bottom) < 0.02
+        assert 1.6 < top < 1.8
+        assert mesh.is_watertight and mesh.volume > 0.04   # outward normals, about 60 litres
+
+
+def test_truth_agrees_with_the_frames_written(synth_gym):
+    truth = _truth(synth_gym)
+    n = truth["frames"]
+    assert n >= 600 and truth["fps"] == 10
+    assert len(list(synth_gym.glob("frame_*.ply"))) == n
+    assert len(truth["labels"]) == len(truth["vertex_counts"]) == n
+    segments = truth["segments"]
+    assert [s["label"] for s in segments] == PRESET_GYM
+    assert segments[0]["start"] == 0 and segments[-1]["end"] == n - 1
+    for before, after in zip(segments, segments[1:]):
+        assert after["start"] == before["end"] + 1
+    for s in segments:
+        assert set(truth["labels"][s["start"]:s["end"] + 1]) == {s["label"]}
+    periods = [h["period_s"] for h in truth["periods_hint"]]
+    assert min(periods) < 0.9 and max(periods) > 2.3
+    assert len(_frame(synth_gym, n - 1).vertices) == truth["vertex_counts"][-1]
+
+
+PRESET_GYM = ["walk", "run", "jumping-jacks", "arm-circles", "squats", "side-bends"]
+
+
+def test_each_motion_repeats_at_the_period_in_truth(synth_gym, gym_vertices):
+    truth = _truth(synth_gym)
+    centre = gym_vertices[0].mean(axis=0)
+    descriptors = np.array([_descriptor(v, centre) for v in gym_vertices])
+    blend = round(synth.TRANSITION_S * truth["fps"])
+    for hint in truth["periods_hint"]:
+        start = hint["start"] + (blend if hint["start"] else 0)
+        lag = _dominant_lag(descriptors[start:hint["end"] + 1])
+        assert lag == pytest.approx(hint["period_frames"], rel=0.1), hint["label"]
+
+
+def test_motions_differ_in_shape_not_only_in_timing(synth_gym, gym_vertices):
+    truth = _truth(synth_gym)
+    centre = gym_vertices[0].mean(axis=0)
+    descriptors = np.array([_descriptor(v, centre) for v in gym_vertices])
+    labels = np.array(truth["labels"])
+    means = np.array([descriptors[labels == name].mean(axis=0) for name in PRESET_GYM])
+    gaps = np.linalg.norm(means[:, None] - means[None], axis=2)
+    spread = np.mean([np.linalg.norm(descriptors[labels == name] - means[i], axis=1).mean()
+                      for i, name in enumerate(PRESET_GYM)])
+    assert gaps[~np.eye(len(PRESET_GYM), dtype=bool)].min() > 0.5 * spread
+
+
+def test_shoes_skin_shirt_and_trousers_are_coloured(synth_walk):
+    mesh = _frame(synth_walk, 10)
+    colours = np.asarray(mesh.visual.vertex_colors)[:, :3].astype(float)
+    nearest = np.argmin(np.linalg.norm(colours[:, None] - synth.PALETTE[None], axis=2), axis=1)
+    share = np.bincount(nearest, minlength=len(synth.PALETTE)) / len(nearest)
+    for name in ("skin", "hair", "shirt", "trousers", "shoes"):
+        assert share[synth.MATERIALS.index(name)] > 0.01, name
+    shoes = nearest == synth.MATERIALS.index("shoes")
+    assert mesh.vertices[shoes, 2].max() < 0.2
+
+
+def test_one_seed_gives_identical_files_for_any_number_of_workers(tmp_path):
+    options = dict(motions=["jumping-jacks"], cycles=1, fps=4, vertices=3000, progress=False)
+    one = synth.generate(tmp_path / "one", workers=1, **options)
+    two = synth.generate(tmp_path / "two", workers=2, **options)
+    other = synth.generate(tmp_path / "other", seed=1, workers=2, **options)
+    assert one == two and one["frames"] >= 4
+    for k in range(one["frames"]):
+        name = f"frame_{k:05d}.ply"
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes()
+        assert (tmp_path / "one" / name).read_bytes() != (tmp_path / "other" / name).read_bytes()
+    assert (tmp_path / "one" / "truth.json").read_bytes() == (tmp_path / "two" / "truth.json").read_bytes()
+
+
+def test_a_non_empty_folder_needs_overwrite(tmp_path):
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match=r"not empty; pass --overwrite") as error:
+        synth.generate(tmp_path, motions=["squats"], cycles=1, fps=2, vertices=2000, progress=False)
+    assert str(error.value).count(". ") == 0 and "\n" not in str(error.value)
+    cli = subprocess.run([sys.executable, "-m", "tvmedit", "synth", "--motions", "squats", "--cycles", "1",
+                          "--fps", "2", "--vertices", "2000", "--out", str(tmp_path), "-q"],
+                         capture_output=True, text=True)
+    assert cli.returncode == 2
+    assert cli.stderr.startswith("error: ") and cli.stderr.count("\n") == 1
+    assert not (tmp_path / "truth.json").exists()
+    truth = synth.generate(tmp_path, motions=["squats"], cycles=1, fps=2, vertices=2000,
+                           overwrite=True, progress=False)
+    assert (tmp_path / "truth.json").exists() and (tmp_path / "notes.txt").exists()
+    assert len(list(tmp_path.glob("frame_*.ply"))) == truth["frames"]
+
+
+def test_unknown_motion_names_the_choices(tmp_path):
+    with pytest.raises(InputError, match="Unknown motion 'yoga'; choose from walk, run"):
+        synth.generate(tmp_path, motions=["walk", "yoga"], progress=False)
+    assert not any(tmp_path.iterdir())
+
+
+def test_cli_help_runs():
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "synth", "--help"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0
+    for option in ("--preset", "--motions", "--cycles", "--vertices", "--workers", "--overwrite"):
+        assert option in result.stdout
