@@ -28,6 +28,7 @@ import json
 import multiprocessing
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,9 +45,8 @@ AMPLITUDE_JITTER = 0.06     # relative standard deviation of a cycle's amplitude
 # gym preset); the vertex count grows with the inverse square of the voxel size.
 VOXEL_AT_16K = 0.0122
 
-# ---------------------------------------------------------------------------------------
-# Pose: a small vector of angles (radians) and offsets, one entry per name below.
 
+# A pose is a small vector: jump lift (metres) and joint angles (radians), named below.
 POSE = ["lift", "pitch", "roll", "yaw",
         "hip_flex_l", "hip_abd_l", "knee_l", "toe_l", "sh_flex_l", "sh_abd_l", "elbow_l",
         "hip_flex_r", "hip_abd_r", "knee_r", "toe_r", "sh_flex_r", "sh_abd_r", "elbow_r"]
@@ -140,7 +140,7 @@ def _side_bends(phase, a):
 class Motion:
     """A cyclic motion: pose function of (phase, amplitude), mean period and default cycles."""
 
-    pose: object
+    pose: Callable[[float, float], np.ndarray]
     period_s: float
     cycles: int
 
@@ -160,9 +160,6 @@ PRESETS = {
     "gym": {"motions": ["walk", "run", "jumping-jacks", "arm-circles", "squats", "side-bends"],
             "cycles": {}, "source": "tvmedit synth gym (procedural actor, like the paper's BroadGym)"},
 }
-
-# ---------------------------------------------------------------------------------------
-# Timeline: cycles with jittered period and amplitude, transitions in between.
 
 
 def _timeline(motions, counts, seed):
@@ -200,9 +197,7 @@ def _pose_at(pieces, motions, t):
     raise AssertionError("empty timeline")
 
 
-# ---------------------------------------------------------------------------------------
-# Body: forward kinematics from a pose to primitives.
-
+# Axes of the rest pose: forward (the subject faces -Y), the subject's left, and up.
 F, L, U = np.array([0.0, -1.0, 0.0]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 0.0, 1.0])
 SKIN, HAIR, SHIRT, TROUSERS, SHOES = range(5)
 PALETTE = np.array([[222, 170, 138], [62, 42, 30], [40, 92, 170], [48, 52, 68], [236, 236, 232]],
@@ -299,10 +294,6 @@ def _part_material(part, local, t):
         return np.where(t < 0.5, SHIRT, SKIN)
     return {"pelvis": TROUSERS, "belly": SHIRT, "chest": SHIRT, "neck": SKIN, "girdle": SHIRT,
             "forearm": SKIN, "hand": SKIN, "thigh": TROUSERS, "shin": TROUSERS, "foot": SHOES}[part]
-
-
-# ---------------------------------------------------------------------------------------
-# Reconstruction: signed distance on a grid, marching cubes, colour.
 
 
 def _distance(prim, x, y, z):
@@ -413,10 +404,6 @@ def write_ply(path, verts, faces, colours):
         f.write(face.tobytes())
 
 
-# ---------------------------------------------------------------------------------------
-# Sequence generation.
-
-
 def _frame_job(job):
     out, index, pose, voxel, seed = job
     rng = np.random.default_rng(np.random.SeedSequence([seed, 1, index]))
@@ -441,8 +428,6 @@ def _acf_at(poses, lag):
         return None
     den = (x * x).sum()
     return float((x[:-lag] * x[lag:]).sum() / den * len(x) / (len(x) - lag)) if den > 0 else None
-
-
 
 
 def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0):
@@ -521,19 +506,14 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=len(jobs), unit="frame", desc=f"synth {out.name}")
+    pool = multiprocessing.get_context("fork").Pool(workers) if workers > 1 else None
     try:
-        if workers == 1:
-            results = map(_frame_job, jobs)
-            pool = None
-        else:
-            pool = multiprocessing.get_context("fork").Pool(workers)
-            results = pool.imap_unordered(_frame_job, jobs)
-        for index, count in results:
+        for index, count in (pool.imap_unordered(_frame_job, jobs) if pool else map(_frame_job, jobs)):
             counts[index] = count
             if bar is not None:
                 bar.update()
     finally:
-        if workers > 1:
+        if pool is not None:
             pool.terminate()
         if bar is not None:
             bar.close()
