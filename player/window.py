@@ -1,0 +1,511 @@
+"""The realtime player: a window that plays a library and queues key motions from the keyboard.
+
+Two clocks run side by side (the playback clock is not the render clock). The window redraws
+at the display rate, so camera moves stay smooth, while the sequence advances at the
+library's frame rate: a sequence frame is due every ``1 / fps`` seconds, and the mesh is
+fetched and uploaded only when a new one is shown. Which frame comes next is decided by
+``engine.compose.Playhead``, the loop-then-transition rule of section 8: the current texton is
+shown to its end, then each transition of the best path is taken as early as the rule allows.
+
+``PlayerApp`` holds everything a user can do (keys -> queue, clock -> frame, camera, the text
+on screen, the ``--log``) and runs without a window or GL, so it is tested with a fake clock;
+``Window`` is the glfw plumbing around it and the only code here that touches glfw.
+"""
+
+import dataclasses
+import json
+import math
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+from engine.compose import Playhead
+from engine.errors import NoPath, TvmError
+from player.camera import Camera
+from player.overlay import Label
+
+#: Letters that are commands, so they never queue a motion.
+COMMAND_LETTERS = "qrs"
+
+#: A stall longer than this (a window drag, a slow disk) restarts the playback clock instead of
+#: rushing through the frames it missed.
+MAX_LAG_S = 0.25
+
+#: The loop never redraws faster than this when the driver does not wait for vsync (Xvfb,
+#: llvmpipe), so the player leaves the CPU to others; a real display's vsync is lower.
+MAX_REDRAW_HZ = 75.0
+
+ORBIT_DEG_PER_S = 90.0
+TAP_S = 0.1              # a key tapped briefly still turns the camera this long
+DRAG_DEG_PER_PIXEL = 0.4
+ZOOM_STEP = 1.12
+MESSAGE_S = 5.0
+
+
+def motion_keys(count):
+    """Keys that queue the first ``count`` motions: 1-9, 0, then letters except the commands.
+
+    >>> motion_keys(12)
+    ['1', '2', '3', '4', '5', '6', '7', '8', '9', '0', 'a', 'b']
+    >>> motion_keys(40)[-1], len(motion_keys(40))
+    ('z', 33)
+    """
+    keys = [str(d) for d in range(1, 10)] + ["0"]
+    keys += [c for c in "abcdefghijklmnopqrstuvwxyz" if c not in COMMAND_LETTERS]
+    return keys[:count]
+
+
+class PlayerApp:
+    """Player state and logic, with no window: what each key does and when frames change.
+
+    Parameters
+    ----------
+    graph : networkx.DiGraph, the library's motion graph (nodes with ``name``)
+    source : MeshSource, frames by ``(sequence, frame)``
+    order : node ids in the order ``tvmedit info`` lists them; key ``1`` queues ``order[0]``
+    start : node id of the first motion, looped until something is queued
+    fps : playback rate, sequence frames per second
+    forbidden : node ids no path may pass through (section 8)
+    aspect : width / height of the view, for framing the camera
+    log : open text file for ``--log`` (one JSON line per displayed frame), or None
+    clock_zero : the time (same clock as ``now``) that log times count from
+
+    Times (``now``) are seconds on one monotonic clock, passed in by the caller.
+    """
+
+    def __init__(self, graph, source, order, start, fps=10.0, forbidden=(), aspect=4 / 3, log=None,
+                 clock_zero=0.0, print_=None):
+        self.graph = graph
+        self.source = source
+        self.fps = float(fps)
+        self.period = 1.0 / self.fps
+        self.forbidden = tuple(forbidden)
+        self.playhead = Playhead(graph, start, forbidden=self.forbidden)
+        self.keys = dict(zip(motion_keys(len(order)), order))
+        self.order = list(order)
+        self.log = log
+        self.clock_zero = clock_zero
+        self.print = print_ or (lambda text: print(text, file=sys.stderr, flush=True))
+        self.paused = False
+        self.entry = None           # the ScheduleEntry on screen
+        self.frames_shown = 0
+        self.message = None         # (text, until)
+        self._next_slot = None      # when the next sequence frame is due
+        self._pause_left = 0.0
+        self._mesh = None
+        self._bounds = source.bounds()
+        self.camera = self.home_camera(aspect)
+
+    # ---- playback clock -------------------------------------------------------------
+
+    def next_frame_at(self):
+        """When the next sequence frame is due (``inf`` while paused)."""
+        if self.paused:
+            return math.inf
+        return -math.inf if self._next_slot is None else self._next_slot
+
+    def tick(self, now, lead=0.0):
+        """Advance the playback clock to ``now``; True when a new sequence frame is to be shown.
+
+        A frame is due ``lead`` seconds before its slot, the time the window needs to draw it,
+        so that it appears on its slot. At most one frame per call, so every frame the
+        schedule produces is drawn (section 8 shows every frame of a texton); after a stall
+        longer than ``MAX_LAG_S`` the clock restarts from ``now`` rather than rushing. Call
+        ``displayed`` once the frame is on screen.
+        """
+        now = now + lead
+        if now < self.next_frame_at():
+            return False
+        late = 0.0 if self._next_slot is None else now - self._next_slot
+        restart = self._next_slot is None or late > MAX_LAG_S
+        self._next_slot = (now if restart else self._next_slot) + self.period
+        self.entry = self.playhead.advance()
+        self._mesh = None
+        self.frames_shown += 1
+        return True
+
+    def displayed(self, now):
+        """Log the frame ``tick`` produced as shown at ``now``."""
+        self._write({"t": round(now - self.clock_zero, 6), "node": _plain(self.entry.node),
+                     "sequence": self.entry.sequence, "frame": int(self.entry.frame),
+                     "queue": [_plain(n) for n in self.playhead.queue_list]})
+
+    def mesh(self):
+        """The mesh of the frame on screen, fetched once per sequence frame."""
+        if self._mesh is None and self.entry is not None:
+            self._mesh = self.source.frame_mesh((self.entry.sequence, self.entry.frame))
+        return self._mesh
+
+    def seconds_to_next_key(self, now):
+        """Seconds until the next queued motion begins, None when the queue is empty."""
+        frames = self.playhead.frames_until_next_key()
+        if frames is None:
+            return None
+        if self.paused:
+            first = self._pause_left
+        elif self._next_slot is None:
+            first = 0.0
+        else:
+            first = max(self._next_slot - now, 0.0)
+        return first + frames * self.period
+
+    # ---- keys ----------------------------------------------------------------------
+
+    def press(self, key, now):
+        """Act on a key by name (``"1"``, ``"a"``, ``"backspace"``, ``"space"``, ``"left"``...).
+
+        Returns ``"quit"`` or ``"screenshot"`` for the window to carry out, else None.
+        """
+        if key in ("escape", "q"):
+            return "quit"
+        if key == "s":
+            return "screenshot"
+        if key == "r":
+            self.reset_camera()
+        elif key == "space":
+            self.toggle_pause(now)
+        elif key == "backspace":
+            if self.playhead.queue_list:
+                node = self.playhead.queue_list[-1]
+                self.playhead.unqueue_last()
+                self.say(f"removed {self.label(node)} from the queue", now)
+        elif key in ("+", "=", "kp_add"):
+            self.zoom(1 / ZOOM_STEP)
+        elif key in ("-", "kp_subtract"):
+            self.zoom(ZOOM_STEP)
+        elif key in self.keys:
+            self.queue(self.keys[key], now, key)
+        return None
+
+    def queue(self, node, now, key=None):
+        """Queue ``node`` as the next key motion; an unreachable one is refused with a message."""
+        try:
+            self.playhead.queue(node)
+        except NoPath as error:
+            self.say(f"refused {self.label(node)}: {error}", now, echo=True)
+            self._write({"t": round(now - self.clock_zero, 6), "event": "refused", "key": key,
+                         "node": _plain(node), "message": str(error)})
+            return False
+        return True
+
+    def toggle_pause(self, now):
+        if self.paused:
+            self.paused = False
+            if self._next_slot is not None:
+                self._next_slot = now + self._pause_left
+        else:
+            self.paused = True
+            self._pause_left = max(self._next_slot - now, 0.0) if self._next_slot is not None else 0.0
+
+    def say(self, text, now, echo=False):
+        self.message = (text, now + MESSAGE_S)
+        if echo:
+            self.print(text)
+
+    # ---- camera --------------------------------------------------------------------
+
+    def home_camera(self, aspect):
+        # Framed for every azimuth, so orbiting never cuts the actor.
+        return Camera.framing(self._bounds, aspect, all_azimuths=True)
+
+    def reset_camera(self):
+        self.camera = self.home_camera(self.camera.aspect)
+
+    def set_aspect(self, aspect):
+        self.camera = self.camera.with_aspect(aspect)
+
+    def orbit(self, azimuth_deg, elevation_deg=0.0):
+        elevation = min(max(self.camera.elevation + elevation_deg, -85.0), 85.0)
+        self.camera = dataclasses.replace(self.camera.orbit(azimuth_deg), elevation=elevation)
+
+    def zoom(self, factor):
+        distance = min(max(self.camera.distance * factor, 0.2 * self.camera.radius), 50.0 * self.camera.radius)
+        self.camera = dataclasses.replace(self.camera, distance=distance)
+
+    # ---- text on screen ---------------------------------------------------------------
+
+    def label(self, node):
+        name = self.graph.nodes[node].get("name")
+        key = next((k for k, n in self.keys.items() if n == node), None)
+        text = f"{node} {name}" if name is not None and str(name) != str(node) else str(node)
+        return f"[{key}] {text}" if key else text
+
+    def status_lines(self, now):
+        """The lines at the top left: motion on screen, queue, time to the next key motion."""
+        if self.entry is None:
+            return ["starting"]
+        lines = [f"now: {self.label(self.entry.node)}  ({self.entry.sequence} frame {self.entry.frame})"
+                 + ("  paused" if self.paused else "")]
+        queue = self.playhead.queue_list
+        lines.append("queue: " + (", ".join(self.label(n) for n in queue) if queue else "empty (looping)"))
+        seconds = self.seconds_to_next_key(now)
+        lines.append("next in " + ("-" if seconds is None else f"{seconds:.1f} s"))
+        return lines
+
+    def message_text(self, now):
+        """The last message (a refusal, a removal) while it is fresh, else None."""
+        if self.message is not None and now < self.message[1]:
+            return self.message[0]
+        return None
+
+    def legend_lines(self):
+        lines = [self.label(n) for n in self.order if n in self.keys.values()]
+        hidden = len(self.order) - len(self.keys)
+        if hidden > 0:
+            lines.append(f"({hidden} more without a key)")
+        return lines + ["", "bksp unqueue  space pause", "arrows/drag orbit  +/- zoom",
+                        "r reset  s screenshot  q quit"]
+
+    # ---- log -----------------------------------------------------------------------
+
+    def write_header(self, wall_zero, library=None):
+        self._write({"event": "start", "wall": wall_zero, "fps": self.fps, "library": library,
+                     "keys": {k: _plain(n) for k, n in self.keys.items()},
+                     "forbidden": [_plain(n) for n in self.forbidden]})
+
+    def write_footer(self, now, redraws, draw_seconds):
+        seconds = now - self.clock_zero
+        self._write({"event": "stop", "t": round(seconds, 6), "frames": self.frames_shown,
+                     "redraws": redraws, "redraw_hz": round(redraws / draw_seconds, 2) if draw_seconds > 0 else None})
+
+    def _write(self, record):
+        if self.log is not None:
+            self.log.write(json.dumps(record) + "\n")
+            self.log.flush()
+
+
+def _plain(value):
+    """Node ids as JSON numbers where they are integers (numpy ints included)."""
+    try:
+        return int(value) if int(value) == value else value
+    except (TypeError, ValueError):
+        return value
+
+
+def _software(ctx):
+    """Whether the context rasterises on the CPU (Mesa's llvmpipe, softpipe, swrast)."""
+    renderer = ctx.info.get("GL_RENDERER", "").lower()
+    return any(name in renderer for name in ("llvmpipe", "softpipe", "swrast"))
+
+
+def screenshot_path(directory="."):
+    """The first unused ``tvmedit-screenshot-<n>.png`` in ``directory``."""
+    n = 1
+    while (path := Path(directory) / f"tvmedit-screenshot-{n}.png").exists():
+        n += 1
+    return path
+
+
+class Window:
+    """A glfw window that draws a ``PlayerApp`` with the shared ``Renderer``.
+
+    Parameters
+    ----------
+    app : PlayerApp
+    size : (width, height) of the window, screen coordinates
+    title : window title (the tests find the window by it)
+    clock : the monotonic clock the app's times come from
+    """
+
+    def __init__(self, app, size=(960, 720), title="tvmedit", clock=time.perf_counter, vsync=True):
+        import glfw
+
+        from player.overlay import TextOverlay
+        from player.renderer import Renderer
+
+        self.glfw = glfw
+        self.app = app
+        self.clock = clock
+        if not glfw.init():
+            raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
+        # Opened hidden and untitled, so nothing finds a window that is about to be replaced.
+        self.window, self.ctx = self._open(size, samples=4, vsync=vsync)
+        if _software(self.ctx):
+            # Multisampling quadruples the fragment work, which a software rasteriser cannot
+            # afford at 60 Hz: reopen without it.
+            glfw.destroy_window(self.window)
+            self.window, self.ctx = self._open(size, samples=0, vsync=vsync)
+        glfw.set_window_title(self.window, title)
+        glfw.show_window(self.window)
+        # The window is multisampled itself (or not); the renderer draws straight into it.
+        self.renderer = Renderer(self.ctx, size=glfw.get_framebuffer_size(self.window), samples=0,
+                                 max_counts=app.source.max_counts(), grid=True)
+        self.overlay = TextOverlay(self.ctx, scale=2)
+        self._key_names = {
+            glfw.KEY_ESCAPE: "escape", glfw.KEY_BACKSPACE: "backspace", glfw.KEY_SPACE: "space",
+            glfw.KEY_LEFT: "left", glfw.KEY_RIGHT: "right", glfw.KEY_UP: "up", glfw.KEY_DOWN: "down",
+            glfw.KEY_KP_ADD: "kp_add", glfw.KEY_KP_SUBTRACT: "kp_subtract"}
+        self.redraws = 0
+        self._redraw_s = 0.0        # how long a redraw takes (moving average)
+        self._frame_draw_s = 0.0    # how long a redraw with a new sequence frame takes
+        self._frame_draws = []
+        self._held = {}            # arrow key -> (pressed at, seconds already applied)
+        self._drag = None          # last cursor position while the left button is down
+        self._screenshot = False
+        self._resize(*glfw.get_framebuffer_size(self.window))
+        glfw.set_key_callback(self.window, self._on_key)
+        glfw.set_mouse_button_callback(self.window, self._on_mouse_button)
+        glfw.set_cursor_pos_callback(self.window, self._on_cursor)
+        glfw.set_scroll_callback(self.window, self._on_scroll)
+        glfw.set_framebuffer_size_callback(self.window, lambda _w, width, height: self._resize(width, height))
+
+    def _open(self, size, samples, vsync):
+        from player.context import window_context
+
+        glfw = self.glfw
+        glfw.default_window_hints()
+        glfw.window_hint(glfw.CONTEXT_VERSION_MAJOR, 3)
+        glfw.window_hint(glfw.CONTEXT_VERSION_MINOR, 3)
+        glfw.window_hint(glfw.OPENGL_PROFILE, glfw.OPENGL_CORE_PROFILE)
+        glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
+        glfw.window_hint(glfw.SAMPLES, samples)
+        glfw.window_hint(glfw.VISIBLE, False)
+        window = glfw.create_window(int(size[0]), int(size[1]), "", None, None)
+        if not window:
+            glfw.terminate()
+            raise TvmError("cannot open a window with an OpenGL 3.3 core profile context on this display")
+        glfw.make_context_current(window)
+        glfw.swap_interval(1 if vsync else 0)
+        return window, window_context()
+
+    def run(self, seconds=None):
+        """Play until the window closes, Esc or Q, or ``seconds`` after the app's clock zero."""
+        glfw, app = self.glfw, self.app
+        start = self.clock()
+        next_redraw = start
+        end = math.inf if seconds is None else app.clock_zero + seconds
+        try:
+            while not glfw.window_should_close(self.window):
+                now = self.clock()
+                if now >= end:
+                    break
+                frame_at = app.next_frame_at() - self._frame_draw_s
+                deadline = min(next_redraw, frame_at, end)
+                # A redraw still running when the next sequence frame is due would make that
+                # frame late: skip it and wait for the frame.
+                if next_redraw < frame_at < max(now, next_redraw) + self._redraw_s:
+                    deadline = frame_at
+                if now < deadline:
+                    # Sleep until then, waking early for input.
+                    glfw.wait_events_timeout(deadline - now)
+                    continue
+                glfw.poll_events()
+                began = self.clock()
+                self._turn(began)
+                new_frame = app.tick(began, lead=self._frame_draw_s)
+                self._draw(began)
+                glfw.swap_buffers(self.window)
+                shown = self.clock()
+                self.redraws += 1
+                self._learn(shown - began, new_frame)
+                if new_frame:
+                    app.displayed(shown)
+                next_redraw = max(began + 1 / MAX_REDRAW_HZ, shown)
+        finally:
+            now = self.clock()
+            app.write_footer(now, self.redraws, now - start)
+            self.close()
+        return self.redraws, now - start
+
+    def _learn(self, seconds, new_frame):
+        """Track how long a redraw takes, with and without a new mesh to fetch and upload."""
+        if new_frame and self.app.frames_shown > 1:  # the first one compiled shaders too
+            self._frame_draws.append(seconds)
+            del self._frame_draws[:-9]
+            # The median of recent frames, so one slow frame does not shift the next ones.
+            self._frame_draw_s = min(sorted(self._frame_draws)[len(self._frame_draws) // 2], 0.5 * self.app.period)
+        elif not new_frame:
+            self._redraw_s = 0.8 * self._redraw_s + 0.2 * seconds
+
+    def close(self):
+        if self.window is not None:
+            self.overlay.release()
+            self.renderer.release()
+            self.glfw.destroy_window(self.window)
+            self.glfw.terminate()
+            self.window = None
+
+    def _draw(self, now):
+        mesh = self.app.mesh()
+        if mesh is None:
+            self.ctx.screen.use()
+            self.ctx.screen.clear(*self.renderer.background)
+        else:
+            self.renderer.draw(mesh, self.app.camera, framebuffer=self.ctx.screen)
+        if self._screenshot:
+            self._screenshot = False
+            self._save_screenshot()
+        labels = [Label(self.app.status_lines(now), "top-left"),
+                  Label(self.app.legend_lines(), "top-right", colour=(0.85, 0.9, 1.0))]
+        message = self.app.message_text(now)
+        if message:
+            width = self.ctx.screen.viewport[2]
+            lines = textwrap.wrap(message, max(self.overlay.columns(width - 40), 20))
+            labels.append(Label(lines, "bottom-left", colour=(1.0, 0.8, 0.4)))
+        self.overlay.draw(labels, self.ctx.screen)
+
+    def _save_screenshot(self):
+        import imageio.v3 as iio
+        import numpy as np
+
+        width, height = self.glfw.get_framebuffer_size(self.window)
+        data = self.ctx.screen.read(viewport=(0, 0, width, height), components=3, alignment=1)
+        image = np.frombuffer(data, np.uint8).reshape(height, width, 3)[::-1]
+        path = screenshot_path()
+        iio.imwrite(path, image)
+        print(f"screenshot saved to {path}", flush=True)
+
+    def _resize(self, width, height):
+        if width > 0 and height > 0:
+            self.ctx.screen.viewport = (0, 0, width, height)
+            self.app.set_aspect(width / height)
+
+    def _turn(self, now):
+        """Turn the camera for arrow keys held down (smoothly, per redraw, not per key repeat)."""
+        for key, (since, applied) in list(self._held.items()):
+            self._apply_turn(key, now - since - applied)
+            self._held[key] = (since, now - since)
+
+    def _apply_turn(self, key, seconds):
+        degrees = ORBIT_DEG_PER_S * seconds
+        turns = {"left": (degrees, 0.0), "right": (-degrees, 0.0), "up": (0.0, degrees), "down": (0.0, -degrees)}
+        self.app.orbit(*turns[key])
+
+    def _on_key(self, _window, key, scancode, action, mods):
+        glfw = self.glfw
+        name = self._key_names.get(key) or glfw.get_key_name(key, scancode)
+        if name is None:
+            return
+        name = name.lower()
+        if mods & glfw.MOD_SHIFT and name == "=":
+            name = "+"
+        now = self.clock()
+        if name in ("left", "right", "up", "down"):
+            if action == glfw.PRESS:
+                self._held[name] = (now, 0.0)
+            elif action == glfw.RELEASE and name in self._held:
+                since, applied = self._held.pop(name)
+                self._apply_turn(name, max(now - since, TAP_S) - applied)
+            return
+        if action == glfw.RELEASE or (action == glfw.REPEAT and name not in ("+", "=", "-", "kp_add", "kp_subtract")):
+            return
+        command = self.app.press(name, now)
+        if command == "quit":
+            glfw.set_window_should_close(self.window, True)
+        elif command == "screenshot":
+            self._screenshot = True
+
+    def _on_mouse_button(self, window, button, action, _mods):
+        if button == self.glfw.MOUSE_BUTTON_LEFT:
+            self._drag = self.glfw.get_cursor_pos(window) if action == self.glfw.PRESS else None
+
+    def _on_cursor(self, _window, x, y):
+        if self._drag is not None:
+            dx, dy = x - self._drag[0], y - self._drag[1]
+            self._drag = (x, y)
+            self.app.orbit(-dx * DRAG_DEG_PER_PIXEL, dy * DRAG_DEG_PER_PIXEL)
+
+    def _on_scroll(self, _window, _dx, dy):
+        self.app.zoom(ZOOM_STEP ** -dy)
+

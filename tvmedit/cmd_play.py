@@ -1,0 +1,97 @@
+"""Play a library in a window and steer it with the keyboard.
+
+The first key motion (or the library's first motion) loops until you queue another: keys
+1-9, 0, then a, b, ... (q, r and s are commands) queue motions in the order `tvmedit info`
+lists them, and the player follows the best path there, finishing each motion texton before
+it leaves it (section 8). The legend on screen lists the keys.
+
+  Backspace        remove the last queued motion
+  Space            pause / resume
+  arrows, drag     orbit the camera     scroll, + / -   zoom      R   reset the camera
+  S                save a screenshot (tvmedit-screenshot-<n>.png in the current folder)
+  Esc, Q           quit
+
+Playback runs at the library's frame rate on its own clock; the window redraws at the
+display rate in between. With --log every displayed sequence frame is written as one JSON
+line, {"t", "node", "sequence", "frame", "queue"}, between a "start" and a "stop" line.
+Needs a display: set DISPLAY, or run under xvfb-run; for video files use `tvmedit render`.
+"""
+
+import os
+import sys
+import time
+
+from engine.errors import TvmError
+
+HELP = "play a library in a window, queueing key motions from the keyboard"
+
+# The player's times count from here: as close to process start as a command gets.
+_CLOCK_ZERO = time.perf_counter()
+_WALL_ZERO = time.time()
+
+
+def add_arguments(parser):
+    parser.add_argument("library", metavar="LIB", help="library folder made by tvmedit build")
+    parser.add_argument("keys", metavar="KEY", nargs="*",
+                        help="key motions (id or name) to queue at the start; the first one plays first")
+    parser.add_argument("--forbid", metavar="KEY", nargs="+", action="extend", default=[],
+                        help="motions no path may pass through (repeatable)")
+    parser.add_argument("--size", metavar="WxH", default="960x720", type=_size, help="window size (default 960x720)")
+    parser.add_argument("--fps", type=float, default=None,
+                        help="playback rate, frames per second (default: the library's)")
+    parser.add_argument("--log", metavar="FILE.jsonl", default=None,
+                        help="write one JSON line per displayed sequence frame")
+    parser.add_argument("--seconds", type=float, default=None, help="quit by itself after this many seconds")
+    parser.add_argument("--stats", action="store_true", help="print frame and redraw rates on exit")
+
+
+def _size(text):
+    import argparse
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+        if width > 0 and height > 0:
+            return width, height
+    except ValueError:
+        pass
+    raise argparse.ArgumentTypeError(f"size should be WIDTHxHEIGHT in pixels, like 960x720, not {text!r}")
+
+
+def run(args):
+    from engine.library import Library
+
+    if args.fps is not None and not 0 < args.fps <= 240:
+        raise TvmError(f"The playback rate must be above 0 and at most 240 fps, not {args.fps:g}.")
+    if args.seconds is not None and args.seconds <= 0:
+        raise TvmError(f"--seconds must be positive, not {args.seconds:g}.")
+    library = Library.open(args.library)
+    graph = library.graph
+    keys = [library.node(key).id for key in args.keys]
+    forbidden = [library.node(key).id for key in args.forbid]
+    for node in keys:
+        if node in forbidden:
+            raise TvmError(f"Motion {node} is both a key motion and forbidden; drop it from one of them.")
+    order = [node.id for node in library.nodes]     # the order of `tvmedit info`
+    start = keys[0] if keys else order[0]
+    fps = args.fps or library.sequence(graph.nodes[start]["sequence"]).fps
+    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
+
+    from player.window import PlayerApp, Window
+
+    log = open(args.log, "w", encoding="utf-8") if args.log else None
+    try:
+        app = PlayerApp(graph, library, order, start, fps=fps, forbidden=forbidden,
+                        aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO)
+        app.write_header(_WALL_ZERO, library=str(args.library))
+        for node in keys[1:]:
+            app.queue(node, time.perf_counter())
+        window = Window(app, size=args.size, title=f"tvmedit - {os.path.basename(os.path.normpath(args.library))}",
+                        clock=time.perf_counter)
+        redraws, seconds = window.run(args.seconds)
+    finally:
+        if log is not None:
+            log.close()
+    if args.stats:
+        print(f"{app.frames_shown} sequence frames and {redraws} redraws in {seconds:.1f} s: "
+              f"{redraws / max(seconds, 1e-9):.1f} redraws per second", file=sys.stderr)
+    return 0
