@@ -6,4 +6,16 @@ compose -> library. The player consumes what this package produces.
 
 from .errors import InputError, LibraryError, NoPath, TvmError, UnknownMotion
 
-__all__ = ["InputError", "LibraryError", "NoPath", "TvmError", "UnknownMotion"]
+__all__ = ["InputError", "Library", "LibraryError", "NoPath", "TvmError", "UnknownMotion", "build"]
+
+# Loaded on first use, so ``import engine`` stays light (no networkx, no trimesh).
+_LAZY = {"Library": ("library", "Library"), "build": ("builder", "build")}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        module, attribute = _LAZY[name]
+        return getattr(importlib.import_module(f".{module}", __name__), attribute)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,142 @@
+"""Analyse TVM sequences and write a library: features, structure, database, graph, meshes.
+
+INPUT is a sequence folder of PLY, OBJ or OFF frames, a quoted glob of frame files (one
+sequence), or a quoted glob of folders (one sequence each); give as many as you like
+(several people, several takes). A sequence is named after its folder; write NAME=INPUT to
+name it yourself, e.g. ``tvmedit build walk=capture/A/walk run=capture/A/run -o lib``.
+
+The library is written beside LIB under a temporary name and renamed into place when
+complete, so an interrupted build never leaves half a library. Features, the expensive
+part, are cached by frame files and bin sizes: rebuilding with other parsing or pruning
+parameters reuses them (and says so). --workers and --dask spread the reading of frames;
+the library is the same whichever is used.
+"""
+
+import dataclasses
+import math
+import re
+import signal
+import sys
+from pathlib import Path
+
+HELP = "analyse sequences into a library (features, structure, database, graph, meshes)"
+
+
+def _input(text):
+    """``NAME=PATH`` -> (name, path); a path that exists is never split."""
+    if "=" in text and not Path(text).exists():
+        name, path = text.split("=", 1)
+        if name and path:
+            return name, path
+    return text
+
+
+def _structure_fields():
+    from engine.structure import StructureParams
+
+    return StructureParams, dataclasses.fields(StructureParams)
+
+
+def _param_help(cls):
+    """``{field: first sentence}`` from the numpydoc Parameters/Attributes of ``cls``."""
+    helps, lines = {}, (cls.__doc__ or "").splitlines()
+    for k, line in enumerate(lines):
+        match = re.match(r"\s*(\w+)\s*:\s*\S", line)
+        if match and k + 1 < len(lines) and lines[k + 1].strip():
+            helps.setdefault(match.group(1), lines[k + 1].strip().split(". ")[0].rstrip("."))
+    return helps
+
+
+def add_arguments(parser):
+    from engine.features import BinSizes
+    from engine.graph import MU
+
+    parser.add_argument("inputs", nargs="+", metavar="INPUT", type=_input,
+                        help="sequence folder, quoted glob, or NAME=INPUT")
+    parser.add_argument("-o", "--out", required=True, metavar="LIB", help="library directory to write")
+    parser.add_argument("--force", action="store_true", help="replace LIB if it exists")
+    parser.add_argument("--fps", type=float, default=None,
+                        help="frame rate of every sequence (default: sequence.json beside the frames, else 10)")
+    parser.add_argument("--skip-bad-frames", action="store_true",
+                        help="leave out frames that cannot be loaded instead of stopping")
+
+    bins = BinSizes()
+    group = parser.add_argument_group("features (section 3)")
+    group.add_argument("--bin-r", type=float, default=bins.r, metavar="M",
+                       help="radial bin size in metres (default: %(default)g)")
+    group.add_argument("--bin-theta", type=float, default=math.degrees(bins.theta), metavar="DEG",
+                       help="azimuth bin size in degrees (default: %(default)g)")
+    group.add_argument("--bin-phi", type=float, default=math.degrees(bins.phi), metavar="DEG",
+                       help="polar bin size in degrees (default: %(default)g)")
+
+    cls, fields = _structure_fields()
+    defaults, helps = cls(), _param_help(cls)
+    group = parser.add_argument_group("structure parsing (section 4)")
+    for field in fields:
+        default = getattr(defaults, field.name)
+        flag = "--" + field.name.replace("_", "-")
+        text = helps.get(field.name, field.name.replace("_", " "))
+        kwargs = {"dest": f"structure_{field.name}", "default": default, "metavar": field.name.upper()}
+        if isinstance(default, bool):
+            kwargs["action"] = argparse_bool()
+        elif isinstance(default, (list, tuple)):
+            kwargs.update(nargs="+", type=type(default[0]) if default else float)
+        elif default is None:
+            kwargs["type"] = float
+        else:
+            kwargs["type"] = type(default)
+        group.add_argument(flag, help=f"{text} (default: %(default)s)", **kwargs)
+
+    group = parser.add_argument_group("motion graph (section 6)")
+    group.add_argument("--mu", type=float, default=MU,
+                       help="pruning parameter of eq. (14); larger keeps more edges (default: %(default)g)")
+
+    group = parser.add_argument_group("speed")
+    group.add_argument("--workers", type=int, default=None, metavar="N",
+                       help="local worker processes reading frames (default: all cores; 1: none)")
+    group.add_argument("--dask", default=None, metavar="ADDRESS",
+                       help="spread the work over a dask.distributed scheduler at ADDRESS "
+                            "(frame files must be on a shared file system), or 'local' to start one here")
+    group.add_argument("--no-cache", action="store_true",
+                       help="neither read nor write the feature cache in $XDG_CACHE_HOME/tvmedit")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bars and no summary")
+
+
+def argparse_bool():
+    import argparse
+
+    return argparse.BooleanOptionalAction
+
+
+def _terminate(signum, frame):
+    # SIGTERM unwinds like Ctrl-C, so the build removes its temporary directory.
+    raise SystemExit(128 + signum)
+
+
+def run(args):
+    from engine.builder import build
+    from engine.features import BinSizes
+
+    say = (lambda message: None) if args.quiet else (lambda message: print(message, file=sys.stderr))
+    bins = BinSizes(r=args.bin_r, theta=math.radians(args.bin_theta), phi=math.radians(args.bin_phi))
+    cls, fields = _structure_fields()
+    structure = {}
+    for field in fields:
+        value = getattr(args, f"structure_{field.name}")
+        structure[field.name] = tuple(value) if isinstance(getattr(cls(), field.name), tuple) else value
+    previous = signal.signal(signal.SIGTERM, _terminate)
+    try:
+        library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
+                        skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
+                        workers=args.workers, dask=args.dask, force=args.force,
+                        cache=not args.no_cache, log=say)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    report = library.report
+    reused = report["reused"]
+    say(f"built {library.path}: {report['sequences']} sequence(s), {report['frames']} frames, "
+        f"{report['clusters']} clusters, {report['nodes']} database motions, "
+        f"{report['edges']} graph edges, {report['stored_frames']} frames stored, "
+        f"in {report['seconds']:.1f} s ({report['workers']})"
+        + (f"; features reused for {len(reused)} of {report['sequences']} sequence(s)" if reused else ""))
+    return 0

@@ -1,0 +1,61 @@
+"""Summarise a library: its parameters, sequences, motions and motion graph.
+
+With --json the summary is one JSON object (schema: ``engine.library.INFO_SCHEMA``):
+``format``, ``params``, ``sequences`` (name, frames, fps, clusters and textons as inclusive
+0-based frame ranges), ``nodes`` (id, name, sequence, start, end, texton_distance,
+intensity) and ``edges`` of the pruned graph (from, to, weight, exit_frame, entry_frame).
+"""
+
+import json
+import math
+
+HELP = "summarise a library (add --json for a machine-readable summary)"
+
+
+def add_arguments(parser):
+    parser.add_argument("library", metavar="LIB", help="library directory")
+    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
+
+
+def _frames(start, end):
+    return f"{start}-{end}"
+
+
+def run(args):
+    from engine.library import Library
+
+    library = Library.open(args.library)
+    info = library.info()
+    if args.json:
+        print(json.dumps(info, indent=1))
+        return 0
+    params, manifest = info["params"], library.manifest
+    bins = params["bins"]
+    structure = ", ".join(f"{k}={v}" for k, v in params["structure"].items())
+    print(f"library {library.path} (format {info['format']}, built by tvmedit {info['tvmedit']} "
+          f"on {manifest.get('created', '?')})")
+    print(f"parameters: bins r={bins['r'] * 100:g} cm, theta={math.degrees(bins['theta']):g} deg, "
+          f"phi={math.degrees(bins['phi']):g} deg; {structure}; mu={params['mu']:g}")
+    print(f"sequences ({len(info['sequences'])}):")
+    for s in info["sequences"]:
+        clusters = " ".join(_frames(c["start"], c["end"]) for c in s["clusters"])
+        print(f"  {s['name']}: {s['frames']} frames at {s['fps']:g} fps, {len(s['clusters'])} clusters "
+              f"[{clusters}], {len(s['textons'])} textons")
+    names = {n["id"]: n["name"] for n in info["nodes"]}
+    width = max([len(name) for name in names.values()] + [4])
+    print(f"motions ({len(info['nodes'])}):")
+    print(f"  {'id':>3}  {'name':<{width}}  {'frames':<14} {'intensity':>9} {'d_T':>7}")
+    for n in info["nodes"]:
+        where = f"{n['sequence']} {_frames(n['start'], n['end'])}"
+        intensity = "-" if n["intensity"] is None else f"{n['intensity']:.4f}"
+        print(f"  {n['id']:>3}  {n['name']:<{width}}  {where:<14} {intensity:>9} {n['texton_distance']:7.4f}")
+    print(f"graph: {len(info['edges'])} edges after pruning at mu={params['mu']:g}")
+    for e in info["edges"]:
+        print(f"  {names[e['from']]:<{width}} -> {names[e['to']]:<{width}}  weight {e['weight']:.3f}  "
+              f"exit {e['exit_frame']}  entry {e['entry_frame']}")
+    (low, high), (v, f) = library.bounds(), library.max_counts()
+    size = sum(manifest["files"].values()) / 1e6
+    print(f"stored: {manifest['counts']['stored_frames']} frames ({size:.0f} MB), up to {v} vertices "
+          f"and {f} triangles a frame, bounds {tuple(round(x, 2) for x in low)} to "
+          f"{tuple(round(x, 2) for x in high)}")
+    return 0
