@@ -36,7 +36,7 @@ import numpy as np
 
 from .errors import InputError
 
-VERSION = 1                 # bump when the output for given options changes
+VERSION = 2                 # bump when the output for given options changes
 TRANSITION_S = 0.8          # blend between two motions, seconds
 NOISE_M = 0.002             # Gaussian vertex noise, metres
 PERIOD_JITTER = 0.04        # relative standard deviation of a cycle's period
@@ -422,8 +422,10 @@ def _segments(labels):
 
 
 def _acf_at(poses, lag):
-    """Normalised autocorrelation of a pose sequence (T, D) at an integer lag."""
-    x = poses - poses.mean(axis=0)
+    """Normalised autocorrelation of a pose sequence (T, len(POSE)) at an integer lag; angles
+    enter as cosine and sine, so a full turn (arm circles) counts as no change."""
+    x = np.hstack([poses[:, :1], np.cos(poses[:, 1:]), np.sin(poses[:, 1:])])
+    x = x - x.mean(axis=0)
     if lag < 1 or lag >= len(x):
         return None
     den = (x * x).sum()
