@@ -5,6 +5,7 @@ import json
 import random
 
 import networkx as nx
+import numpy as np
 import pytest
 
 from engine.compose import Playhead, ScheduleEntry, compose, play_length
@@ -258,3 +259,9 @@ def test_queuing_the_motion_already_planned_is_an_empty_leg():
     assert head.queue("m0") == [0] and head.queue_list == []
     head.queue(2)
     assert head.queue(2) == [2] and head.queue_list == [2]
+
+
+def test_numpy_ids_come_back_as_plain_ints():
+    edit = compose(three_textons(exit_b=12), np.array([0, 2]))
+    assert json.dumps(edit.to_json())
+    assert type(edit.keys[0]) is int and type(edit.legs[0].source) is int
