@@ -6,6 +6,7 @@ Elevation lifts the camera above the XY plane.
 """
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -101,12 +102,20 @@ class Camera:
 
     def view_matrix(self):
         """World -> camera (4, 4) float32 for row vectors (``p @ view``), so its bytes upload as a GL mat4."""
-        _, up, _ = _basis(self.azimuth, self.elevation)
-        return matrix44.create_look_at(self.eye, np.asarray(self.target, dtype=np.float64), up, dtype=np.float32)
+        return self._matrices[0].copy()
 
     def projection_matrix(self):
         """Camera -> clip (4, 4) float32 for row vectors (``p @ view @ projection``)."""
-        return matrix44.create_perspective_projection(self.fov, self.aspect, self.near, self.far, dtype=np.float32)
+        return self._matrices[1].copy()
+
+    @functools.cached_property
+    def _matrices(self):
+        # Computed once per camera (cameras are frozen); a player asks every frame.
+        _, up, _ = _basis(self.azimuth, self.elevation)
+        view = matrix44.create_look_at(self.eye, np.asarray(self.target, dtype=np.float64), up, dtype=np.float32)
+        projection = matrix44.create_perspective_projection(self.fov, self.aspect, self.near, self.far,
+                                                            dtype=np.float32)
+        return view, projection
 
 
 def _basis(azimuth, elevation):

@@ -58,7 +58,6 @@ class Renderer:
                     ctx.depth_renderbuffer(self.size, samples=self.samples))
             except moderngl.Error:
                 self.samples = 0  # the context cannot multisample this size: draw aliased
-        self._pixels = np.empty((height, width, 3), np.uint8)
 
         self._grid_program = load_program(ctx, "grid")
         corners = np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32)
@@ -93,7 +92,13 @@ class Renderer:
 
         facets = normals is None
         program = self._program(facets)
-        view, projection = camera.view_matrix().tobytes(), camera.projection_matrix().tobytes()
+        projection = camera.projection_matrix()
+        if framebuffer is None:
+            # Draw the own framebuffer upside down: GL reads rows bottom-up, so ``read`` then
+            # returns top-down rows with no flipping copy. (Lighting is two-sided, so the
+            # reversed winding changes nothing.)
+            projection = projection * np.array([1, -1, 1, 1], np.float32)
+        view, projection = camera.view_matrix().tobytes(), projection.tobytes()
         program["view"].write(view)
         program["projection"].write(projection)
         if n_faces:
@@ -106,8 +111,9 @@ class Renderer:
 
     def read(self):
         """The own framebuffer's pixels, (H, W, 3) uint8, first row at the top of the image."""
-        self.framebuffer.read_into(self._pixels, components=3, alignment=1)
-        return self._pixels[::-1].copy()
+        pixels = np.empty((self.size[1], self.size[0], 3), np.uint8)
+        self.framebuffer.read_into(pixels, components=3, alignment=1)
+        return pixels
 
     def release(self):
         if self.ctx.fbo in (self.framebuffer, self._multisample):
@@ -159,11 +165,11 @@ class Renderer:
 
     def _vao(self, facets):
         if facets not in self._vaos:
-            b = self._buffers
-            content = [(b["in_position"], "3f", "in_position"), (b["in_colour"], "3f1", "in_colour")]
-            if not facets:
-                content.append((b["in_normal"], "3f", "in_normal"))
-            self._vaos[facets] = self.ctx.vertex_array(self._program(facets), content, b["index"], index_element_size=4)
+            b, program = self._buffers, self._program(facets)
+            formats = {"in_position": "3f", "in_colour": "3f1", "in_normal": "3f"}
+            # Only attributes the compiled program kept: drivers drop unused ones.
+            content = [(b[name], fmt, name) for name, fmt in formats.items() if name in program]
+            self._vaos[facets] = self.ctx.vertex_array(program, content, b["index"], index_element_size=4)
         return self._vaos[facets]
 
     def _draw_grid(self, target, camera, view, projection):

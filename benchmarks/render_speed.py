@@ -1,0 +1,193 @@
+"""Rendering speed of streamed time-varying meshes, against a peer and against the practical limit.
+
+    .venv/bin/python benchmarks/render_speed.py [--frames 60] [--samples 4]
+
+Each displayed frame is a different mesh (like TVM: new vertex count and topology every frame):
+~17,000 vertices and ~34,000 triangles from marching cubes of a moving body, cycled. A frame
+costs upload + draw + read back of a 640x480 RGB image. Three loops over the same arrays:
+
+* tvmedit   ``player.Renderer``: buffers sized once, overwritten per frame;
+* bare      moderngl with no other work: the same uploads, one minimal shader, same framebuffer
+            (the practical limit on this machine);
+* pyrender  ``OffscreenRenderer`` with a new ``pyrender.Mesh`` per frame (the 'bench' extra; run
+            last, because it makes its own EGL context current).
+
+Prints frames per second and the ratios (targets: tvmedit >= 3x pyrender, >= 80% of bare).
+"""
+
+import argparse
+import os
+import statistics
+import sys
+import time
+
+os.environ.setdefault("PYOPENGL_PLATFORM", "egl")  # must precede any PyOpenGL import (pyrender)
+
+import moderngl  # noqa: E402
+import numpy as np  # noqa: E402
+from skimage.measure import marching_cubes  # noqa: E402
+
+from player.camera import Camera  # noqa: E402
+from player.context import headless_context  # noqa: E402
+from player.renderer import Renderer  # noqa: E402
+from player.source import ArraySource  # noqa: E402
+
+SIZE = (640, 480)
+VOXEL = 0.0107
+"""Marching-cubes voxel (m) that gives ~17k vertices for the body below, as a 2 mm-scale capture
+decimated for playback would."""
+
+
+def body_mesh(phase):
+    """A walking metaball figure 1.8 m tall at phase ``phase`` (radians): positions, colours, faces."""
+    s = np.sin(phase)
+    blobs = [((0, 0, 1.25), (0.17, 0.11, 0.28)), ((0, 0, 1.68), (0.1, 0.1, 0.12)), ((0, 0, 0.95), (0.16, 0.1, 0.12))]
+    for side in (-1, 1):
+        blobs += [((side * 0.1, 0.12 * s * side, 0.72), (0.07, 0.07, 0.22)),
+                  ((side * 0.1, 0.22 * s * side, 0.28), (0.06, 0.06, 0.24)),
+                  ((side * 0.26, -0.1 * s * side, 1.3), (0.05, 0.05, 0.16)),
+                  ((side * 0.28, -0.15 * s * side, 0.98), (0.045, 0.045, 0.15))]
+    low, high = np.array([-0.45, -0.4, -0.05]), np.array([0.45, 0.4, 1.9])
+    grid = np.meshgrid(*[np.arange(low[i], high[i], VOXEL) for i in range(3)], indexing="ij", sparse=True)
+    field = sum(np.exp(-sum(((g - c) / r) ** 2 for g, c, r in zip(grid, centre, radii)))
+                for centre, radii in blobs)
+    positions, faces, _, _ = marching_cubes(field, 0.5, spacing=(VOXEL,) * 3)
+    positions = (positions + low).astype(np.float32)
+    t = positions[:, 2:3] / 1.9
+    colours = np.round(255 * np.hstack([0.85 - 0.5 * t, 0.6 - 0.2 * t, 0.45 + 0.3 * t])).clip(0, 255)
+    return positions, colours.astype(np.uint8), faces
+
+
+def time_loop(step, frames, warmup=3):
+    for i in range(warmup):
+        step(i)
+    start = time.perf_counter()
+    for i in range(frames):
+        step(i)
+    return frames / (time.perf_counter() - start)
+
+
+def tvmedit_loop(ctx, source, keys, camera, samples):
+    renderer = Renderer(ctx, SIZE, samples=samples, max_counts=source.max_counts())
+
+    def step(i):
+        renderer.draw(source.frame_mesh(keys[i % len(keys)]), camera)
+        renderer.read()
+    return renderer, step
+
+
+BARE_VERTEX = """
+#version 330 core
+uniform mat4 mvp;
+in vec3 in_position; in vec3 in_colour; in vec3 in_normal;
+out vec3 v_colour;
+void main() { v_colour = in_colour * abs(in_normal.z); gl_Position = mvp * vec4(in_position, 1.0); }
+"""
+BARE_FRAGMENT = """
+#version 330 core
+in vec3 v_colour; out vec4 colour;
+void main() { colour = vec4(v_colour, 1.0); }
+"""
+
+
+def bare_loop(ctx, meshes, camera, samples):
+    """Upload the same four arrays into fixed buffers, draw, resolve, read: nothing else."""
+    program = ctx.program(vertex_shader=BARE_VERTEX, fragment_shader=BARE_FRAGMENT)
+    program["mvp"].write((camera.view_matrix() @ camera.projection_matrix()).astype(np.float32).tobytes())
+    n = max(len(m[0]) for m in meshes)
+    m = max(len(m[2]) for m in meshes)
+    vbo_p, vbo_c, vbo_n, ibo = (ctx.buffer(reserve=k, dynamic=True) for k in (12 * n, 3 * n, 12 * n, 12 * m))
+    vao = ctx.vertex_array(program, [(vbo_p, "3f", "in_position"), (vbo_c, "3f1", "in_colour"),
+                                     (vbo_n, "3f", "in_normal")], ibo, index_element_size=4)
+    plain = ctx.simple_framebuffer(SIZE)
+    draw_to = ctx.framebuffer(ctx.renderbuffer(SIZE, 4, samples=samples),
+                              ctx.depth_renderbuffer(SIZE, samples=samples)) if samples > 1 else plain
+    pixels = np.empty((SIZE[1], SIZE[0], 3), np.uint8)
+    ctx.enable(moderngl.DEPTH_TEST)
+
+    def step(i):
+        positions, colours, faces, normals = meshes[i % len(meshes)]
+        vbo_p.write(positions)
+        vbo_c.write(colours)
+        vbo_n.write(normals)
+        ibo.write(faces)
+        draw_to.use()
+        draw_to.clear(0.1, 0.1, 0.1, 1.0)
+        vao.render(moderngl.TRIANGLES, vertices=3 * len(faces))
+        if draw_to is not plain:
+            ctx.copy_framebuffer(plain, draw_to)
+        plain.read_into(pixels, components=3, alignment=1)
+    return step
+
+
+def pyrender_loop(meshes, camera):
+    import pyrender
+
+    renderer = pyrender.OffscreenRenderer(*SIZE)
+    scene = pyrender.Scene(bg_color=[0.1, 0.1, 0.1, 1.0], ambient_light=[0.2, 0.2, 0.2])
+    pose = np.linalg.inv(camera.view_matrix().T.astype(np.float64))  # camera -> world, column vectors
+    scene.add(pyrender.PerspectiveCamera(yfov=np.radians(camera.fov), aspectRatio=camera.aspect), pose=pose)
+    scene.add(pyrender.DirectionalLight(intensity=3.0), pose=pose)
+    node = None
+
+    def step(i):
+        nonlocal node
+        positions, colours, faces, normals = meshes[i % len(meshes)]
+        if node is not None:
+            scene.remove_node(node)
+        mesh = pyrender.Mesh([pyrender.Primitive(positions=positions, normals=normals, color_0=colours,
+                                                 indices=faces, mode=pyrender.constants.GLTF.TRIANGLES)])
+        node = scene.add(mesh)
+        renderer.render(scene)
+    return renderer, step
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--frames", type=int, default=60, help="timed frames per round (default 60)")
+    parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds; the median is reported")
+    parser.add_argument("--meshes", type=int, default=8, help="different meshes cycled (default 8)")
+    parser.add_argument("--samples", type=int, default=4, help="multisampling of tvmedit and bare (pyrender: 4)")
+    args = parser.parse_args(argv)
+
+    print(f"generating {args.meshes} meshes ...", file=sys.stderr)
+    frames = {("bench", i): body_mesh(2 * np.pi * i / args.meshes) for i in range(args.meshes)}
+    source = ArraySource(frames)
+    keys = list(frames)
+    meshes = [source.frame_mesh(key) for key in keys]
+    camera = Camera.framing(source.bounds(), SIZE[0] / SIZE[1])
+    ctx = headless_context()
+    print(f"{args.meshes} meshes, {np.mean([len(m[0]) for m in meshes]):.0f} vertices and "
+          f"{np.mean([len(m[2]) for m in meshes]):.0f} triangles on average; {SIZE[0]}x{SIZE[1]}, "
+          f"upload + draw + read back; {ctx.info['GL_RENDERER']}, {os.cpu_count()} CPUs")
+
+    renderer, ours = tvmedit_loop(ctx, source, keys, camera, args.samples)
+    bare = bare_loop(ctx, meshes, camera, renderer.samples)
+    fps = {"tvmedit": [], "bare": []}
+    for _ in range(args.rounds):
+        fps["tvmedit"].append(time_loop(ours, args.frames))
+        fps["bare"].append(time_loop(bare, args.frames))
+    results = {name: statistics.median(values) for name, values in fps.items()}
+    assert ctx.error == "GL_NO_ERROR", ctx.error
+    renderer.release()
+
+    try:
+        peer, step = pyrender_loop(meshes, camera)
+    except ImportError as error:
+        print(f"pyrender: skipped ({error}; install the 'bench' extra: pip install -e '.[bench]')")
+    else:
+        results["pyrender"] = statistics.median(time_loop(step, max(args.frames // 3, 10))
+                                                for _ in range(max(args.rounds - 1, 1)))
+        peer.delete()
+
+    samples = f"{renderer.samples}x MSAA" if renderer.samples > 1 else "no MSAA"
+    print(f"tvmedit renderer   {results['tvmedit']:7.1f} fps   ({samples})")
+    print(f"bare moderngl loop {results['bare']:7.1f} fps   ({samples}, the practical limit)")
+    if "pyrender" in results:
+        print(f"pyrender           {results['pyrender']:7.1f} fps   (4x MSAA, new pyrender.Mesh per frame)")
+        print(f"tvmedit / pyrender {results['tvmedit'] / results['pyrender']:7.2f}x   (target >= 3x)")
+    print(f"tvmedit / bare     {100 * results['tvmedit'] / results['bare']:7.1f} %   (target >= 80 %)")
+
+
+if __name__ == "__main__":
+    main()
