@@ -225,3 +225,25 @@ def test_dense_graph_agrees_with_networkx_minimax():
         assert len(path) - 1 == nx.shortest_path_length(below, source, target)
         strictly = nx.DiGraph((u, v) for u, v, w in g.edges(data="weight") if w < cost)
         assert not (source in strictly and target in strictly and nx.has_path(strictly, source, target))
+
+
+def test_reported_mu_connects_the_graph_the_builder_makes():
+    # The same check through engine.graph.graph_from, which prunes the real library's graph.
+    from engine.database import Node
+    from engine.graph import graph_from
+
+    rng = np.random.default_rng(5)
+    n = 8
+    nodes = [Node(i, f"take/{i:02d}", "take", 10 * i, 10 * i + 4, i, 0.0, 1.0) for i in range(n)]
+    unpruned = {(i, j): float(rng.random()) for i in range(n) for j in range(n) if i != j}
+    frames = {(i, j): (10 * i, 10 * j) for i, j in unpruned}
+    refused = 0
+    for source in range(n):
+        for target in range(n):
+            try:
+                best_path(graph_from(nodes, unpruned, frames, mu=0.5), source, target)
+            except NoPath as error:
+                refused += 1
+                assert f"'take/{source:02d}'" in str(error)
+                best_path(graph_from(nodes, unpruned, frames, mu=error.mu), source, target)
+    assert refused > 5
