@@ -1,0 +1,171 @@
+"""``tvmedit build``, ``info`` and ``rename`` as a user runs them, on real mocap frames.
+
+Every run points ``XDG_CACHE_HOME`` at a temporary folder, so no test reads or fills the
+user's feature cache.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import jsonschema
+import pytest
+
+from engine import Library
+from engine.library import INFO_SCHEMA
+from tvmedit.cli import main
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.fixture(autouse=True)
+def _cache_home(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+
+
+def _small(take):
+    """Frames 0-59 of the take, as a quoted glob."""
+    return "gym=" + str(take / "frame_000[0-5]?.ply")
+
+
+def _tvmedit(*args, env_cache, **popen):
+    env = {**os.environ, "XDG_CACHE_HOME": str(env_cache)}
+    return subprocess.Popen([sys.executable, "-m", "tvmedit", *map(str, args)], cwd=ROOT, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, **popen)
+
+
+def _library_files(path):
+    """Every file of a library but the build time, for comparing two builds."""
+    files = {}
+    for entry in sorted(os.listdir(path)):
+        data = (path / entry).read_bytes()
+        if entry == "manifest.json":
+            manifest = json.loads(data)
+            manifest.pop("created")
+            data = json.dumps(manifest, sort_keys=True).encode()
+        files[entry] = data
+    return files
+
+
+def test_info_json_follows_the_documented_schema(take_13_30, tmp_path, capsys):
+    out = tmp_path / "gym.lib"
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q"]) == 0
+    capsys.readouterr()
+    assert main(["info", str(out), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    jsonschema.validate(info, INFO_SCHEMA)
+    library = Library.open(out)
+    assert [s["name"] for s in info["sequences"]] == ["gym"]
+    assert info["sequences"][0]["frames"] == 60
+    assert [n["name"] for n in info["nodes"]] == [n.name for n in library.nodes]
+    assert len(info["edges"]) == library.graph.number_of_edges()
+    for edge in info["edges"]:
+        source, target = library.nodes[edge["from"]], library.nodes[edge["to"]]
+        assert source.start <= edge["exit_frame"] <= source.end
+        assert target.start <= edge["entry_frame"] <= target.end
+    clusters = info["sequences"][0]["clusters"]
+    assert clusters[0]["start"] == 0 and clusters[-1]["end"] == 59
+
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "gym: 60 frames at 10 fps" in text and library.nodes[0].name in text
+
+
+def test_build_prints_a_summary_and_refuses_to_overwrite_without_force(take_13_30, tmp_path, capsys):
+    out = tmp_path / "gym.lib"
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1"]) == 0
+    err = capsys.readouterr().err
+    assert f"built {out}: 1 sequence(s), 60 frames," in err and "graph edges" in err
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1"]) == 2
+    assert "error: library" in capsys.readouterr().err
+
+    # Other parsing and pruning parameters: the features are reused, and the user is told.
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "--force",
+                 "--mu", "1.5", "--beta", "0.3"]) == 0
+    err = capsys.readouterr().err
+    assert "features of gym: reused from the library being replaced (60 frames)" in err
+    assert "features reused for 1 of 1 sequence(s)" in err
+    assert Library.open(out).params["mu"] == 1.5
+    assert Library.open(out).params["structure"]["beta"] == 0.3
+
+
+def test_serial_worker_and_dask_builds_are_identical(take_13_30, tmp_path):
+    libraries = {}
+    for label, options in (("serial", ["--workers", "1"]), ("workers", ["--workers", "2"]),
+                           ("dask", ["--dask", "local", "--workers", "2"])):
+        out = tmp_path / f"{label}.lib"
+        assert main(["build", _small(take_13_30), "-o", str(out), "-q", "--no-cache", *options]) == 0
+        libraries[label] = _library_files(out)
+    assert libraries["workers"] == libraries["serial"]
+    assert libraries["dask"] == libraries["serial"]
+
+
+def _kill_when(process, condition, timeout=120):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+            return
+        if process.poll() is not None:
+            pytest.fail(f"the build ended before it could be interrupted: {process.stderr.read()}")
+        time.sleep(0.01)
+    os.killpg(process.pid, signal.SIGKILL)
+    pytest.fail("the build never reached the point where it was to be interrupted")
+
+
+def test_an_interrupted_build_leaves_no_library_or_the_previous_one(take_13_30, tmp_path):
+    out = tmp_path / "gym.lib"
+    process = _tvmedit("build", take_13_30, "-o", out, "--workers", "1", "-q", env_cache=tmp_path / "xdg")
+    tmp = tmp_path / f".gym.lib.tmp-{process.pid}"
+    _kill_when(process, tmp.exists)
+    assert not out.exists()
+
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q"]) == 0
+    assert not tmp.exists()  # what the killed build left is cleaned up by the next one
+    before = _library_files(out)
+
+    # Killed while the meshes of the new library were being written.
+    process = _tvmedit("build", take_13_30, "-o", out, "--workers", "1", "-q", "--force",
+                       env_cache=tmp_path / "xdg")
+    tmp = tmp_path / f".gym.lib.tmp-{process.pid}"
+    _kill_when(process, lambda: (tmp / "positions.npy").exists())
+    assert _library_files(out) == before
+    assert Library.open(out).sequences[0].frames == 60
+
+    # Stopped politely (SIGTERM), the build removes its temporary directory itself.
+    process = _tvmedit("build", take_13_30, "-o", out, "--workers", "1", "--force",
+                       env_cache=tmp_path / "xdg")
+    tmp = tmp_path / f".gym.lib.tmp-{process.pid}"
+    deadline = time.monotonic() + 120
+    while not tmp.exists() and time.monotonic() < deadline:
+        time.sleep(0.01)
+    process.send_signal(signal.SIGTERM)
+    process.wait(timeout=60)
+    assert process.returncode != 0 and not tmp.exists()
+    assert _library_files(out) == before
+
+
+def test_rename_and_its_errors(take_13_30, tmp_path, capsys):
+    out = tmp_path / "gym.lib"
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q"]) == 0
+    first = Library.open(out).nodes[0]
+    assert main(["rename", str(out), str(first.id), "warm-up"]) == 0
+    assert f"is now 'warm-up' (was '{first.name}')" in capsys.readouterr().out
+    assert Library.open(out).node("warm-up").id == first.id
+    assert main(["rename", str(out), "no-such-motion", "x"]) == 2
+    assert "error: there is no motion 'no-such-motion'" in capsys.readouterr().err
+    assert main(["info", str(tmp_path / "missing.lib")]) == 2
+    assert "error: no library at" in capsys.readouterr().err
+
+
+def test_bad_input_is_one_sentence(tmp_path, capsys):
+    assert main(["build", str(tmp_path / "nowhere"), "-o", str(tmp_path / "lib"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: sequence folder") and err.count("\n") == 1
+    assert not (tmp_path / "lib").exists()
+
