@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
+from .plyfast import read_ply
 
 MESH_SUFFIXES = (".ply", ".obj", ".off")
 # Files that commonly sit beside frames and are not frames.
@@ -141,7 +142,15 @@ def _read_off(path):
 
 
 def _read_trimesh(path):
-    """(vertices, faces, colours or None) through trimesh, keeping vertex order."""
+    """(vertices, faces, colours or None) through trimesh, keeping vertex order.
+
+    Binary little-endian PLY triangle meshes, what capture systems write, take the fast
+    path of :mod:`engine.plyfast`; every other file goes through trimesh.
+    """
+    if Path(path).suffix.lower() == ".ply":
+        fast = read_ply(path)
+        if fast is not None:
+            return fast
     import trimesh
 
     mesh = trimesh.load(path, process=False, force="mesh")

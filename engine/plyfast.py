@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_ply"]
+__all__ = ["read_ply", "write_ply"]
 
 # PLY scalar type names (both spellings) -> little-endian numpy codes.
 _TYPES = {
@@ -124,3 +124,23 @@ def read_ply(path):
         for axis, name in enumerate(("red", "green", "blue")):
             colours[:, axis] = vertices[name]
     return positions, np.ascontiguousarray(faces["i"]), colours
+
+
+def write_ply(path, verts, faces, colours):
+    """Write a binary little-endian PLY in the layout :func:`read_ply` reads fastest.
+
+    verts : (N, 3) float, faces : (M, 3) int, colours : (N, 3) uint8.
+    Vertex float x, y, z and uchar red, green, blue; faces as ``list uchar int``.
+    """
+    vertex = np.empty(len(verts), dtype=[("p", "<f4", 3), ("c", "u1", 3)])
+    vertex["p"], vertex["c"] = verts, colours
+    face = np.empty(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
+    face["n"], face["i"] = 3, faces
+    header = ("ply\nformat binary_little_endian 1.0\ncomment tvmedit\n"
+              f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
+              "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    with open(path, "wb") as f:
+        f.write(header.encode("ascii"))
+        f.write(vertex.tobytes())
+        f.write(face.tobytes())

@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
+from .plyfast import write_ply
 
 VERSION = 2                 # bump when the output for given options changes
 TRANSITION_S = 0.8          # blend between two motions, seconds
@@ -386,22 +387,6 @@ def _colours(prims, verts, rng):
     colour = PALETTE[material] * rng.uniform(0.92, 1.06, (len(verts), 1))
     colour += rng.normal(0.0, 3.0, colour.shape)
     return np.clip(np.rint(colour), 0, 255).astype(np.uint8)
-
-
-def write_ply(path, verts, faces, colours):
-    """Binary little-endian PLY: float x, y, z, uchar red, green, blue; uchar-int face lists."""
-    vertex = np.empty(len(verts), dtype=[("p", "<f4", 3), ("c", "u1", 3)])
-    vertex["p"], vertex["c"] = verts, colours
-    face = np.empty(len(faces), dtype=[("n", "u1"), ("i", "<i4", 3)])
-    face["n"], face["i"] = 3, faces
-    header = ("ply\nformat binary_little_endian 1.0\ncomment tvmedit synth\n"
-              f"element vertex {len(verts)}\nproperty float x\nproperty float y\nproperty float z\n"
-              "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-              f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
-    with open(path, "wb") as f:
-        f.write(header.encode("ascii"))
-        f.write(vertex.tobytes())
-        f.write(face.tobytes())
 
 
 def _frame_job(job):
