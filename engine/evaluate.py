@@ -1,0 +1,186 @@
+"""Scoring a parsed motion structure against labelled truth (``truth.json``).
+
+Two figures are reported for a sequence whose true segments (one exercise each) and their
+periods are known:
+
+* **Boundary precision and recall.** The detected cluster starts (frame 0 left out, as it
+  is not a decision) are matched one-to-one to the true segment starts (frame 0 left out).
+  A pair matches when the two starts are at most ``tolerance_frames`` apart; among the
+  admissible pairs, a maximum matching with the smallest total offset is taken, so a
+  detection can explain at most one true start and vice versa. Precision is the matched
+  fraction of detections, recall the matched fraction of true starts (both 1 when there is
+  nothing to find and nothing was found).
+* **Texton-length accuracy.** For each detected cluster that overlaps one true segment by
+  more than half of the cluster's length and whose segment has a period (``periods_hint``),
+  the median length of its textons is compared with that period; the figure is the
+  fraction of such clusters within ``rel_tol`` (15 %) of it. A cluster without textons
+  counts as a miss.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+
+__all__ = [
+    "boundary_scores",
+    "texton_length_accuracy",
+    "load_truth",
+    "sequence_features",
+]
+
+
+def _starts(ranges):
+    out = []
+    for item in ranges:
+        if isinstance(item, dict):
+            out.append(int(item["start"]))
+        else:
+            out.append(int(item[0]))
+    return sorted(s for s in out if s != 0)
+
+
+def boundary_scores(detected_clusters, truth_segments, tolerance_frames=10):
+    """Precision and recall of cluster boundaries with one-to-one matching.
+
+    Parameters
+    ----------
+    detected_clusters : list of (start, end) or dicts with "start"
+        Detected clusters (inclusive ranges).
+    truth_segments : list of dicts with "start" (as in ``truth.json``) or (start, end)
+    tolerance_frames : int
+        Largest admissible |detected start - true start|.
+
+    Returns
+    -------
+    precision : float
+    recall : float
+    matches : list of (detected_start, true_start)
+
+    Examples
+    --------
+    >>> boundary_scores([(0, 9), (12, 30), (31, 40)], [{"start": 0}, {"start": 10}])
+    (0.5, 1.0, [(12, 10)])
+    """
+    det = _starts(detected_clusters)
+    tru = _starts(truth_segments)
+    matches = _match(det, tru, tolerance_frames)
+    precision = len(matches) / len(det) if det else (1.0 if not tru else 0.0)
+    recall = len(matches) / len(tru) if tru else 1.0
+    return precision, recall, matches
+
+
+def _match(det, tru, tol):
+    # Both lists are sorted and admissible pairs lie within a band, so an order-preserving
+    # maximum matching is optimal; dynamic programming over (i, j) finds the one with the
+    # most pairs and, among those, the least total offset.
+    n, m = len(det), len(tru)
+    best = [[(0, 0.0)] * (m + 1) for _ in range(n + 1)]
+    choice = [[0] * (m + 1) for _ in range(n + 1)]
+    for i in range(n - 1, -1, -1):
+        for j in range(m - 1, -1, -1):
+            options = [(best[i + 1][j], 1), (best[i][j + 1], 2)]
+            if abs(det[i] - tru[j]) <= tol:
+                c, cost = best[i + 1][j + 1]
+                options.append(((c + 1, cost - abs(det[i] - tru[j])), 3))
+            value, how = max(options, key=lambda o: o[0])
+            best[i][j], choice[i][j] = value, how
+    pairs, i, j = [], 0, 0
+    while i < n and j < m:
+        how = choice[i][j]
+        if how == 3:
+            pairs.append((det[i], tru[j]))
+            i, j = i + 1, j + 1
+        elif how == 1:
+            i += 1
+        else:
+            j += 1
+    return pairs
+
+
+def _as_ranges(structure):
+    if hasattr(structure, "clusters"):
+        clusters = [tuple(c) for c in structure.clusters]
+        textons = [(t.start, t.end, t.cluster) for t in structure.textons]
+    else:
+        clusters = [tuple(c) for c in structure["clusters"]]
+        textons = [(t["start"], t["end"], t["cluster"]) for t in structure["textons"]]
+    return clusters, textons
+
+
+def texton_length_accuracy(structure, truth, rel_tol=0.15, details=False):
+    """Fraction of detected clusters whose median texton length matches the true period.
+
+    Parameters
+    ----------
+    structure : engine.structure.Structure or its ``to_json()`` dict
+    truth : dict
+        ``truth.json`` contents (``segments`` and ``periods_hint``), frames at the same
+        rate as the structure.
+    rel_tol : float
+        Admissible relative error of the median texton length.
+    details : bool
+        Also return one ``(cluster, segment, median_length, true_period, ok)`` row per
+        scored cluster.
+
+    Returns
+    -------
+    float (NaN when no cluster can be scored), or (float, rows) with ``details``
+    """
+    clusters, textons = _as_ranges(structure)
+    segments = truth["segments"]
+    hints = truth.get("periods_hint") or [None] * len(segments)
+    rows = []
+    for ci, (cs, ce) in enumerate(clusters):
+        length = ce - cs + 1
+        for si, seg in enumerate(segments):
+            overlap = min(ce, seg["end"]) - max(cs, seg["start"]) + 1
+            if overlap * 2 > length:
+                hint = hints[si] if si < len(hints) else None
+                period = hint.get("period_frames") if isinstance(hint, dict) else None
+                if period:
+                    lengths = [e - s + 1 for s, e, c in textons if c == ci]
+                    med = float(np.median(lengths)) if lengths else 0.0
+                    ok = abs(med - period) <= rel_tol * period
+                    rows.append((ci, si, med, float(period), ok))
+                break
+    score = float(np.mean([r[4] for r in rows])) if rows else float("nan")
+    return (score, rows) if details else score
+
+
+def load_truth(folder):
+    """The ``truth.json`` of a generated sequence folder, as a dict."""
+    return json.loads((Path(folder) / "truth.json").read_text())
+
+
+def sequence_features(folder, bins=None, cache_dir=None):
+    """Features of a sequence folder, cached as ``.npz`` keyed by folder, files and bins.
+
+    Loading about 17,000-vertex PLY frames costs far more than the histograms; tests and
+    benchmarks that score many parameter settings on the same takes read them once.
+    """
+    from .features import BinSizes, FeatureAccumulator, Features
+    from .load import frame_paths, iter_frames
+
+    bins = bins or BinSizes()
+    paths = frame_paths(str(folder))
+    key = hashlib.sha1(json.dumps([str(Path(folder).resolve()), len(paths),
+                                   [Path(p).name for p in paths[:1] + paths[-1:]],
+                                   bins.to_json()]).encode()).hexdigest()[:16]
+    cache = Path(cache_dir) if cache_dir else Path(folder).resolve().parent.parent / "features"
+    target = cache / f"{Path(folder).name}-{key}.npz"
+    if target.exists():
+        z = np.load(target)
+        return Features(z["r"], z["theta"], z["phi"], z["origin"], bins)
+    acc = FeatureAccumulator(bins)
+    for _, frame in iter_frames(paths):
+        acc.add(frame.positions)
+    features = acc.result()
+    cache.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_suffix(".tmp.npz")
+    np.savez(tmp, r=features.r, theta=features.theta, phi=features.phi, origin=features.origin)
+    tmp.replace(target)
+    return features
