@@ -104,7 +104,8 @@ def test_every_texton_shows_all_its_frames_then_leaves_at_the_first_chance():
 
 def test_legs_report_path_cost_edges_and_frames():
     g = texton_graph({0: (0, 2), 1: (10, 15), 2: (30, 32), 3: (40, 41)},
-                     {(0, 1): (1.0, 2, 14), (1, 2): (2.0, 12, 30), (2, 3): (0.5, 31, 40), (0, 2): (9.0, 0, 30)})
+                     {(0, 1): (1.0, 2, 14), (1, 2): (2.0, 12, 30), (2, 3): (0.5, 31, 40),
+                      (0, 2): (9.0, 0, 30)})
     edit = compose(g, ["m0", "m2", "m3"])
     assert [(leg.path, leg.cost, leg.edges, leg.frames) for leg in edit.legs] == [
         ((0, 1, 2), 2.0, 2, 3 + 11), ((2, 3), 0.5, 1, 5)]
@@ -112,7 +113,8 @@ def test_legs_report_path_cost_edges_and_frames():
     assert edit.schedule[14] == ScheduleEntry(2, "seq2", 30)
     assert len(edit.schedule) == 14 + 5 + 2
     document = json.loads(json.dumps(edit.to_json()))
-    assert document["legs"][0] == {"from": 0, "to": 2, "path": [0, 1, 2], "cost": 2.0, "edges": 2, "frames": 14}
+    assert document["legs"][0] == {"from": 0, "to": 2, "path": [0, 1, 2], "cost": 2.0, "edges": 2,
+                                   "frames": 14}
     assert document["schedule"][0] == {"node": 0, "sequence": "seq0", "frame": 0}
 
 
@@ -186,7 +188,8 @@ def test_playhead_plays_what_compose_plans():
 def test_keys_queued_while_playing_match_compose():
     # Queuing each key only once the previous one has begun gives the same schedule.
     g = texton_graph({0: (0, 2), 1: (10, 15), 2: (30, 32), 3: (40, 41)},
-                     {(0, 1): (1.0, 2, 14), (1, 2): (2.0, 12, 30), (2, 3): (0.5, 31, 40), (3, 0): (1.0, 40, 1)})
+                     {(0, 1): (1.0, 2, 14), (1, 2): (2.0, 12, 30), (2, 3): (0.5, 31, 40),
+                      (3, 0): (1.0, 40, 1)})
     edit = compose(g, [0, 2, 3, 0])
     head = Playhead(g, 0)
     played = play(head, 1)
