@@ -39,9 +39,9 @@ import numpy as np
 
 from engine.errors import TvmError
 
-#: Largest |detected - true| cluster start, in frames, that counts as a hit; the value
-#: ``benchmarks/accuracy.py`` scores with, so the page and the benchmark print the same figures.
-TOLERANCE_FRAMES = 10
+#: Largest |detected - true| cluster start that counts as a hit, in seconds (rounded to
+#: frames); the tolerance ``benchmarks/accuracy.py`` scores with, so both print the same figures.
+TOLERANCE_S = 1.0
 
 #: Frames per node contact sheet (evenly spaced over the texton, first and last included).
 SHEET_FRAMES = 8
@@ -355,15 +355,16 @@ class _Report:
             if segments is not None:
                 from engine.evaluate import boundary_scores
 
+                tolerance = tolerance_frames(seq.fps)
                 precision, recall, matches = boundary_scores(structure.clusters, segments,
-                                                             TOLERANCE_FRAMES)
+                                                             tolerance_frames=tolerance)
                 self.say(f"report: {seq.name}: cluster boundaries against truth.json: precision "
                          f"{precision:.3f}, recall {recall:.3f}")
-                row.update(precision=precision, recall=recall, tolerance_frames=TOLERANCE_FRAMES,
+                row.update(precision=precision, recall=recall, tolerance_frames=tolerance,
                            truth_segments=len(segments))
                 parts.append(
                     f"<p class='score'>Cluster boundaries against truth.json "
-                    f"(tolerance {TOLERANCE_FRAMES} frames): precision {precision:.3f}, "
+                    f"(tolerance {tolerance} frames, {TOLERANCE_S:g} s): precision {precision:.3f}, "
                     f"recall {recall:.3f} ({len(matches)} of {len(_inner(structure.clusters))} "
                     f"detected, {len(_inner(segments))} true boundaries matched)</p>")
             summary["sequences"].append(row)
@@ -480,14 +481,16 @@ def _truth_beside(sequence):
 
 
 def _sequence_folder(sequence):
-    for name in ("folder", "source"):
-        value = getattr(sequence, name, None)
-        if value and Path(value).is_dir():
-            return Path(value)
-    paths = getattr(sequence, "paths", None)
-    if paths:
-        return Path(paths[0]).parent
-    return None
+    return Path(sequence.paths[0]).parent if sequence.paths else None
+
+
+def tolerance_frames(fps):
+    """:data:`TOLERANCE_S` in frames at ``fps``, rounded as ``benchmarks/accuracy.py`` does.
+
+    >>> tolerance_frames(10), tolerance_frames(30)
+    (10, 30)
+    """
+    return round(TOLERANCE_S * float(fps))
 
 
 def _scaled_segments(truth, fps):

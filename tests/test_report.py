@@ -1,0 +1,233 @@
+"""`tvmedit report` on small built libraries (EGL renders the thumbnails; skipped without it).
+
+The library is a four-motion take of the synthetic actor at 3,000 vertices a frame (about
+270 frames, built in seconds); a second library, of its first 100 frames copied to a folder
+without ``truth.json``, has no ground truth and only two motions, so no transitions.
+"""
+
+import json
+import os
+import re
+import shutil
+
+import imageio.v3 as iio
+import networkx as nx
+import numpy as np
+import pytest
+
+from conftest import synth_take
+from engine import build
+from engine.errors import TvmError
+from engine.evaluate import boundary_scores, load_truth
+from tvmedit.cli import main
+
+pytestmark = pytest.mark.gl
+
+SECTIONS = ["Motion structure", "Motion database", "Motion graph", "Transitions"]
+
+
+@pytest.fixture(scope="module")
+def egl():
+    from player.context import ContextError, shared_headless_context
+
+    try:
+        return shared_headless_context()
+    except ContextError as error:
+        pytest.skip(str(error))
+
+
+@pytest.fixture(scope="module")
+def take():
+    return synth_take("gym", motions=["walk", "jumping-jacks", "arm-circles", "side-bends"],
+                      cycles=4, vertices=3000)
+
+
+@pytest.fixture(scope="module")
+def library(take, tmp_path_factory):
+    return build([("gym", str(take))], tmp_path_factory.mktemp("lib") / "gym.lib", workers=2, cache=False)
+
+
+@pytest.fixture(scope="module")
+def library_without_truth(take, tmp_path_factory):
+    # Hard links, not symlinks: the library records resolved paths, and a symlink would lead
+    # back to the folder that holds truth.json.
+    folder = tmp_path_factory.mktemp("frames") / "walk"
+    folder.mkdir()
+    for path in sorted(take.glob("frame_*.ply"))[:100]:
+        try:
+            os.link(path, folder / path.name)
+        except OSError:
+            shutil.copy(path, folder / path.name)
+    return build([("walk", str(folder))], folder.parent / "walk.lib", workers=2, cache=False)
+
+
+def _report(lib, out, capsys, *flags):
+    assert main(["report", str(lib.path), "-o", str(out), "-q", *flags]) == 0
+    printed = capsys.readouterr().out.strip()
+    assert printed == str(out / "index.html")
+    return (out / "index.html").read_text(), json.loads((out / "report.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def report(egl, library, tmp_path_factory):
+    from player.report import write_report
+
+    out = tmp_path_factory.mktemp("report") / "gym-report"
+    write_report(library, out, progress=False)
+    return out, (out / "index.html").read_text(), json.loads((out / "report.json").read_text())
+
+
+def _images(page):
+    """(src, width, height) of every <img> in the page."""
+    return [(m.group(1), int(m.group(2)), int(m.group(3)))
+            for m in re.finditer(r"<img src='([^']+)' width='(\d+)' height='(\d+)'", page)]
+
+
+def test_the_cli_prints_the_page_it_wrote(egl, library, tmp_path, capsys):
+    page, summary = _report(library, tmp_path / "out", capsys)
+    assert all(f">{title}</h2>" in page for title in SECTIONS)
+    assert not list(tmp_path.glob(".out.partial-*"))
+
+
+def test_every_section_is_there_and_every_image_it_names_exists(report):
+    out, page, summary = report
+    for title in SECTIONS:
+        assert f">{title}</h2>" in page
+    assert "graph.png" in page and (out / "graph.png").is_file()
+    referenced = {src for src, _, _ in _images(page)}
+    assert referenced and all((out / src).is_file() for src in referenced)
+    assert referenced == set(summary["images"])
+    # Self-contained: nothing fetched from anywhere.
+    assert not re.search(r"https?://|<script|<link", page)
+
+
+def test_images_are_pngs_of_the_stated_size_and_not_blank(report):
+    out, page, _ = report
+    for src, width, height in _images(page):
+        data = (out / src).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n", src
+        image = iio.imread(data)
+        assert image.shape[:2] == (height, width), src
+        assert image[..., :3].astype(float).std() > 8.0, f"{src} is nearly uniform"
+
+
+def test_one_contact_sheet_per_motion_with_its_numbers(report, library):
+    out, page, summary = report
+    nodes = library.nodes
+    assert [row["id"] for row in summary["nodes"]] == [node.id for node in nodes]
+    for node, row in zip(nodes, summary["nodes"]):
+        assert (out / row["image"]).is_file()
+        assert row["frames"][0] == node.start and row["frames"][-1] == node.end
+        assert 6 <= len(row["frames"]) <= 8 or len(row["frames"]) == node.end - node.start + 1
+        fps = library.sequence(node.sequence).fps
+        n = node.end - node.start + 1
+        assert f"{node.name}, frames {node.start}-{node.end} of {node.sequence}, {n} frames ({n / fps:.2f} s)" in page
+        assert f"texton distance {node.texton_distance:.4g}, motion intensity {node.intensity:.4g}" in page
+
+
+def test_the_figure_4_curve_marks_exactly_the_texton_starts(report, library):
+    _, _, summary = report
+    for row in summary["sequences"]:
+        structure = library.structure(row["name"])
+        assert row["texton_starts"] == sorted(t.start for t in structure.textons)
+        assert row["clusters"] == [list(c) for c in structure.clusters]
+
+
+def test_precision_and_recall_are_those_of_the_accuracy_benchmark(report, library, take):
+    _, page, summary = report
+    truth = load_truth(take)
+    structure = library.structure("gym")
+    # As benchmarks/accuracy.py scores: one second of tolerance at the truth's frame rate.
+    precision, recall, _ = boundary_scores(structure.clusters, truth["segments"],
+                                           tolerance_frames=round(1.0 * truth["fps"]))
+    (row,) = summary["sequences"]
+    assert (row["precision"], row["recall"]) == (precision, recall)
+    assert f"precision {precision:.3f}, recall {recall:.3f}" in page
+
+
+def test_transitions_are_listed_by_weight_with_frame_pairs_at_both_ends(report, library):
+    out, page, summary = report
+    rows = summary["transitions"]
+    G = library.graph
+    assert len(rows) == G.number_of_edges() > 0
+    weights = [row["weight"] for row in rows]
+    assert weights == sorted(weights)
+    for row in rows:
+        edge = G.edges[row["from"], row["to"]]
+        assert (row["exit_frame"], row["entry_frame"]) == (edge["exit_frame"], edge["entry_frame"])
+    with_pairs = [k for k, row in enumerate(rows) if row["image"]]
+    assert 0 in with_pairs and len(rows) - 1 in with_pairs
+    assert all((out / rows[k]["image"]).is_file() for k in with_pairs)
+
+
+def test_a_library_without_truth_reports_without_ground_truth(egl, library_without_truth, tmp_path, capsys):
+    page, summary = _report(library_without_truth, tmp_path / "out", capsys)
+    for title in SECTIONS:
+        assert f">{title}</h2>" in page
+    assert "truth.json" not in page and "precision" not in page
+    (row,) = summary["sequences"]
+    assert "precision" not in row and "recall" not in row
+    structure = library_without_truth.structure("walk")
+    assert row["texton_starts"] == sorted(t.start for t in structure.textons)
+    for src, width, height in _images(page):
+        assert iio.imread(tmp_path / "out" / src).shape[:2] == (height, width)
+
+
+def test_pruned_edges_are_hidden_unless_asked_for(tmp_path):
+    G = nx.DiGraph(mu=0.9, unpruned={(0, 1): 1.0, (1, 0): 2.0, (0, 2): 3.0, (2, 0): 1.0,
+                                     (1, 2): 1.0, (2, 1): 3.0})
+    for i in range(3):
+        G.add_node(i, name=f"m/{i}")
+    for i, j in [(0, 1), (1, 2), (2, 0)]:
+        G.add_edge(i, j, weight=G.graph["unpruned"][i, j], exit_frame=0, entry_frame=0)
+    from player.report import graph_figure
+
+    hidden = graph_figure(G, tmp_path / "hidden.png")
+    shown = graph_figure(G, tmp_path / "shown.png", show_pruned=True)
+    assert hidden["edges"] == shown["edges"] == [(0, 1), (1, 2), (2, 0)]
+    assert hidden["pruned"] == [] and shown["pruned"] == [(0, 2), (1, 0), (2, 1)]
+    a, b = iio.imread(tmp_path / "hidden.png"), iio.imread(tmp_path / "shown.png")
+    assert a.shape[:2] == b.shape[:2] == (900, 900)
+    assert (a != b).any()
+
+
+def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(egl, library, tmp_path):
+    from player.report import write_report
+
+    class Broken:
+        def __getattr__(self, name):
+            return getattr(library, name)
+
+        def frame_mesh(self, key):
+            raise RuntimeError("disk gone")
+
+    with pytest.raises(RuntimeError, match="disk gone"):
+        write_report(library, tmp_path / "out", progress=False, source=Broken())
+    assert list(tmp_path.iterdir()) == []
+
+    other = tmp_path / "photos"
+    other.mkdir()
+    (other / "a.jpg").write_bytes(b"x")
+    with pytest.raises(TvmError, match="not a report folder"):
+        write_report(library, other, progress=False)
+    assert [p.name for p in other.iterdir()] == ["a.jpg"]
+
+
+def test_without_matplotlib_one_sentence_says_what_to_install(monkeypatch):
+    import sys
+
+    from player.report import pyplot
+
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.raises(TvmError, match=r"pip install 'tvmedit\[report\]'"):
+        pyplot()
+
+
+def test_plotting_returns_the_markers_it_draws(tmp_path):
+    from player.report import atom_distance_figure
+
+    curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
+    plotted = atom_distance_figure(curve, [(20, 29), (0, 9), (10, 19)], [(0, 29), (30, 59)],
+                                   tmp_path / "c.png", size=(400, 200))
+    assert plotted["texton_starts"] == [0, 10, 20]
+    assert iio.imread(tmp_path / "c.png").shape[:2] == (200, 400)
