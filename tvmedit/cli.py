@@ -14,7 +14,7 @@ from engine.errors import TvmError
 from . import __version__
 
 # Order is the order ``tvmedit --help`` lists them: the pipeline from data to pictures.
-COMMANDS = ["synth", "check", "build", "info", "rename", "report"]
+COMMANDS = ["synth", "check", "build", "info", "rename", "path", "export", "render", "play", "report"]
 
 
 def _parser():

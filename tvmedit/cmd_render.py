@@ -1,0 +1,98 @@
+"""Render an edit headless (EGL, no display needed) to video, GIF or PNG frames, or a texton's contact sheet.
+
+The schedule is the one `tvmedit path` prints for the same KEYs. OUT's suffix picks the
+output: .mp4 (H.264), .gif, or no suffix for a folder of PNG frames. With --node, OUT is a
+contact sheet PNG of that motion's texton (what you look at when choosing key motions).
+
+The camera frames the person automatically; --camera AZ,EL,DIST sets azimuth and elevation
+in degrees and distance in metres (0 keeps the automatic distance), --orbit turns it
+slowly during playback.
+"""
+
+import dataclasses
+
+HELP = "render an edit to MP4/GIF/PNG frames, or a motion's contact sheet"
+
+
+def _size(text):
+    import argparse
+
+    try:
+        width, height = (int(v) for v in text.lower().split("x"))
+        if width > 0 and height > 0:
+            return width, height
+    except ValueError:
+        pass
+    raise argparse.ArgumentTypeError(f"size should be WIDTHxHEIGHT such as 640x480, not {text!r}")
+
+
+def _camera_arg(text):
+    import argparse
+
+    try:
+        values = [float(v) for v in text.split(",")]
+        if len(values) == 3:
+            return values
+    except ValueError:
+        pass
+    raise argparse.ArgumentTypeError(f"camera should be AZ,EL,DIST such as -90,10,0, not {text!r}")
+
+
+def add_arguments(parser):
+    parser.add_argument("library", metavar="LIB", help="library directory made by tvmedit build")
+    parser.add_argument("keys", metavar="KEY", nargs="*", help="key motions, by id or name, in order")
+    parser.add_argument("-o", "--out", required=True, metavar="OUT",
+                        help="OUT.mp4, OUT.gif, a folder for PNG frames, or with --node a .png sheet")
+    parser.add_argument("--node", metavar="NAME", help="render a contact sheet of this motion's texton")
+    parser.add_argument("--forbid", metavar="KEY", nargs="+", action="extend", default=[],
+                        help="motions no path may use (repeatable)")
+    parser.add_argument("--loops", type=int, default=1, metavar="N",
+                        help="cycles of the last key motion (default 1)")
+    parser.add_argument("--size", type=_size, default=(640, 480), metavar="WxH", help="default 640x480")
+    parser.add_argument("--camera", type=_camera_arg, metavar="AZ,EL,DIST",
+                        help="camera azimuth, elevation (degrees) and distance (m; 0 = automatic)")
+    parser.add_argument("--orbit", type=float, default=0.0, metavar="DEG_PER_S",
+                        help="turn the camera this many degrees per second (free viewpoint)")
+    parser.add_argument("--fps", type=float, default=None, help="output frame rate (default: the library's)")
+    parser.add_argument("--grid", action="store_true", help="draw a floor grid")
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+
+
+def camera_for(library, size, camera_arg, orbit=0.0, bounds=None):
+    """The automatic framing, with --camera's angles and distance applied."""
+    from player.camera import Camera
+
+    azimuth, elevation, distance = camera_arg or (-90.0, 10.0, 0.0)
+    camera = Camera.framing(bounds or library.bounds(), size[0] / size[1], azimuth=azimuth,
+                            elevation=elevation, all_azimuths=bool(orbit))
+    return dataclasses.replace(camera, distance=distance) if distance > 0 else camera
+
+
+def run(args):
+    from engine.errors import TvmError
+    from engine.library import Library
+    import player
+
+    library = Library.open(args.library)
+    try:
+        if args.node is not None:
+            node = library.node(args.node)
+            keys = [(node.sequence, f) for f in range(node.start, node.end + 1)]
+            labels = [f"{node.name} {f}" for f in range(node.start, node.end + 1)]
+            camera = None
+            if args.camera:
+                camera = camera_for(library, (160, 120), args.camera)
+            player.contact_sheet(library, keys, args.out, labels=labels, camera=camera, grid=args.grid)
+            print(f"wrote the contact sheet of {node.name} ({len(keys)} frames) to {args.out}")
+            return 0
+        if len(args.keys) < 2:
+            raise TvmError("give two or more key motions to render an edit, or --node NAME for a contact sheet.")
+        edit = library.edit(args.keys, forbid=args.forbid, loops=args.loops)
+        fps = args.fps or library.sequence(edit.schedule[0].sequence).fps
+        camera = camera_for(library, args.size, args.camera, args.orbit) if args.camera else None
+        out = player.render(edit, args.out, size=args.size, fps=fps, camera=camera,
+                            orbit_deg_per_s=args.orbit, progress=not args.quiet, grid=args.grid)
+    except (ValueError, FileExistsError) as error:
+        raise TvmError(str(error).rstrip(".") + ".") from None
+    print(f"wrote {len(edit.schedule)} frames ({len(edit.schedule) / fps:.1f} s at {fps:g} fps) to {out}")
+    return 0
