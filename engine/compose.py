@@ -23,6 +23,8 @@ frame at a time while key motions are queued and unqueued, for the realtime play
 import itertools
 from collections import deque
 from dataclasses import dataclass, field
+from functools import partial
+from itertools import repeat
 from typing import NamedTuple
 
 import numpy as np
@@ -137,8 +139,13 @@ def _cycle(start, end, entry, count):
     return (once * (count // len(once) + 1))[:count]
 
 
+# tuple.__new__ straight from C: a long edit makes thousands of entries, and this skips the
+# Python-level constructor of the named tuple.
+_new_entry = partial(tuple.__new__, ScheduleEntry)
+
+
 def _entries(node, sequence, frames):
-    return [ScheduleEntry(node, sequence, f) for f in frames]
+    return list(map(_new_entry, zip(repeat(node), repeat(sequence), frames)))
 
 
 def resolve_motion(graph, key, index=None):

@@ -97,6 +97,9 @@ class SearchIndex:
         if self.weights.shape != (len(self.nodes), len(self.nodes)):
             raise ValueError(f"'weights' should be a {len(self.nodes)}x{len(self.nodes)} matrix, "
                              f"got shape {self.weights.shape}")
+        # Any path costs at least its first and its last edge: a floor for eq. (15).
+        self.least_out = self.weights.min(axis=1, initial=np.inf)
+        self.least_in = self.weights.min(axis=0, initial=np.inf)
 
     @classmethod
     def from_graph(cls, graph, weight="weight"):
@@ -151,10 +154,13 @@ class SearchIndex:
 
         A minimax Dijkstra over the dense matrix. Once the cheapest open node costs c, every
         open node of cost c is settled in the same numpy sweep (ties and the nodes reached
-        through edges of weight <= c), so the Python loop runs once per distinct level, not
-        once per node. A settled node keeps its final cost, which is <= every later level,
-        so relaxing all columns never lowers it; an ``inf`` mask keeps it out of Extract-Min.
-        The cost of the empty path is ``-inf`` (0 in :func:`path_cost`).
+        through edges of weight <= c), so the Python loop runs once per level and breadth-first
+        layer, not once per node. A settled node keeps its final cost, which is <= every later
+        level, so relaxing all columns never lowers it; an ``inf`` mask keeps it out of
+        Extract-Min. Levels below the floor, the larger of the cheapest edge out of ``s`` and
+        the cheapest edge into ``t``, are raised to it: the answer is at least the floor, and a
+        path through nodes settled at the floor instead of below costs no more than the
+        answer. The cost of the empty path is ``-inf`` (0 in :func:`path_cost`).
         """
         w = self.weights
         n = len(self.nodes)
@@ -164,11 +170,12 @@ class SearchIndex:
         closed[s] = -np.inf
         open_cost = np.empty(n)
         reach = np.empty(n)
+        floor = max(self.least_out[s], self.least_in[t])
         while True:
             np.maximum(cost, closed, out=open_cost)
             u = open_cost.argmin()
-            level = open_cost[u]
-            if level == np.inf:
+            level = max(open_cost[u], floor)
+            if open_cost[u] == np.inf:
                 return np.inf
             if open_cost[t] <= level:
                 return float(level)
