@@ -11,8 +11,8 @@ Two methods are provided.
 ``method="paper"``
     The procedure of section 4 as printed. Atoms are visited in order; a texton starts at a
     local minimum of d_A(t, t_first) (t_first: the current texton's first atom) once the
-    curve has fallen by at least ``texton_contrast`` of its maximum since t_first (noise
-    makes shallow minima); after two textons of a cluster, its atoms from the first to the
+    curve has fallen by at least ``texton_contrast`` of its maximum since t_first and by
+    ``texton_drop`` in absolute terms (noise makes shallow minima); after two textons of a cluster, its atoms from the first to the
     last one of the previous texton form the reference range of eq. (7), and two successive
     atoms farther than ``beta`` from every reference atom (eq. (8)) start a new cluster.
 
@@ -100,15 +100,23 @@ class StructureParams:
         resampled to the same time span.
     beta : float
         Eq. (8) threshold on the smallest atom distance to the current cluster ("paper").
-        The paper's 0.07 belongs to its histogram scale; 0.4 was the best on the
-        calibration takes for our normalised 2 cm / 5 degree histograms (see the report).
+        The paper's 0.07 belongs to its histogram scale (on our normalised 2 cm / 5 degree
+        histograms it fires inside every exercise); 0.3 (with ``texton_contrast`` 0.2) gave
+        the best boundary scores of a grid (beta 0.07-0.6, contrast 0.2-0.5) on the base
+        takes 13_29 and 13_30, and is still far from usable (``benchmarks/accuracy.py``).
     texton_contrast : float
         "paper": a local minimum of d_A(t, t_first) starts a texton only when it lies below
         the maximum since t_first by this fraction of that maximum.
+    texton_drop : float
+        "paper": and by at least this much in absolute terms (atom-distance units), which
+        is what rejects the minima of a still, noisy sequence.
     min_texton : float
         Shortest texton (and shortest period searched), seconds.
     max_period : float
         Longest period searched ("energy"), seconds.
+    min_periodicity : float
+        "energy": a cluster has textons only when its deepest lag-profile valley is at
+        least this fraction of the profile's median deep (still sequences have none).
     period_tolerance : float
         "energy": a shorter lag is preferred when its depth is within this fraction of the
         deepest (depth: how far below the profile's median the mean atom distance falls).
@@ -128,10 +136,12 @@ class StructureParams:
     method: str = "energy"
     window_taps: tuple = PAPER_TAPS
     window_fps: float = PAPER_FPS
-    beta: float = 0.4
-    texton_contrast: float = 0.5
+    beta: float = 0.3
+    texton_contrast: float = 0.2
+    texton_drop: float = 0.05
     min_texton: float = 0.4
     max_period: float = 5.0
+    min_periodicity: float = 0.05
     period_tolerance: float = 0.15
     novelty_window: float = 3.0
     novelty_threshold: float = 0.05
@@ -493,6 +503,10 @@ def _period(v, cs, ce, fps, w, p: StructureParams):
     if not cand:
         return None
     best = max(cand, key=lambda i: prom[i])
+    # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in the
+    # profile's level.
+    if prom[best] < p.min_periodicity * float(np.median(prof)):
+        return None
     # A multiple of the period is a valley too, often as deep: take the shortest lag that
     # is nearly as prominent as the most prominent one.
     chosen = min((i for i in cand if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
@@ -585,7 +599,8 @@ def _parse_paper(v, fps, p, w):
         a, b = prev
         if a is not None and b is not None and b < a and b <= d:
             m = t - 1
-            if m - t_first >= min_len and run_max - b >= p.texton_contrast * run_max:
+            drop = run_max - b
+            if m - t_first >= min_len and drop >= p.texton_contrast * run_max and drop >= p.texton_drop:
                 textons.append(Texton(t_first, m - 1, len(clusters), atom_distance(v, m - 1, t_first, w)))
                 n_textons += 1
                 t_sup = m - 1

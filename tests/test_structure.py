@@ -1,0 +1,146 @@
+"""Motion structure parsing (eq. (5)-(8)) on feature vectors built by hand.
+
+The vectors stand in for histogram rows: a sum of sinusoids per dimension, with the period
+and the mean pose changing at known frames, scaled like normalised histograms (distances of
+a few tenths).
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from engine.structure import (
+    Structure,
+    StructureParams,
+    atom_distance,
+    atom_distances_to,
+    atom_window,
+    lag_profile,
+    parse,
+)
+
+DIM = 40
+
+
+def cyclic_sequence(parts, fps=10, noise=0.003, seed=0):
+    """Feature vectors made of cyclic parts: [(frames, period_frames), ...].
+
+    Each part has its own random mean pose and its own two harmonics per dimension.
+    Returns (vectors (T, DIM), list of true part starts).
+    """
+    rng = np.random.default_rng(seed)
+    rows, starts, t0 = [], [], 0
+    for frames, period in parts:
+        mean = rng.random(DIM) * 0.06
+        a1, a2 = rng.normal(size=(2, DIM)) * 0.02
+        p1, p2 = rng.uniform(0, 2 * np.pi, size=(2, DIM))
+        t = np.arange(frames)[:, None]
+        phase = 2 * np.pi * t / period
+        rows.append(mean + a1 * np.sin(phase + p1) + a2 * np.sin(2 * phase + p2))
+        starts.append(t0)
+        t0 += frames
+    v = np.concatenate(rows) + rng.normal(scale=noise, size=(t0, DIM))
+    return v, starts
+
+
+def test_atom_window_keeps_its_span_and_total_across_frame_rates():
+    assert atom_window(10).tolist() == [0.25, 0.5, 1.0, 0.5, 0.25]
+    w30 = atom_window(30)
+    assert len(w30) == 13 and w30[6] == w30.max()
+    assert w30.sum() == pytest.approx(2.5)
+    with pytest.raises(ValueError):
+        StructureParams(window_taps=(1.0, 1.0))
+
+
+def test_atom_distance_is_eq_5_and_renormalised_at_the_ends():
+    v = np.array([[0.0], [1.0], [3.0], [6.0], [10.0], [15.0]])
+    w = [0.25, 0.5, 1.0, 0.5, 0.25]
+    # Inside: sum_k w(k) |v[2+k] - v[3+k]| = .25*1 + .5*2 + 1*3 + .5*4 + .25*5
+    assert atom_distance(v, 2, 3, w) == pytest.approx(0.25 + 1 + 3 + 2 + 1.25)
+    # At t1 = 0 only k = 0, 1, 2 exist (weights 1, .5, .25 of 2.5, rescaled to 2.5).
+    expected = (1 * 1 + 0.5 * 2 + 0.25 * 3) / 1.75 * 2.5
+    assert atom_distance(v, 0, 1, w) == pytest.approx(expected)
+    np.testing.assert_allclose(atom_distances_to(v, 2, np.array([3, 2]), w), [7.5, 0.0])
+    assert atom_distance(v, 1, 4, w) == pytest.approx(atom_distance(v, 4, 1, w))
+
+
+def test_lag_profile_finds_the_period():
+    v, _ = cyclic_sequence([(120, 17)])
+    lags = np.arange(5, 30)  # up to 2P the multiple 34 would tie with 17
+    assert lags[np.argmin(lag_profile(v, lags, atom_window(10)))] == 17
+
+
+def test_energy_method_finds_boundaries_and_periods():
+    parts = [(60, 10), (80, 24), (70, 14), (90, 30)]
+    v, starts = cyclic_sequence(parts)
+    s = parse(v, fps=10)
+    found = [c[0] for c in s.clusters]
+    assert len(found) == len(starts)
+    assert all(abs(a - b) <= 2 for a, b in zip(found, starts))
+    for ci, (_, period) in enumerate(parts):
+        lengths = [len(t) for t in s.textons_of(ci)]
+        assert len(lengths) >= 2
+        assert abs(np.median(lengths) - period) <= 0.15 * period
+    # Clusters cover the sequence; each texton lies inside its cluster.
+    assert s.clusters[0][0] == 0 and s.clusters[-1][1] == len(v) - 1
+    assert all(b[0] == a[1] + 1 for a, b in zip(s.clusters, s.clusters[1:]))
+    for t in s.textons:
+        cs, ce = s.clusters[t.cluster]
+        assert cs <= t.start <= t.end <= ce
+    assert s.curve.shape == (len(v),) and np.isfinite(s.curve).all()
+
+
+def test_a_30fps_capture_parses_like_a_10fps_one():
+    parts = [(60, 10), (80, 24), (70, 14)]
+    v10, starts = cyclic_sequence(parts, noise=0.0)
+    # The same motion sampled three times as often: repeat-interpolate each dimension.
+    t10 = np.arange(len(v10))
+    t30 = np.arange(3 * len(v10)) / 3
+    v30 = np.stack([np.interp(t30, t10, v10[:, d]) for d in range(DIM)], axis=1)
+    v30 += np.random.default_rng(3).normal(scale=0.003, size=v30.shape)
+    s = parse(v30, fps=30)
+    found = [c[0] for c in s.clusters]
+    assert len(found) == len(starts)
+    assert all(abs(a - 3 * b) <= 6 for a, b in zip(found, starts))
+    for ci, (_, period) in enumerate(parts):
+        lengths = [len(t) for t in s.textons_of(ci)]
+        assert abs(np.median(lengths) - 3 * period) <= 0.15 * 3 * period
+
+
+def test_still_sequence_with_noise_has_one_cluster_and_no_textons():
+    rng = np.random.default_rng(0)
+    v = 0.05 + rng.normal(scale=0.004, size=(150, DIM))
+    for method in ("energy", "paper"):
+        s = parse(v, fps=10, params=StructureParams(method=method))
+        assert s.clusters == [(0, 149)], method
+        assert s.textons == [], method
+
+
+def test_paper_method_finds_textons_and_a_cluster_change():
+    # Long clusters of strong cycles, so the printed procedure gets its two textons.
+    v, starts = cyclic_sequence([(100, 12), (100, 20)], noise=0.001, seed=2)
+    v[100:] += 0.3  # a clearly different pose distribution in the second cluster
+    s = parse(v, fps=10, params=StructureParams(method="paper"))
+    assert len(s.clusters) == 2 and abs(s.clusters[1][0] - 100) <= 3
+    lengths = [len(t) for t in s.textons_of(0)]
+    assert len(lengths) >= 3 and abs(np.median(lengths) - 12) <= 2
+
+
+def test_json_round_trip():
+    v, _ = cyclic_sequence([(60, 10), (60, 20)])
+    s = parse(v, fps=10)
+    text = json.dumps(s.to_json())
+    back = Structure.from_json(text)
+    assert back.clusters == s.clusters
+    assert [(t.start, t.end, t.cluster) for t in back.textons] == [(t.start, t.end, t.cluster) for t in s.textons]
+    np.testing.assert_allclose(back.curve, s.curve)
+    assert back.texton_starts == s.texton_starts
+    assert StructureParams(**back.params) == StructureParams()
+
+
+def test_bad_input_is_refused():
+    with pytest.raises(ValueError):
+        parse(np.zeros((0, 3)), fps=10)
+    with pytest.raises(ValueError):
+        StructureParams(method="magic")
