@@ -52,7 +52,7 @@ PAIRS_EACH_END = 3
 CURVE_SIZE = (960, 300)
 GRAPH_SIZE = (900, 900)
 SHEET_TILE = (120, 160)
-THUMB_SIZE = (60, 80)
+THUMB_SIZE = (84, 112)
 PAIR_TILE = (150, 200)
 
 _INSTALL = "matplotlib is needed for reports; install it with: pip install 'tvmedit[report]'"
@@ -177,10 +177,10 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
     ax.set_ylim(-0.2, 1.2)
     ax.set_aspect("equal")
     ax.axis("off")
-    # Node radius in data units (the axes span 1.4 units): half the larger side of a
-    # thumbnail, or a fixed disc.
-    thumb_px = max((max(im.shape[:2]) for im in thumbnails.values()), default=0)
-    radius = max(0.03, 0.55 * thumb_px * 1.4 / min(size))
+    # Node radius in data units (the axes span 1.4 units): a little over half a thumbnail's
+    # diagonal, so arrows end outside it, or a fixed disc.
+    thumb_px = max((math.hypot(*im.shape[:2]) for im in thumbnails.values()), default=0)
+    radius = max(0.03, 0.5 * thumb_px * 1.4 / min(size))
     kept = sorted(graph.edges)
     pruned = []
     if show_pruned:
@@ -200,16 +200,26 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
     for n in nodes:
         x, y = positions[n]
         if n in thumbnails:
-            image = OffsetImage(thumbnails[n], zoom=1.0)
+            # Matplotlib scales images by dpi / 72; undo it so one pixel stays one pixel.
+            image = OffsetImage(thumbnails[n], zoom=72 / 100)
             ax.add_artist(AnnotationBbox(image, (x, y), frameon=True, pad=0.1, zorder=3))
         else:
             ax.add_patch(pyplot().Circle((x, y), radius * 0.5, color="#3060a0", zorder=3))
         label = str(graph.nodes[n].get("name", n))
         dx, dy = x - 0.5, y - 0.5
         norm = math.hypot(dx, dy) or 1.0
-        ax.text(x + dx / norm * (radius + 0.04), y + dy / norm * (radius + 0.04), f"{n}: {label}",
+        ax.text(x + dx / norm * (radius + 0.02), y + dy / norm * (radius + 0.02), f"{n}: {label}",
                 fontsize=8, ha="center", va="center", zorder=5,
                 bbox={"boxstyle": "round,pad=0.2", "fc": "#fff8e0", "ec": "none", "alpha": 0.9})
+    if weights:
+        from matplotlib.cm import ScalarMappable
+        from matplotlib.colors import Normalize
+
+        scale = ScalarMappable(Normalize(low, low + (high - low) / 0.85 if high > low else low + 1), cmap)
+        bar = fig.colorbar(scale, cax=fig.add_axes([0.72, 0.04, 0.25, 0.012]), orientation="horizontal")
+        bar.set_label("weight, eq. (12)", fontsize=8)
+        bar.ax.xaxis.set_label_position("top")
+        bar.ax.tick_params(labelsize=7)
     mu = graph.graph.get("mu")
     note = f"{len(kept)} transitions kept" + (f" (mu = {mu:g})" if mu is not None else "")
     if show_pruned:
@@ -240,7 +250,7 @@ def _arrow(ax, arrow_class, positions, edge, radius, **style):
     x1, y1, x2, y2 = x1 + ux, y1 + uy, x2 - ux, y2 - uy
     rad = 0.15
     patch = arrow_class((x1, y1), (x2, y2), connectionstyle=f"arc3,rad={rad}", arrowstyle="-|>",
-                        mutation_scale=12, shrinkA=0, shrinkB=0, **style)
+                        mutation_scale=18, shrinkA=0, shrinkB=0, **style)
     ax.add_patch(patch)
     # Midpoint of the quadratic Bezier that arc3 draws: chord midpoint + rad/2 * (dy, -dx).
     return ((x1 + x2) / 2 + rad / 2 * (y2 - y1), (y1 + y2) / 2 - rad / 2 * (x2 - x1))
@@ -328,7 +338,9 @@ class _Report:
             self.transitions_section(graph, nodes, summary),
         ]
         summary["images"] = sorted(p.name for p in self.folder.glob("*.png"))
-        return _page(sections), summary
+        title = (f"Library {self.library.path}: {len(self.library.sequences)} sequences, "
+                 f"{len(nodes)} motions, {graph.number_of_edges()} transitions")
+        return _page(title, sections), summary
 
     def structure_section(self, summary):
         parts = ["<h2 id='structure'>Motion structure</h2>",
@@ -360,13 +372,21 @@ class _Report:
                                                              tolerance_frames=tolerance)
                 self.say(f"report: {seq.name}: cluster boundaries against truth.json: precision "
                          f"{precision:.3f}, recall {recall:.3f}")
+                accuracy = ""
+                if segments == truth["segments"]:  # periods_hint counts frames at the truth's rate
+                    from engine.evaluate import texton_length_accuracy
+
+                    row["texton_accuracy"] = texton_length_accuracy(structure, truth)
+                    if math.isfinite(row["texton_accuracy"]):
+                        accuracy = (f"; texton-length accuracy {row['texton_accuracy']:.3f} (median "
+                                    "texton length within 15 % of the true period)")
                 row.update(precision=precision, recall=recall, tolerance_frames=tolerance,
                            truth_segments=len(segments))
                 parts.append(
                     f"<p class='score'>Cluster boundaries against truth.json "
                     f"(tolerance {tolerance} frames, {TOLERANCE_S:g} s): precision {precision:.3f}, "
                     f"recall {recall:.3f} ({len(matches)} of {len(_inner(structure.clusters))} "
-                    f"detected, {len(_inner(segments))} true boundaries matched)</p>")
+                    f"detected, {len(_inner(segments))} true boundaries matched){accuracy}</p>")
             summary["sequences"].append(row)
         return "\n".join(parts)
 
@@ -406,10 +426,14 @@ class _Report:
 
         self.say("report: motion graph")
         thumbnails = {}
-        for node in nodes:
+        # Thumbnails shrink to fit side by side on the circle; below a readable size, discs.
+        circumference = math.pi * min(GRAPH_SIZE) / 1.4
+        scale = min(1.0, circumference / (1.3 * max(len(nodes), 1) * math.hypot(*THUMB_SIZE)))
+        size = (round(THUMB_SIZE[0] * scale), round(THUMB_SIZE[1] * scale))
+        for node in nodes if size[1] >= 40 else []:
             key = (node.sequence, (node.start + node.end) // 2)
-            thumbnails[node.id] = render_frame(self.source, key, camera=self._framing(key, THUMB_SIZE),
-                                               size=THUMB_SIZE)
+            thumbnails[node.id] = render_frame(self.source, key, camera=self._framing(key, size),
+                                               size=size)
         drawn = graph_figure(graph, self.folder / "graph.png", thumbnails=thumbnails,
                              show_pruned=show_pruned)
         unpruned = graph.graph.get("unpruned", {})
@@ -534,10 +558,10 @@ p.score { font-weight: bold; }
 """
 
 
-def _page(sections):
+def _page(title, sections):
     nav = " | ".join(f"<a href='#{a}'>{t}</a>" for a, t in [
         ("structure", "Motion structure"), ("database", "Motion database"),
         ("graph", "Motion graph"), ("transitions", "Transitions")])
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             f"<title>tvmedit report</title><style>{_STYLE}</style></head><body>"
-            f"<h1>tvmedit report</h1><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")
+            f"<h1>tvmedit report</h1><p>{_e(title)}</p><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")

@@ -18,7 +18,7 @@ import pytest
 from conftest import synth_take
 from engine import build
 from engine.errors import TvmError
-from engine.evaluate import boundary_scores, load_truth
+from engine.evaluate import boundary_scores, load_truth, texton_length_accuracy
 from tvmedit.cli import main
 
 pytestmark = pytest.mark.gl
@@ -143,6 +143,7 @@ def test_precision_and_recall_are_those_of_the_accuracy_benchmark(report, librar
     (row,) = summary["sequences"]
     assert (row["precision"], row["recall"]) == (precision, recall)
     assert f"precision {precision:.3f}, recall {recall:.3f}" in page
+    np.testing.assert_equal(row["texton_accuracy"], texton_length_accuracy(structure, truth))
 
 
 def test_transitions_are_listed_by_weight_with_frame_pairs_at_both_ends(report, library):
