@@ -80,3 +80,26 @@ def synth_walk():
 def synth_gym():
     """Synthetic gym preset: six exercises, about 650 frames at 10 fps, 16,000 vertices a frame."""
     return synth_take("gym")
+
+
+def _engine_hash():
+    digest = hashlib.sha1()
+    for path in sorted((ROOT / "engine").glob("*.py")):
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:10]
+
+
+@pytest.fixture(scope="session")
+def small_library():
+    """A library of the synthetic actor: the gym preset at three cycles a motion, 4,000 vertices.
+
+    Built once into the test cache, keyed by the take and the engine's code. Tests must not
+    modify it (copy it first, e.g. to rename motions).
+    """
+    import engine
+
+    take = synth_take("gym", cycles=3, vertices=4000)
+    out = CACHE / f"library-{take.name}-{_engine_hash()}"
+    if not (out / "manifest.json").exists():
+        engine.build([("gym", take)], out, workers=2, cache=False, force=True)
+    return out
