@@ -299,7 +299,7 @@ def write_report(library, out, show_pruned=False, progress=True, source=None):
         page = _Report(library, source if source is not None else library, temporary, say)
         html_text, summary = page.build(show_pruned)
         (temporary / "index.html").write_text(html_text, encoding="utf-8")
-        (temporary / "report.json").write_text(json.dumps(summary, indent=1), encoding="utf-8")
+        (temporary / "report.json").write_text(json.dumps(summary, indent=1, allow_nan=False), encoding="utf-8")
         if out.exists():
             shutil.rmtree(out)
         os.replace(temporary, out)
@@ -376,10 +376,11 @@ class _Report:
                 if segments == truth["segments"]:  # periods_hint counts frames at the truth's rate
                     from engine.evaluate import texton_length_accuracy
 
-                    row["texton_accuracy"] = texton_length_accuracy(structure, truth)
-                    if math.isfinite(row["texton_accuracy"]):
-                        accuracy = (f"; texton-length accuracy {row['texton_accuracy']:.3f} (median "
-                                    "texton length within 15 % of the true period)")
+                    score = texton_length_accuracy(structure, truth)
+                    row["texton_accuracy"] = score if math.isfinite(score) else None
+                    if math.isfinite(score):
+                        accuracy = (f"; texton-length accuracy {score:.3f} (median texton length "
+                                    "within 15 % of the true period)")
                 row.update(precision=precision, recall=recall, tolerance_frames=tolerance,
                            truth_segments=len(segments))
                 parts.append(
@@ -406,8 +407,7 @@ class _Report:
                           columns=len(frames), tile=SHEET_TILE,
                           labels=[f"{f}" for f in frames])
             n_frames = node.end - node.start + 1
-            fps = self.fps.get(node.sequence, 0.0)
-            seconds = n_frames / fps if fps else float("nan")
+            seconds = n_frames / self.fps[node.sequence]
             intensity = node.intensity if node.intensity is not None else float("nan")
             caption = (f"{node.id}: {node.name}, frames {node.start}-{node.end} of {node.sequence}, "
                        f"{n_frames} frames ({seconds:.2f} s), texton distance "
