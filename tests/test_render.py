@@ -26,9 +26,10 @@ pytestmark = pytest.mark.gl
 REFERENCE = Path(__file__).resolve().parent / "reference"
 SIZE = (160, 120)
 BACKGROUND_RGB = np.round(np.asarray(BACKGROUND) * 255).astype(np.uint8)
-TOLERANCE = 2.0
-"""Mean absolute error (0..255 levels) allowed against a reference image: drivers rasterise edges
-and round colours slightly differently; a wrong colour, light or pose moves it far above this."""
+TOLERANCE = 3.0
+"""Mean absolute error (0..255 levels, over the subject's pixels) allowed against a reference
+image: drivers rasterise edges and round colours slightly differently; a wrong colour, light or
+pose moves it far above this."""
 
 
 def figure():
@@ -119,10 +120,14 @@ def test_matches_reference_image(ctx, name):
     assert path.exists(), f"{path} is missing: run .venv/bin/python tests/regen_references.py"
     expected = iio.imread(path)[..., :3]
     error = np.abs(image.astype(np.int16) - expected.astype(np.int16))
-    if error.mean() > TOLERANCE:
+    # Averaged over the subject (where either image is not background), so that a subject
+    # covering a tenth of the image cannot hide a change behind the untouched background.
+    subject = foreground(image) | foreground(expected)
+    mean_error = error[subject].mean() if subject.any() else 0.0
+    if mean_error > TOLERANCE:
         iio.imwrite(path.with_suffix(".actual.png"), image)
         iio.imwrite(path.with_suffix(".diff.png"), np.clip(error * 4, 0, 255).astype(np.uint8))
-        pytest.fail(f"{name}: mean abs error {error.mean():.2f} > {TOLERANCE}; "
+        pytest.fail(f"{name}: mean abs error {mean_error:.2f} over the subject > {TOLERANCE}; "
                     f"see {path.with_suffix('.actual.png').name} and {path.with_suffix('.diff.png').name}")
 
 
