@@ -115,3 +115,19 @@ def test_shader_stages_define_their_stage_and_variant_right_after_version():
     text = stage_source("mesh", "FRAGMENT_SHADER", (("FACET_NORMALS", 1),))
     lines = text.splitlines()
     assert lines[0].startswith("#version") and lines[1:3] == ["#define FRAGMENT_SHADER", "#define FACET_NORMALS 1"]
+
+
+def test_a_missing_egl_is_reported_in_one_sentence_naming_the_packages(monkeypatch):
+    import moderngl
+
+    from player.context import ContextError, headless_context
+
+    def no_egl(**options):
+        raise Exception("libEGL.so.1: cannot open shared object file: No such file or directory")
+
+    monkeypatch.setattr(moderngl, "create_context", no_egl)
+    with pytest.raises(ContextError) as error:
+        headless_context()
+    message = str(error.value)
+    assert "libEGL.so.1" in message and "libegl1 libegl-mesa0 libgl1-mesa-dri" in message
+    assert "\n" not in message
