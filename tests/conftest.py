@@ -99,7 +99,7 @@ def small_library():
     import engine
 
     take = synth_take("gym", cycles=3, vertices=4000)
-    out = CACHE / f"library-{take.name}-{_engine_hash()}"
+    out = CACHE / f"gym-library-{take.name}-{_engine_hash()}"
     if not (out / "manifest.json").exists():
         engine.build([("gym", take)], out, workers=2, cache=False, force=True)
     return out
