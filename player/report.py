@@ -24,7 +24,7 @@ temporary folder next to the target and renamed at the end, so a failure leaves 
 half-written.
 
 Matplotlib is an optional dependency (``pip install 'tvmedit[report]'``) and is imported
-only when a figure is drawn, with the Agg backend, so no display is needed.
+only when a figure is drawn; figures draw with Agg, so no display is needed.
 """
 
 import html
@@ -59,27 +59,27 @@ _INSTALL = "matplotlib is needed for reports; install it with: pip install 'tvme
 _BAND_COLOURS = ("#dfe9f5", "#f5e9d9")
 
 
-def pyplot():
-    """``matplotlib.pyplot`` on the Agg backend, or a TvmError saying how to install it."""
+def require_matplotlib():
+    """The ``matplotlib`` module, or a TvmError saying how to install it."""
     try:
         import matplotlib
     except ImportError:
         raise TvmError(_INSTALL) from None
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+    return matplotlib
 
 
 def _figure(size):
-    plt = pyplot()
-    # 100 dpi and no tight bounding box, so the PNG is exactly ``size`` pixels.
-    return plt.figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
+    # A bare Figure draws with Agg and touches no pyplot state, so a report made from a
+    # notebook or a GUI program leaves its backend and its open figures alone. 100 dpi and
+    # no tight bounding box make the PNG exactly ``size`` pixels.
+    require_matplotlib()
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(size[0] / 100, size[1] / 100), dpi=100)
 
 
 def _save(fig, out_png):
     fig.savefig(out_png, dpi=100, facecolor="white")
-    pyplot().close(fig)
 
 
 def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None, fps=None,
@@ -98,7 +98,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     truth_segments : list of dicts with "start", "end" (inclusive) and "label", optional
         True segments (``truth.json``), drawn as a labelled strip under the clusters.
     fps : float, optional
-        Adds the time in seconds to the x-axis label.
+        Named in the x-axis label.
     size : (width, height) of the PNG in pixels
 
     Returns
@@ -166,7 +166,7 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
         ``pruned``: pruned edges drawn (empty unless ``show_pruned``); ``size``.
     """
     from matplotlib.offsetbox import AnnotationBbox, OffsetImage
-    from matplotlib.patches import FancyArrowPatch
+    from matplotlib.patches import Circle, FancyArrowPatch
 
     nodes = sorted(graph.nodes)
     positions = _circle(nodes)
@@ -187,7 +187,7 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
         pruned = sorted(e for e in graph.graph.get("unpruned", {}) if not graph.has_edge(*e)
                         and e[0] in graph and e[1] in graph)
     weights = [graph.edges[e]["weight"] for e in kept]
-    cmap = pyplot().get_cmap("viridis")
+    cmap = require_matplotlib().colormaps["viridis"]
     low, high = (min(weights), max(weights)) if weights else (0.0, 1.0)
     for edge in pruned:
         _arrow(ax, FancyArrowPatch, positions, edge, radius, color="#b0b0b0", lw=0.7, ls="--",
@@ -204,7 +204,7 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
             image = OffsetImage(thumbnails[n], zoom=72 / 100)
             ax.add_artist(AnnotationBbox(image, (x, y), frameon=True, pad=0.1, zorder=3))
         else:
-            ax.add_patch(pyplot().Circle((x, y), radius * 0.5, color="#3060a0", zorder=3))
+            ax.add_patch(Circle((x, y), radius * 0.5, color="#3060a0", zorder=3))
         label = str(graph.nodes[n].get("name", n))
         dx, dy = x - 0.5, y - 0.5
         norm = math.hypot(dx, dy) or 1.0
@@ -285,7 +285,7 @@ def write_report(library, out, show_pruned=False, progress=True, source=None):
     source : MeshSource, optional
         Where rendered frames come from; the library itself by default.
     """
-    pyplot()
+    require_matplotlib()
     out = Path(out)
     if out.exists() and not _is_report(out):
         raise TvmError(f"{out} exists and is not a report folder; choose another output folder")

@@ -222,11 +222,11 @@ def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(egl, 
 def test_without_matplotlib_one_sentence_says_what_to_install(monkeypatch):
     import sys
 
-    from player.report import pyplot
+    from player.report import require_matplotlib
 
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     with pytest.raises(TvmError, match=r"pip install 'tvmedit\[report\]'"):
-        pyplot()
+        require_matplotlib()
 
 
 def test_plotting_returns_the_markers_it_draws(tmp_path):

@@ -34,9 +34,9 @@ def add_arguments(parser):
 
 def run(args):
     from engine.library import Library
-    from player.report import pyplot, write_report
+    from player.report import require_matplotlib, write_report
 
-    pyplot()  # says how to install matplotlib before any work is done
+    require_matplotlib()  # says how to install matplotlib before any work is done
     library = Library.open(args.library)
     index = write_report(library, args.out, show_pruned=args.show_pruned, progress=not args.quiet)
     print(index)
