@@ -166,10 +166,10 @@ class PlayerApp:
         elif key == "space":
             self.toggle_pause(now)
         elif key == "backspace":
-            if self.playhead.queue_list:
-                node = self.playhead.queue_list[-1]
-                self.playhead.unqueue_last()
+            node = self.playhead.unqueue_last()
+            if node is not None:
                 self.say(f"removed {self.label(node)} from the queue", now)
+                self._event(now, "unqueued", node)
         elif key in ("+", "=", "kp_add"):
             self.zoom(1 / ZOOM_STEP)
         elif key in ("-", "kp_subtract"):
@@ -181,12 +181,15 @@ class PlayerApp:
     def queue(self, node, now, key=None):
         """Queue ``node`` as the next key motion; an unreachable one is refused with a message."""
         try:
-            self.playhead.queue(node)
+            path = self.playhead.queue(node)
         except NoPath as error:
             self.say(f"refused {self.label(node)}: {error}", now, echo=True)
-            self._write({"t": round(now - self.clock_zero, 6), "event": "refused", "key": key,
-                         "node": _plain(node), "message": str(error)})
+            self._event(now, "refused", node, key=key, message=str(error))
             return False
+        if len(path) == 1:
+            self.say(f"{self.label(node)} is already where the queue ends", now)
+        else:
+            self._event(now, "queued", node, key=key)
         return True
 
     def toggle_pause(self, now):
@@ -268,6 +271,11 @@ class PlayerApp:
         seconds = now - self.clock_zero
         self._write({"event": "stop", "t": round(seconds, 6), "frames": self.frames_shown,
                      "redraws": redraws, "redraw_hz": round(redraws / draw_seconds, 2) if draw_seconds > 0 else None})
+
+    def _event(self, now, event, node, **details):
+        """A log line for a change the frames alone do not show (the queue after it included)."""
+        self._write({"t": round(now - self.clock_zero, 6), "event": event, "node": _plain(node), **details,
+                     "queue": [_plain(n) for n in self.playhead.queue_list]})
 
     def _write(self, record):
         if self.log is not None:

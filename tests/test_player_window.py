@@ -1,0 +1,365 @@
+"""The realtime player: its logic on a fake clock, then a real window under Xvfb pressed with xdotool.
+
+The window tests start their own ``Xvfb`` on a free display number and drive
+``python -m tvmedit play`` with real key presses; what the player showed is read back from
+its ``--log``. They skip where Xvfb or xdotool is missing (``.ci/run`` installs both).
+"""
+
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import networkx as nx
+import numpy as np
+import pytest
+
+from conftest import CACHE, ROOT, synth_take
+from engine.errors import NoPath
+from engine.search import best_path
+from player.source import ArraySource
+from player.window import MAX_LAG_S, PlayerApp, motion_keys
+
+# ---------------------------------------------------------------------------------------
+# PlayerApp without a window
+
+
+def _tiny_source_and_graph():
+    """Three textons of one sequence: 0 <-> 1 -> 2, and 2 a dead end; frames are triangles."""
+    triangle = np.array([[0, 0, 0], [1, 0, 0], [0, 0, 1]], np.float32)
+    frames = {("s", f): (triangle + 0.01 * f, np.full((3, 3), 200, np.uint8), [[0, 1, 2]]) for f in range(12)}
+    g = nx.DiGraph()
+    for node, (start, end) in enumerate([(0, 3), (4, 7), (8, 11)]):
+        g.add_node(node, name=f"s/{node:02d}", sequence="s", start=start, end=end)
+    g.add_edge(0, 1, weight=0.2, exit_frame=2, entry_frame=5)
+    g.add_edge(1, 0, weight=0.2, exit_frame=5, entry_frame=2)
+    g.add_edge(1, 2, weight=0.3, exit_frame=7, entry_frame=8)
+    return ArraySource(frames), g
+
+
+class _Log(list):
+    def write(self, text):
+        self.append(json.loads(text))
+
+    def flush(self):
+        pass
+
+
+def _app(**options):
+    source, graph = _tiny_source_and_graph()
+    log = _Log()
+    app = PlayerApp(graph, source, [0, 1, 2], 0, fps=10, log=log, print_=lambda text: None, **options)
+    return app, log
+
+
+def _play(app, start, stop, step=0.001):
+    """Run the playback clock from ``start`` to ``stop`` as a window would, logging each frame."""
+    shown = []
+    for now in np.arange(start, stop, step):
+        if app.tick(now):
+            app.displayed(now)
+            shown.append((round(float(now), 3), app.entry.node, app.entry.frame))
+    return shown
+
+
+def test_keys_follow_info_order_and_skip_the_command_letters():
+    keys = motion_keys(14)
+    assert keys[:10] == list("1234567890")
+    assert keys[10:] == ["a", "b", "c", "d"]
+    assert not set("qrs") & set(motion_keys(40))
+
+
+def test_playback_clock_shows_one_frame_per_slot_whatever_the_redraw_rate():
+    app, log = _app()
+    shown = _play(app, 0.0, 1.0, step=0.0167)          # a 60 Hz display
+    times = [t for t, _, _ in shown]
+    assert len(shown) == 10
+    assert np.allclose(np.diff(times), 0.1, atol=0.0167)
+    assert [f for _, _, f in shown] == [0, 1, 2, 3, 0, 1, 2, 3, 0, 1]   # texton 0 loops
+    assert [row["frame"] for row in log] == [f for _, _, f in shown]
+
+
+def test_a_stall_restarts_the_clock_instead_of_rushing():
+    app, _ = _app()
+    assert app.tick(0.0)
+    assert not app.tick(0.05)
+    assert app.tick(0.1 + MAX_LAG_S + 0.5)             # one frame after the stall, not six
+    assert not app.tick(0.1 + MAX_LAG_S + 0.55)
+    assert app.tick(0.1 + MAX_LAG_S + 0.6)
+
+
+def test_queue_follows_the_playhead_and_backspace_unqueues_the_last():
+    app, log = _app()
+    app.tick(0.0)
+    app.press("2", 0.01)
+    app.press("3", 0.02)
+    assert app.playhead.queue_list == [1, 2]
+    app.press("backspace", 0.03)
+    assert app.playhead.queue_list == [1]
+    assert app.seconds_to_next_key(0.03) == pytest.approx(0.07 + 0.1 * app.playhead.frames_until_next_key())
+    shown = _play(app, 0.05, 1.0)
+    # Texton 0 plays to its exit frame 2 through all four frames, then 1 is entered at 5.
+    assert [(n, f) for _, n, f in shown[:4]] == [(0, 1), (0, 2), (0, 3), (0, 0)]
+    first_of_1 = next(i for i, (_, n, _) in enumerate(shown) if n == 1)
+    assert shown[first_of_1 - 1][2] == 2 and shown[first_of_1][2] == 5
+    assert log[-1]["queue"] == []
+
+
+def test_an_unreachable_key_is_refused_and_the_queue_keeps_the_others():
+    app, log = _app()
+    app.tick(0.0)
+    app.press("3", 0.01)                               # 0 -> 1 -> 2
+    app.press("1", 0.02)                               # 2 is a dead end: refused
+    assert app.playhead.queue_list == [2]
+    refusal = log[-1]
+    assert refusal["event"] == "refused" and refusal["node"] == 0 and refusal["key"] == "1"
+    assert "refused" in app.message_text(0.03)
+    assert _play(app, 0.05, 0.5)                       # playback goes on
+
+
+def test_a_forbidden_motion_cannot_be_queued():
+    app, log = _app(forbidden=[1])
+    app.tick(0.0)
+    assert not app.queue(2, 0.01)                      # only path runs through 1
+    assert log[-1]["event"] == "refused"
+    with pytest.raises(NoPath):
+        best_path(app.graph, 0, 2, forbidden=[1])
+
+
+def test_pause_holds_the_frame_and_resumes_where_it_left_off():
+    app, _ = _app()
+    app.tick(0.0)
+    app.press("space", 0.04)
+    assert not _play(app, 0.05, 2.0)
+    app.press("space", 2.0)
+    assert app.next_frame_at() == pytest.approx(2.06)
+    assert app.tick(2.06) and app.entry.frame == 1
+
+
+def test_camera_keys_orbit_zoom_and_reset():
+    app, _ = _app()
+    home = app.camera
+    app.orbit(30, 10)
+    app.press("+", 0.0)
+    assert app.camera.azimuth == pytest.approx(home.azimuth + 30)
+    assert app.camera.elevation == pytest.approx(home.elevation + 10)
+    assert app.camera.distance < home.distance
+    app.press("r", 0.0)
+    assert app.camera == home
+    assert app.press("s", 0.0) == "screenshot" and app.press("q", 0.0) == "quit"
+
+
+# ---------------------------------------------------------------------------------------
+# A real window under Xvfb
+
+
+@pytest.fixture(scope="session")
+def xdisplay():
+    """``:N`` of an Xvfb started for this session (1024x768x24); DISPLAY for subprocesses."""
+    missing = [tool for tool in ("Xvfb", "xdotool") if shutil.which(tool) is None]
+    if missing:
+        pytest.skip(f"{' and '.join(missing)} not installed (apt-get install xvfb xdotool)")
+    for n in range(90, 140):
+        if Path(f"/tmp/.X{n}-lock").exists() or Path(f"/tmp/.X11-unix/X{n}").exists():
+            continue
+        server = subprocess.Popen(["Xvfb", f":{n}", "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and server.poll() is None:
+            if Path(f"/tmp/.X11-unix/X{n}").exists():
+                break
+            time.sleep(0.05)
+        if server.poll() is None and Path(f"/tmp/.X11-unix/X{n}").exists():
+            yield f":{n}"
+            server.terminate()
+            server.wait(timeout=10)
+            return
+        server.kill()
+        server.wait()
+    pytest.fail("no free X display number between :90 and :139 for Xvfb")
+
+
+def _engine_hash():
+    digest = hashlib.sha1()
+    for path in sorted((ROOT / "engine").glob("*.py")):
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:10]
+
+
+@pytest.fixture(scope="session")
+def small_library():
+    """A library of the synthetic actor: the gym preset at three cycles a motion, 4,000 vertices.
+
+    Built once into the test cache, keyed by the take and the engine's code.
+    """
+    import engine
+
+    take = synth_take("gym", cycles=3, vertices=4000)
+    out = CACHE / f"library-{take.name}-{_engine_hash()}"
+    if not (out / "manifest.json").exists():
+        engine.build([str(take)], out, workers=2, cache=False, force=True)
+    return out
+
+
+def _rows(log_path):
+    if not log_path.exists():
+        return []
+    return [json.loads(line) for line in log_path.read_text().splitlines() if line.endswith("}")]
+
+
+def _frames(rows):
+    return [row for row in rows if "event" not in row]
+
+
+def _wait_for(predicate, log_path, timeout):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate(_rows(log_path)):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _plan(graph):
+    """Start S, then key motions A and B (B reachable from A), C to queue and take back, and
+    U, a motion that the player must refuse after B."""
+    reach = {node: nx.descendants(graph, node) for node in graph}
+    for s in sorted(graph, key=lambda n: -len(reach[n])):
+        for a in sorted(reach[s] - {s}):
+            for b in sorted(reach[a] - {a, s}):
+                others = sorted(reach[b] - {b})
+                unreachable = sorted(set(graph) - reach[b] - {b})
+                if others and unreachable:
+                    return s, a, b, others[0], unreachable[0]
+    pytest.skip("the test library has no motion unreachable from a two-step path")
+
+
+def _runs(frames):
+    """Consecutive frames of one node: [(node, [frame, ...]), ...]."""
+    runs = []
+    for row in frames:
+        if runs and runs[-1][0] == row["node"]:
+            runs[-1][1].append(row["frame"])
+        else:
+            runs.append((row["node"], [row["frame"]]))
+    return runs
+
+
+def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, small_library, tmp_path):
+    from engine.library import Library
+
+    library = Library.open(small_library)
+    graph = library.graph
+    order = [node.id for node in library.nodes]
+    key_of = dict(zip(order, motion_keys(len(order))))
+    s, a, b, c, u = _plan(graph)
+    forbid = next((n for n in order if n not in (s, a, b, c, u) and n not in best_path(graph, s, a)
+                   and n not in best_path(graph, a, b)), None)
+    log_path = tmp_path / "play.jsonl"
+    env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
+    command = [sys.executable, "-m", "tvmedit", "play", str(small_library), str(s),
+               "--log", str(log_path), "--seconds", "40", "--size", "640x480"]
+    if forbid is not None:
+        command += ["--forbid", str(forbid)]
+    player = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    try:
+        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=env,
+                                capture_output=True, text=True, timeout=20).stdout.split()[0]
+        subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
+        assert _wait_for(lambda rows: _frames(rows), log_path, 20), "no frame was shown"
+
+        def press(*keys):
+            for key in keys:
+                sent = subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10,
+                                      capture_output=True, text=True)
+                assert sent.returncode == 0, f"xdotool: {sent.stderr}; player: {player.communicate()}"
+                time.sleep(0.15)
+
+        press(key_of[a], key_of[b], key_of[c], "BackSpace", key_of[u])
+        if forbid is not None:
+            press(key_of[forbid])
+        press("s")
+        # Q quits once B has been reached and shown for a second.
+        assert _wait_for(lambda rows: any(r.get("node") == b and not r["queue"] for r in _frames(rows)),
+                         log_path, 30), "the second key motion was never reached"
+        time.sleep(1.0)
+        # The player may close its window between xdotool's key press and release, which
+        # xdotool reports as an error: what counts is that the player quits.
+        subprocess.run(["xdotool", "key", "--window", window, "q"], env=env, capture_output=True, timeout=10)
+        out, err = player.communicate(timeout=20)
+    finally:
+        if player.poll() is None:
+            player.kill()
+            player.communicate()
+    assert player.returncode == 0, err
+
+    rows = _rows(log_path)
+    frames = _frames(rows)
+    assert rows[0]["event"] == "start" and rows[-1]["event"] == "stop"
+    assert rows[-1]["t"] < 40, "Q did not quit the player"
+
+    # Key motions are reached in order, through the best paths.
+    runs = _runs(frames)
+    nodes = [node for node, _ in runs]
+    expected = best_path(graph, s, a, forbidden=[forbid] if forbid is not None else [])
+    expected += best_path(graph, a, b, forbidden=[forbid] if forbid is not None else [])[1:]
+    assert nodes == expected
+
+    # Every texton is shown completely, in its cyclic order, before it is left; each
+    # transition leaves and enters at the frames the graph gives.
+    for k, (node, shown) in enumerate(runs[:-1]):
+        start, end = graph.nodes[node]["start"], graph.nodes[node]["end"]
+        length = end - start + 1
+        assert set(shown) == set(range(start, end + 1)), f"texton {node} not shown completely"
+        assert all(start + (f - start + 1) % length == g for f, g in zip(shown, shown[1:]))
+        target, entered = runs[k + 1][0], runs[k + 1][1][0]
+        edge = graph.edges[node, target]
+        assert (shown[-1], entered) == (edge["exit_frame"], edge["entry_frame"])
+
+    # Backspace took back C: the queue held it, then lost it, and C was never reached as a key.
+    events = [(row["event"], row["node"], tuple(row["queue"])) for row in rows if row.get("event") in ("queued", "unqueued")]
+    assert events == [("queued", a, (a,)), ("queued", b, (a, b)), ("queued", c, (a, b, c)), ("unqueued", c, (a, b))]
+    taken_back = next(row["t"] for row in rows if row.get("event") == "unqueued")
+    queues = [tuple(row["queue"]) for row in frames if row["t"] > taken_back]
+    assert queues and all(c not in q for q in queues)
+    assert (a, b) in queues or (b,) in queues
+
+    # The unreachable (and the forbidden) key motions were refused, and playback went on.
+    refused = [row for row in rows if row.get("event") == "refused"]
+    assert [row["node"] for row in refused] == [u] + ([forbid] if forbid is not None else [])
+    assert all(row["key"] == key_of[row["node"]] and "path" in row["message"] for row in refused)
+    assert "No path" in err or "no path" in err
+    after = [row["t"] for row in frames if row["t"] > refused[-1]["t"]]
+    assert len(after) >= 10 and max(np.diff(after)) < 0.5
+
+    # S saved a screenshot of the actor: many pixels differ from the background.
+    saved = [line.split(" saved to ")[-1] for line in out.splitlines() if "screenshot saved to" in line]
+    assert saved, out
+    import imageio.v3 as iio
+
+    image = iio.imread(tmp_path / saved[0]).astype(np.float64)
+    assert image.shape[:2] == (480, 640) and image.std() > 10
+    background = np.median(image.reshape(-1, 3), axis=0)
+    foreground = np.abs(image - background).sum(axis=2) > 60
+    assert foreground.mean() > 0.01
+
+
+def _play_command(*args, env=None):
+    return subprocess.run([sys.executable, "-m", "tvmedit", "play", *map(str, args)], capture_output=True,
+                          text=True, timeout=60, env=env, cwd=ROOT)
+
+
+def test_bad_arguments_and_a_missing_display_are_one_sentence(small_library, tmp_path):
+    missing = _play_command(tmp_path / "nowhere")
+    assert missing.returncode != 0 and missing.stderr.count("\n") == 1 and "no library" in missing.stderr
+    unknown = _play_command(small_library, "no-such-motion")
+    assert unknown.returncode != 0 and unknown.stderr.count("\n") == 1 and "no-such-motion" in unknown.stderr
+    env = {key: value for key, value in os.environ.items() if key not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    headless = _play_command(small_library, env=env)
+    assert headless.returncode != 0 and headless.stderr.strip() == (
+        "error: no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
