@@ -22,6 +22,27 @@ from .errors import TvmError
 __all__ = ["Workers", "default_workers"]
 
 
+def _watch_parent(parent):
+    """Worker initializer: exit when the build process is gone (killed, it cannot say so).
+
+    Signals are the parent's business: a forked worker would otherwise inherit its SIGTERM
+    handler and print a KeyboardInterrupt traceback of its own on Ctrl-C.
+    """
+    import signal
+    import threading
+    import time
+
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
 def default_workers():
     """All the cores this process may run on."""
     try:
@@ -96,7 +117,8 @@ class Workers:
             # platform's default start method is used.
             methods = multiprocessing.get_all_start_methods()
             context = multiprocessing.get_context("fork" if "fork" in methods else None)
-            self._executor = ProcessPoolExecutor(self.workers, mp_context=context)
+            self._executor = ProcessPoolExecutor(self.workers, mp_context=context,
+                                                 initializer=_watch_parent, initargs=(os.getpid(),))
 
     def map(self, fn, tasks, window=None):
         """Yield ``fn(task)`` for every task, in order, running up to ``window`` at a time.
