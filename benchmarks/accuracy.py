@@ -44,10 +44,11 @@ METHODS = {
 def score(folder, params):
     """(precision, recall, texton accuracy, clusters, seconds) of one parse."""
     truth = load_truth(folder)
-    vectors = sequence_features(folder).vectors
+    features = sequence_features(folder)
+    vectors = features.vectors
     fps = float(truth["fps"])
     t0 = time.perf_counter()
-    s = parse(vectors, fps, params)
+    s = parse(vectors, fps, params, theta=features.theta_columns)
     seconds = time.perf_counter() - t0
     p, r, _ = boundary_scores(s.clusters, truth["segments"], tolerance_frames=round(1.0 * fps))
     acc = texton_length_accuracy(s, truth)

@@ -226,6 +226,11 @@ class Features:
         """(T, J_r + J_theta + J_phi) float32: rows whose Euclidean distance is eq. (2)."""
         return np.concatenate([self.r, self.theta, self.phi], axis=1)
 
+    @property
+    def theta_columns(self) -> slice:
+        """Columns of :attr:`vectors` holding the theta histogram."""
+        return slice(self.r.shape[1], self.r.shape[1] + self.theta.shape[1])
+
     def pad_r(self, width: int) -> "Features":
         """A copy whose r histograms are zero-padded to ``width`` bins (eq. (4)).
 

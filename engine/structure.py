@@ -31,15 +31,15 @@ Two methods are provided.
        along the diagonal of the frame-distance matrix with its within-block diagonals
        left out. It is near zero inside an exercise whatever its phase (both blocks hold
        whole cycles of the same poses) and peaks where the pose distribution changes.
-       Peaks above ``novelty_threshold`` and at least ``min_cluster`` seconds apart are
-       boundaries, each then moved to the frame within ``refine`` seconds that maximises
-       the same statistic weighted by n m / (n + m) (the e-divisive statistic) over the
-       whole neighbouring clusters, which places it to within a frame or two.
+       Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
+       are boundaries (of two close peaks of nearly equal height, the earlier one).
     2. **Textons by period.** In each cluster the period P is the lag with the deepest
        mean atom distance mean_u d_A(u, u + L) (self-similarity), taking the shortest lag
        whose depth is within ``period_tolerance`` of the deepest, unless doubling it is
        nearly as deep (an exercise done left then right, or down then up, repeats at
-       half its period only approximately). Textons then start at the most repeatable atom
+       half its period only approximately: with the theta columns given, 2L is taken when
+       the azimuth histogram alone shows no valley at L, as left and right poses share
+       their r and phi histograms). Textons then start at the most repeatable atom
        of the first period (the smallest d_A(u, u + P)) and each next one at the minimum of
        d_A(t, t_first) within P +/- 25 %, as in the paper. Partial periods at the cluster's
        ends are not textons.
@@ -126,9 +126,11 @@ class StructureParams:
         "energy": smallest energy-distance peak that counts as a cluster boundary (same
         units as frame distances).
     min_cluster : float
-        "energy": shortest cluster, seconds (also the least distance between boundaries).
-    refine : float
-        "energy": how far, seconds, a boundary may move when it is refined.
+        "energy": least distance between boundaries, seconds; the first and last cluster
+        may be down to 3/4 of it.
+    twin_peak : float
+        "energy": an earlier novelty peak within ``min_cluster`` of a stronger one and at
+        least this fraction of its height is the boundary instead.
     analysis_fps : float
         "energy": rate to which the sequence is reduced for cluster detection.
     """
@@ -142,11 +144,11 @@ class StructureParams:
     min_texton: float = 0.4
     max_period: float = 5.0
     min_periodicity: float = 0.05
-    period_tolerance: float = 0.15
+    period_tolerance: float = 0.3
     novelty_window: float = 3.0
     novelty_threshold: float = 0.05
     min_cluster: float = 2.0
-    refine: float = 1.0
+    twin_peak: float = 0.9
     analysis_fps: float = 10.0
 
     def __post_init__(self):
@@ -408,17 +410,6 @@ def novelty(vectors, block, min_block=None) -> np.ndarray:
     return out
 
 
-def _segment_energy(D, a, t, b):
-    # Scaled energy statistic (n m / (n + m)) * E for splitting [a, b) at t; D is local.
-    n, m = t - a, b - t
-    if n < 2 or m < 2:
-        return -np.inf
-    cross = D[a:t, t:b].mean()
-    left = D[a:t, a:t].sum() / (n * (n - 1))
-    right = D[t:b, t:b].sum() / (m * (m - 1))
-    return n * m / (n + m) * (2.0 * cross - left - right)
-
-
 def _reduce(vectors, step):
     # Block means of ``step`` frames: a 10 fps view of a faster capture.
     v = np.asarray(vectors, dtype=np.float64)
@@ -439,29 +430,31 @@ def _energy_clusters(vectors, fps, p: StructureParams):
     sep = max(2, int(round(p.min_cluster * f)))
     n = novelty(v, block, min_block=max(3, int(round(0.5 * p.min_cluster * f))))
     # Non-maximum suppression over local maxima only (a broad peak's shoulder is not a
-    # second boundary): strongest first, none closer than ``sep``.
-    peaks = []
+    # second boundary): strongest first, none closer than ``sep``. When a new motion begins
+    # with poses of the old one (standing before the first squat) the peak splits in two
+    # and the later top is the higher; an earlier local maximum within ``sep`` and at least
+    # ``twin_peak`` as high is taken instead.
+    # Near the ends one block is short and its statistic unreliable; a first or last
+    # cluster may still be a little shorter than ``min_cluster``.
+    edge = max(2, int(round(0.75 * sep)))
+    is_peak = np.zeros(len(n), dtype=bool)
+    is_peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
+    bounds, claimed = [], []
     for t in np.argsort(-n, kind="stable"):
+        t = int(t)
         if n[t] < p.novelty_threshold:
             break
-        if t < sep or len(v) - t < sep or n[t] < n[t - 1] or n[t] < n[t + 1]:
+        if not is_peak[t] or t < edge or len(v) - t < edge:
             continue
-        if all(abs(int(t) - q) >= sep for q in peaks):
-            peaks.append(int(t))
-    peaks.sort()
-    # Refinement over the neighbouring clusters (capped at two blocks each side).
-    reach = max(1, int(round(p.refine * f)))
-    refined = []
-    for i, t0 in enumerate(peaks):
-        a = max(peaks[i - 1] if i else 0, t0 - 2 * block)
-        b = min(peaks[i + 1] if i + 1 < len(peaks) else len(v), t0 + 2 * block)
-        D = distance_matrix(v[a:b])
-        lo = max(a + sep // 2, t0 - reach, refined[-1] + sep if refined else 0)
-        hi = min(b - sep // 2, t0 + reach)
-        cands = list(range(lo, hi + 1)) or [t0]
-        scores = [_segment_energy(D, 0, c - a, b - a) for c in cands]
-        refined.append(cands[int(np.argmax(scores))])
-    starts = [0] + [min(T - 1, t * step) for t in refined]
+        if any(abs(t - q) < sep for q in claimed):
+            continue
+        early = [u for u in range(max(edge, t - sep + 1), t)
+                 if is_peak[u] and n[u] >= p.twin_peak * n[t] and all(abs(u - q) >= sep for q in claimed)]
+        bounds.append(early[0] if early else t)
+        # Both the peak and the boundary chosen for it keep others ``sep`` away.
+        claimed += [t, bounds[-1]]
+    bounds.sort()
+    starts = [0] + [min(T - 1, t * step) for t in bounds]
     starts = sorted(set(starts))
     return [(s, e - 1) for s, e in zip(starts, starts[1:] + [T])]
 
@@ -474,19 +467,22 @@ def _moving_average(v, width):
     return (c[2 * half + 1:] - c[: len(v)]) / (2 * half + 1)
 
 
-def _period(v, cs, ce, fps, w, p: StructureParams):
+def _period(v, cs, ce, fps, w, p: StructureParams, theta=None):
     # Period of the cluster [cs, ce] from its lag profile; None when too short to tell.
     length = ce - cs + 1
     lo = max(2, int(round(p.min_texton * fps)))
     hi = min(int(round(p.max_period * fps)), int(length * 0.8))
     if hi <= lo + 1:
         return None
+    # The profile runs on to 0.8 of the cluster (past ``max_period``) so that the half-period
+    # test below can look at 2L and 3L.
+    top = max(hi, int(length * 0.8))
     seg = v[cs: ce + 1]
     # The subject drifts away from the fixed origin, which makes every histogram change
     # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which
     # otherwise makes long lags look like better periods than the true one.
     seg = seg - _moving_average(seg, max(3, int(round(2.0 * fps)) | 1))
-    lags = np.arange(lo, hi + 1)
+    lags = np.arange(lo, top + 1)
     prof = lag_profile(seg, lags, w)
     # Candidate periods are interior local minima; a valley's prominence is measured against
     # the highest profile values within +/- h lags on each side.
@@ -502,26 +498,38 @@ def _period(v, cs, ce, fps, w, p: StructureParams):
                 prom[i] = depth
     if not cand:
         return None
-    best = max(cand, key=lambda i: prom[i])
+    periods = [i for i in cand if lags[i] <= hi]
+    if not periods:
+        return None
+    best = max(periods, key=lambda i: prom[i])
     # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in the
     # profile's level.
     if prom[best] < p.min_periodicity * float(np.median(prof)):
         return None
     # A multiple of the period is a valley too, often as deep: take the shortest lag that
     # is nearly as prominent as the most prominent one.
-    chosen = min((i for i in cand if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
+    chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
     L = int(lags[chosen])
-    # A half period (one side then the other, down then up) can pass that test. Prefer 2L
-    # when the profile is lower there, unless 3L is a valley too: then L, 2L, 3L are the
-    # harmonic series of a true period L (a half period's odd multiples are no valleys).
+    # A half period (one side then the other) can pass that test: left and right poses
+    # have the same r and phi histograms and differ in theta only. Prefer 2L when the
+    # profile is lower there and either the azimuth histogram alone has no valley at L
+    # (its relative depth under half the whole vector's) or, without that information, 3L
+    # is visible and no valley (a true period's 3L is one).
     def valley_near(target):
         near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
         return min(near, key=lambda i: prof[i]) if near else None
 
     k2 = valley_near(2 * L)
     if k2 is not None and prof[k2] < prof[chosen]:
-        k3 = valley_near(3 * L) if 3 * L <= hi else None
-        if k3 is None:
+        k3 = valley_near(3 * L) if 3 * L <= top else None
+        if theta is not None and k3 is None:
+            t_prof = lag_profile(seg[:, theta], lags[[chosen]], w)[0]
+            t_med = float(np.median(lag_profile(seg[:, theta], lags[:: max(1, len(lags) // 24)], w)))
+            rel_theta = (t_med - t_prof) / t_med if t_med > 0 else 0.0
+            rel_all = (float(np.median(prof)) - prof[chosen]) / float(np.median(prof))
+            if rel_theta < 0.5 * rel_all:
+                L = int(lags[k2])
+        elif theta is None and k3 is None and 3 * L <= top:
             L = int(lags[k2])
     return L
 
@@ -554,11 +562,11 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
-def _parse_energy(v, fps, p, w):
+def _parse_energy(v, fps, p, w, theta=None):
     clusters = _energy_clusters(v, fps, p)
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
-        P = _period(v, cs, ce, fps, w, p)
+        P = _period(v, cs, ce, fps, w, p, theta)
         textons.extend(_textons_by_period(v, cs, ce, P, w, ci))
     return clusters, textons
 
@@ -630,7 +638,7 @@ def _curve(v, clusters, textons, w):
     return curve
 
 
-def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None) -> Structure:
+def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=None) -> Structure:
     """Parse a sequence's motion structure (section 4) from its feature vectors.
 
     Parameters
@@ -640,6 +648,10 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None) -> Stru
     fps : float
         Frame rate of the sequence.
     params : StructureParams, optional
+    theta : slice, optional
+        Columns of ``vectors`` that hold the azimuth (theta) histogram, i.e.
+        :attr:`engine.features.Features.theta_columns`. With it, "energy" tells a half
+        period of a left-right exercise from a whole one (see the module docstring).
 
     Returns
     -------
@@ -669,7 +681,7 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None) -> Stru
     elif p.method == "paper":
         clusters, textons = _parse_paper(v, fps, p, w)
     else:
-        clusters, textons = _parse_energy(v, fps, p, w)
+        clusters, textons = _parse_energy(v, fps, p, w, theta)
     params = asdict(p)
     params["window_taps"] = list(p.window_taps)
     return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params)
