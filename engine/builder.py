@@ -27,6 +27,7 @@ import os
 import shutil
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -53,10 +54,12 @@ def cache_dir():
 
 
 def _feature_code_version():
-    # The cache depends on how histograms are computed; hashing the module that computes
-    # them invalidates every cached feature when that code changes, with nothing to bump.
-    source = Path(__file__).with_name("features.py").read_bytes()
-    return hashlib.sha1(source).hexdigest()[:12]
+    # The cache depends on how frames are read and histograms computed; hashing the modules
+    # that do it invalidates every cached feature when that code changes, with nothing to bump.
+    digest = hashlib.sha1()
+    for module in ("load.py", "plyfast.py", "features.py"):
+        digest.update(Path(__file__).with_name(module).read_bytes())
+    return digest.hexdigest()[:12]
 
 
 def vertex_normals(positions, faces):
@@ -350,6 +353,8 @@ def _write_meshes(tmp, needed, pool, bar, timing):
     keys = _NpyStream(tmp / "frame_keys.npy", np.int64, 2)
     low, high = np.full(3, np.inf), np.full(3, -np.inf)
     max_v = max_f = vertex_start = face_start = 0
+    if not needed:
+        low, high = np.zeros(3), np.zeros(3)
     try:
         chunks = [needed[i:i + MESH_CHUNK] for i in range(0, len(needed), MESH_CHUNK)]
         tasks = ([path for _, _, path in chunk] for chunk in chunks)
@@ -564,17 +569,27 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
             width = max(entry.features.r.shape[1] for entry in computed)
             padded = [entry.features.pad_r(width) for entry in computed]
             vectors = {seq.name: f.vectors for seq, f in zip(sequences, padded)}
-            structures = {seq.name: structure_module.parse(vectors[seq.name], seq.fps, params)
-                          for seq in sequences}
-            stages["structure"] = time.perf_counter() - t0
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                structures = {seq.name: structure_module.parse(vectors[seq.name], seq.fps, params)
+                              for seq in sequences}
+                stages["structure"] = time.perf_counter() - t0
 
-            t0 = time.perf_counter()
-            from .database import build_database
+                t0 = time.perf_counter()
+                from .database import build_database
 
-            nodes = build_database(structures)
-            G = graph_module.build_graph(nodes, vectors, mu=mu)
-            nodes = graph_module.nodes_of(G)
-            stages["graph"] = time.perf_counter() - t0
+                nodes = build_database(structures)
+                G = graph_module.build_graph(nodes, vectors, mu=mu)
+                nodes = graph_module.nodes_of(G)
+                stages["graph"] = time.perf_counter() - t0
+            for warning in caught:
+                if log is None:
+                    warnings.warn(warning.message, warning.category, stacklevel=2)
+                else:
+                    say(f"warning: {warning.message}")
+            if not nodes:
+                say("warning: the database is empty (no motion texton was found), so the library "
+                    "has nothing to edit; try other structure parameters")
 
             t0 = time.perf_counter()
             index = {seq.name: k for k, seq in enumerate(sequences)}
@@ -594,6 +609,11 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         _write_json(tmp / "structure.json", {name: s.to_json() for name, s in structures.items()})
         _write_json(tmp / "database.json", [dataclasses.asdict(node) for node in nodes])
         _write_json(tmp / "graph.json", _library.graph_to_json(G))
+        kept = _carry_names(old, nodes, tmp)
+        if kept:
+            say(f"kept {len(kept)} motion name(s) given in the library being replaced")
+            for i, name in kept.items():
+                G.nodes[int(i)]["name"] = name
         _library.write_graphml(G, tmp / "graph.graphml")
         manifest = _manifest(sequences, computed, padded, bins, params, mu, skip_bad_frames,
                              nodes, G, bounds, max_counts, len(needed))
@@ -624,6 +644,24 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
     return library
+
+
+def _carry_names(old, nodes, tmp):
+    """Names given with ``rename`` survive a rebuild where the same texton is still a motion."""
+    if old is None:
+        return {}
+    defaults = {n.id: n.name for n in old._read_nodes(renamed=False)}
+    given = {(n.sequence, n.start, n.end): n.name for n in old.nodes if n.name != defaults[n.id]}
+    taken = {n.name for n in nodes}
+    names = {}
+    for node in nodes:
+        name = given.get((node.sequence, node.start, node.end))
+        if name and name not in taken:
+            names[str(node.id)] = name
+            taken.add(name)
+    if names:
+        _write_json(tmp / "names.json", names)
+    return names
 
 
 def _structure_params(module, structure):

@@ -39,7 +39,7 @@ Only the frames of database textons are stored. Every array opens with
 
 import json
 import os
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -137,15 +137,22 @@ class LibrarySequence:
         Frames analysed (bad frames skipped at build time are not counted).
     paths : list of str
         The frame files it was built from, in order.
+    structure : engine.structure.Structure
+        Its parsed structure (section 4), read on first use.
     """
 
     name: str
     fps: float
     frames: int
     paths: list
+    _library: object = field(default=None, repr=False, compare=False)
 
     def __len__(self):
         return self.frames
+
+    @property
+    def structure(self):
+        return self._library.structure(self.name)
 
 
 def graph_to_json(graph):
@@ -195,7 +202,7 @@ class Library:
         self.manifest = manifest
         self.report = None
         self.sequences = [LibrarySequence(s["name"], float(s["fps"]), int(s["frames"]),
-                                          [row[0] for row in s["files"]])
+                                          [row[0] for row in s["files"]], self)
                           for s in manifest["sequences"]]
         self._sequence_index = {s.name: k for k, s in enumerate(self.sequences)}
         self._nodes = self._read_nodes()
@@ -301,10 +308,10 @@ class Library:
 
     # --- the database and the graph ------------------------------------------------------
 
-    def _read_nodes(self):
+    def _read_nodes(self, renamed=True):
         nodes = [Node(**row) for row in json.loads((self.path / "database.json").read_text())]
         names_path = self.path / "names.json"
-        if names_path.exists():
+        if renamed and names_path.exists():
             try:
                 names = json.loads(names_path.read_text())
             except ValueError as error:
@@ -349,7 +356,7 @@ class Library:
 
         nodes = [replace(n) for n in self._nodes]
         i = rename_node(nodes, node, name)
-        defaults = {row["id"]: row["name"] for row in json.loads((self.path / "database.json").read_text())}
+        defaults = {n.id: n.name for n in self._read_nodes(renamed=False)}
         names = {str(n.id): n.name for n in nodes if n.name != defaults.get(n.id)}
         try:
             _write_atomic(self.path / "names.json", json.dumps(names, indent=1, sort_keys=True))

@@ -21,6 +21,10 @@ from tvmedit.cli import main
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+# Short snippets of one take rarely repeat a texton; the database then says so.
+pytestmark = pytest.mark.filterwarnings("ignore:no motion cluster repeats:UserWarning")
+
+
 @pytest.fixture(autouse=True)
 def _cache_home(tmp_path, monkeypatch):
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
