@@ -38,13 +38,19 @@ def _structure_fields():
 
 
 def _param_help(cls):
-    """``{field: first sentence}`` from the numpydoc Parameters/Attributes of ``cls``."""
-    helps, lines = {}, (cls.__doc__ or "").splitlines()
-    for k, line in enumerate(lines):
-        match = re.match(r"\s*(\w+)\s*:\s*\S", line)
-        if match and k + 1 < len(lines) and lines[k + 1].strip():
-            helps.setdefault(match.group(1), lines[k + 1].strip().split(". ")[0].rstrip("."))
-    return helps
+    """``{field: description}`` from the numpydoc Parameters/Attributes section of ``cls``."""
+    helps, name, indent = {}, None, None
+    for line in (cls.__doc__ or "").splitlines():
+        match = re.match(r"(\s*)(\w+)\s*:\s*\S", line)
+        depth = len(line) - len(line.lstrip())
+        if match and (indent is None or depth <= indent):
+            name, indent = match.group(2), len(match.group(1))
+            helps[name] = []
+        elif name and line.strip() and depth > indent:
+            helps[name].append(line.strip())
+        elif not line.strip() or (indent is not None and depth <= indent):
+            name = None if not line.strip() else name
+    return {key: " ".join(words).replace("%", "%%") for key, words in helps.items() if words}
 
 
 def add_arguments(parser):
