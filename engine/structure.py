@@ -541,7 +541,8 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     if P is None or ce - cs + 1 < P:
         return []
     starts = np.arange(cs, min(ce - P + 1, cs + P - 1) + 1)
-    rep = np.array([atom_distances_to(v, int(u), np.array([u + P]), w)[0] for u in starts])
+    # d_A(u, u + P) for every u at once (ends renormalised as everywhere).
+    rep = _atoms_along_lag(v, P, np.asarray(w, dtype=np.float64))[starts]
     first = int(starts[int(np.argmin(rep))])
     lo, hi = max(1, int(math.ceil(0.75 * P))), int(math.floor(1.25 * P))
     out = []
