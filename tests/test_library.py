@@ -294,3 +294,18 @@ def test_dask_missing_is_one_sentence(monkeypatch):
     with pytest.raises(TvmError, match=r"pip install tvmedit\[dask\]"):
         with Workers(2, dask="local") as pool:
             list(pool.map(abs, [1]))
+
+
+def test_a_synthetic_walk_builds_into_a_library_named_after_its_folder(synth_walk, tmp_path):
+    library = build([synth_walk], tmp_path / "walk.lib", workers=2, cache=False)
+    assert [s.name for s in library.sequences] == [synth_walk.name]
+    assert library.sequences[0].structure.clusters[0][0] == 0
+    assert library.nodes, "a walk of nine cycles gives at least one motion"
+    node = library.nodes[0]
+    for frame in range(node.start, node.end + 1):
+        positions, colours, faces, normals = library.frame_mesh((node.sequence, frame))
+        assert len(positions) > 10000 and faces.max() < len(positions)
+        lengths = np.linalg.norm(normals, axis=1)
+        assert np.mean(np.abs(lengths - 1) < 1e-5) > 0.999  # closed surfaces: every vertex has a normal
+    (low, high) = library.bounds()
+    assert 1.5 < high[2] - low[2] < 2.0  # the actor is about 1.70 m tall
