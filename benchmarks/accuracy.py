@@ -3,7 +3,7 @@
     python benchmarks/accuracy.py [--takes 13_30 13_29] [--variants base seed1 ...]
 
 For every CMU take turned into meshes (``mocap2tvm.py``, generated once into
-``.cache/testdata`` exactly as the tests do) and every variant of it (another noise seed,
+``.cache/testdata`` exactly as the tests do), and for the synthetic actor's gym preset and every variant of it (another noise seed,
 palette, body build, more noise, 30 fps), the sequence is parsed with ``method="energy"``
 (default) and ``method="paper"`` and scored with :mod:`engine.evaluate`: cluster-boundary
 precision and recall (one-to-one, within 1 s) and texton-length accuracy (median texton
@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from conftest import mocap_take  # noqa: E402  (the tests' generator and cache)
+from conftest import mocap_take, synth_take  # noqa: E402  (the tests' generators and cache)
 
 from engine.evaluate import boundary_scores, load_truth, sequence_features, texton_length_accuracy  # noqa: E402
 from engine.structure import StructureParams, parse  # noqa: E402
@@ -57,19 +57,22 @@ def score(folder, params):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--takes", nargs="+", default=["13_30", "13_29"])
+    ap.add_argument("--takes", nargs="+", default=["13_30", "13_29", "synth-gym"],
+                    help="CMU takes, or synth-gym for the synthetic actor (base variant only)")
     ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
     ap.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
     ap.add_argument("--verbose", action="store_true", help="print detected clusters and periods")
     args = ap.parse_args(argv)
-    print(f"{'take':6s} {'variant':11s} {'method':12s} {'prec':>5s} {'recall':>6s} {'texton':>6s} {'clusters':>8s} {'parse s':>7s}")
+    print(f"{'take':9s} {'variant':11s} {'method':12s} {'prec':>5s} {'recall':>6s} {'texton':>6s} {'clusters':>8s} {'parse s':>7s}")
     worst = {}
     for take in args.takes:
         for name in args.variants:
-            folder = mocap_take(take, **VARIANTS[name])
+            if take == "synth-gym" and name != "base":
+                continue
+            folder = synth_take("gym") if take == "synth-gym" else mocap_take(take, **VARIANTS[name])
             for method in args.methods:
                 p, r, acc, s, sec = score(folder, METHODS[method])
-                print(f"{take:6s} {name:11s} {method:12s} {p:5.2f} {r:6.2f} {acc:6.2f} {len(s.clusters):8d} {sec:7.2f}")
+                print(f"{take:9s} {name:11s} {method:12s} {p:5.2f} {r:6.2f} {acc:6.2f} {len(s.clusters):8d} {sec:7.2f}")
                 w = worst.setdefault(method, [1.0, 1.0, 1.0])
                 w[0], w[1] = min(w[0], p), min(w[1], r)
                 w[2] = min(w[2], acc) if acc == acc else w[2]

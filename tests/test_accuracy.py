@@ -44,3 +44,9 @@ def test_paper_method_runs_and_covers_the_take(take_13_30):
     *_, s = scores(take_13_30, StructureParams(method="paper"))
     assert s.clusters[0][0] == 0 and s.clusters[-1][1] == len(s.curve) - 1
     assert len(s.textons) >= 2
+
+
+def test_synthetic_gym_meets_the_targets(synth_gym):
+    precision, recall, textons, s = scores(synth_gym)
+    assert precision >= 0.9 and recall >= 0.9, (precision, recall, s.clusters)
+    assert textons >= 0.9, textons
