@@ -12,6 +12,7 @@ parameters reuses them (and says so). --workers and --dask spread the reading of
 the library is the same whichever is used.
 """
 
+import argparse
 import dataclasses
 import math
 import re
@@ -84,7 +85,7 @@ def add_arguments(parser):
         text = helps.get(field.name, field.name.replace("_", " "))
         kwargs = {"dest": f"structure_{field.name}", "default": default, "metavar": field.name.upper()}
         if isinstance(default, bool):
-            kwargs["action"] = argparse_bool()
+            kwargs["action"] = argparse.BooleanOptionalAction
         elif isinstance(default, (list, tuple)):
             kwargs.update(nargs="+", type=type(default[0]) if default else float)
         elif default is None:
@@ -108,12 +109,6 @@ def add_arguments(parser):
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bars and no summary")
 
 
-def argparse_bool():
-    import argparse
-
-    return argparse.BooleanOptionalAction
-
-
 def _terminate(signum, frame):
     # SIGTERM unwinds like Ctrl-C, so the build removes its temporary directory.
     raise SystemExit(128 + signum)
@@ -126,10 +121,11 @@ def run(args):
     say = (lambda message: None) if args.quiet else (lambda message: print(message, file=sys.stderr))
     bins = BinSizes(r=args.bin_r, theta=math.radians(args.bin_theta), phi=math.radians(args.bin_phi))
     cls, fields = _structure_fields()
+    defaults = cls()
     structure = {}
     for field in fields:
         value = getattr(args, f"structure_{field.name}")
-        structure[field.name] = tuple(value) if isinstance(getattr(cls(), field.name), tuple) else value
+        structure[field.name] = tuple(value) if isinstance(getattr(defaults, field.name), tuple) else value
     previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
