@@ -92,6 +92,8 @@ class PlayerApp:
         self.frames_shown = 0
         self.message = None         # (text, until)
         self._next_slot = None      # when the next sequence frame is due
+        self.slot = None            # when the frame ``tick`` produced should appear
+        self._restarted = False
         self._pause_left = 0.0
         self._mesh = None
         self._bounds = source.bounds()
@@ -108,25 +110,33 @@ class PlayerApp:
     def tick(self, now, lead=0.0):
         """Advance the playback clock to ``now``; True when a new sequence frame is to be shown.
 
-        A frame is due ``lead`` seconds before its slot, the time the window needs to draw it,
-        so that it appears on its slot. At most one frame per call, so every frame the
-        schedule produces is drawn (section 8 shows every frame of a texton); after a stall
-        longer than ``MAX_LAG_S`` the clock restarts from ``now`` rather than rushing. Call
-        ``displayed`` once the frame is on screen.
+        A frame is due ``lead`` seconds before its slot, the time the window needs to draw it;
+        ``slot`` then says when it should appear (None for the first frame and the first after
+        a stall: as soon as possible). At most one frame per call, so every frame the schedule
+        produces is drawn (section 8 shows every frame of a texton); after a stall longer
+        than ``MAX_LAG_S`` the clock restarts rather than rushing. Call ``displayed`` once the
+        frame is on screen.
         """
-        now = now + lead
-        if now < self.next_frame_at():
+        if now + lead < self.next_frame_at():
             return False
-        late = 0.0 if self._next_slot is None else now - self._next_slot
-        restart = self._next_slot is None or late > MAX_LAG_S
+        restart = self._next_slot is None or now - self._next_slot > MAX_LAG_S
+        self.slot = None if restart else self._next_slot
         self._next_slot = (now if restart else self._next_slot) + self.period
+        self._restarted = restart
         self.entry = self.playhead.advance()
         self._mesh = None
         self.frames_shown += 1
         return True
 
     def displayed(self, now):
-        """Log the frame ``tick`` produced as shown at ``now``."""
+        """Log the frame ``tick`` produced as shown at ``now``.
+
+        The slots of the following frames count from when the first frame (or the first after
+        a stall) actually appeared, which the window learns only after drawing it.
+        """
+        if self._restarted:
+            self._next_slot = now + self.period
+            self._restarted = False
         self._write({"t": round(now - self.clock_zero, 6), "node": _plain(self.entry.node),
                      "sequence": self.entry.sequence, "frame": int(self.entry.frame),
                      "queue": [_plain(n) for n in self.playhead.queue_list]})
@@ -267,10 +277,11 @@ class PlayerApp:
                      "keys": {k: _plain(n) for k, n in self.keys.items()},
                      "forbidden": [_plain(n) for n in self.forbidden]})
 
-    def write_footer(self, now, redraws, draw_seconds):
-        seconds = now - self.clock_zero
-        self._write({"event": "stop", "t": round(seconds, 6), "frames": self.frames_shown,
-                     "redraws": redraws, "redraw_hz": round(redraws / draw_seconds, 2) if draw_seconds > 0 else None})
+    def write_footer(self, now, redraws, draw_seconds, cpu_seconds=None):
+        """The last log line: how many frames and redraws, the redraw rate and the CPU time."""
+        self._write({"event": "stop", "t": round(now - self.clock_zero, 6), "frames": self.frames_shown,
+                     "redraws": redraws, "redraw_hz": round(redraws / draw_seconds, 2) if draw_seconds > 0 else None,
+                     "cpu_s": None if cpu_seconds is None else round(cpu_seconds, 3)})
 
     def _event(self, now, event, node, **details):
         """A log line for a change the frames alone do not show (the queue after it included)."""
@@ -345,9 +356,10 @@ class Window:
             glfw.KEY_LEFT: "left", glfw.KEY_RIGHT: "right", glfw.KEY_UP: "up", glfw.KEY_DOWN: "down",
             glfw.KEY_KP_ADD: "kp_add", glfw.KEY_KP_SUBTRACT: "kp_subtract"}
         self.redraws = 0
-        self._redraw_s = 0.0        # how long a redraw takes (moving average)
-        self._frame_draw_s = 0.0    # how long a redraw with a new sequence frame takes
-        self._frame_draws = []
+        self._redraw_s = 0.0        # how long a camera redraw takes (moving average)
+        self._swap_s = 0.0          # how long a swap takes (moving average)
+        self._prepare_s = 0.0       # how long before its slot a sequence frame is started
+        self._prepares = []         # recent times to fetch, upload and draw a sequence frame
         self._held = {}            # arrow key -> (pressed at, seconds already applied)
         self._drag = None          # last cursor position while the left button is down
         self._screenshot = False
@@ -378,9 +390,14 @@ class Window:
         return window, window_context()
 
     def run(self, seconds=None):
-        """Play until the window closes, Esc or Q, or ``seconds`` after the app's clock zero."""
+        """Play until the window closes, Esc or Q, or ``seconds`` after the app's clock zero.
+
+        A new sequence frame is drawn and finished ahead of its slot and swapped onto the
+        screen on the slot, so it appears on time however long drawing takes; camera redraws
+        fill the time between, unless one would delay the next sequence frame.
+        """
         glfw, app = self.glfw, self.app
-        start = self.clock()
+        start, cpu = self.clock(), time.process_time()
         next_redraw = start
         end = math.inf if seconds is None else app.clock_zero + seconds
         try:
@@ -388,43 +405,58 @@ class Window:
                 now = self.clock()
                 if now >= end:
                     break
-                frame_at = app.next_frame_at() - self._frame_draw_s
-                deadline = min(next_redraw, frame_at, end)
-                # A redraw still running when the next sequence frame is due would make that
-                # frame late: skip it and wait for the frame.
-                if next_redraw < frame_at < max(now, next_redraw) + self._redraw_s:
-                    deadline = frame_at
+                prepare_at = app.next_frame_at() - self._prepare_s
+                deadline = min(next_redraw, prepare_at, end)
+                if next_redraw < prepare_at < max(now, next_redraw) + self._redraw_s:
+                    deadline = prepare_at
                 if now < deadline:
-                    # Sleep until then, waking early for input.
-                    glfw.wait_events_timeout(deadline - now)
+                    glfw.wait_events_timeout(deadline - now)   # wakes early for input
                     continue
                 glfw.poll_events()
                 began = self.clock()
                 self._turn(began)
-                new_frame = app.tick(began, lead=self._frame_draw_s)
+                new_frame = app.tick(began, lead=self._prepare_s)
                 self._draw(began)
+                if new_frame:
+                    self.ctx.finish()       # software GL rasterises here, not in the swap
+                ready = self.clock()
+                if new_frame and app.slot is not None:
+                    self._wait_until(app.slot - self._swap_s)
+                swapping = self.clock()
                 glfw.swap_buffers(self.window)
                 shown = self.clock()
                 self.redraws += 1
-                self._learn(shown - began, new_frame)
+                self._learn(began, ready, swapping, shown, new_frame)
                 if new_frame:
                     app.displayed(shown)
                 next_redraw = max(began + 1 / MAX_REDRAW_HZ, shown)
         finally:
             now = self.clock()
-            app.write_footer(now, self.redraws, now - start)
+            app.write_footer(now, self.redraws, now - start, time.process_time() - cpu)
             self.close()
         return self.redraws, now - start
 
-    def _learn(self, seconds, new_frame):
-        """Track how long a redraw takes, with and without a new mesh to fetch and upload."""
-        if new_frame and self.app.frames_shown > 1:  # the first one compiled shaders too
-            self._frame_draws.append(seconds)
-            del self._frame_draws[:-9]
-            # The median of recent frames, so one slow frame does not shift the next ones.
-            self._frame_draw_s = min(sorted(self._frame_draws)[len(self._frame_draws) // 2], 0.5 * self.app.period)
-        elif not new_frame:
-            self._redraw_s = 0.8 * self._redraw_s + 0.2 * seconds
+    def _wait_until(self, moment):
+        while (left := moment - self.clock()) > 0:
+            time.sleep(left)
+
+    def _learn(self, began, ready, swapping, shown, new_frame):
+        """Track how long drawing and swapping take, to start each sequence frame in time."""
+        if not new_frame:
+            self._redraw_s = 0.8 * self._redraw_s + 0.2 * (shown - began)
+            return
+        # Only sequence frames are finished before their swap, so only their swaps tell how
+        # long presenting a finished frame takes.
+        swap = shown - swapping
+        self._swap_s = swap if self.app.frames_shown == 1 else 0.8 * self._swap_s + 0.2 * swap
+        work = ready - began
+        if self.app.frames_shown == 1:
+            work = min(work, 0.25 * self.app.period)   # the first frame also compiled shaders
+        self._prepares = (self._prepares + [work])[-20:]
+        # Start early enough for all but an outlier among recent frames: starting early costs
+        # only a wait, starting late makes the frame late.
+        prepare = sorted(self._prepares)[int(0.9 * (len(self._prepares) - 1))] + self._swap_s + 0.002
+        self._prepare_s = min(prepare, 0.5 * self.app.period)
 
     def close(self):
         if self.window is not None:
