@@ -34,7 +34,7 @@ MAX_LAG_S = 0.25
 
 #: The loop never redraws faster than this when the driver does not wait for vsync (Xvfb,
 #: llvmpipe), so the player leaves the CPU to others; a real display's vsync is lower.
-MAX_REDRAW_HZ = 75.0
+MAX_REDRAW_HZ = 100.0
 
 ORBIT_DEG_PER_S = 90.0
 TAP_S = 0.1              # a key tapped briefly still turns the camera this long
@@ -336,7 +336,13 @@ class Window:
         self.glfw = glfw
         self.app = app
         self.clock = clock
-        if not glfw.init():
+        # glfw's own reports become exceptions here, so a user reads one sentence, not a warning.
+        glfw.ERROR_REPORTING = "raise"
+        try:
+            initialised = glfw.init()
+        except glfw.GLFWError:
+            initialised = False
+        if not initialised:
             raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
         # Opened hidden and untitled, so nothing finds a window that is about to be replaced.
         self.window, self.ctx = self._open(size, samples=4, vsync=vsync)
@@ -347,6 +353,7 @@ class Window:
             self.window, self.ctx = self._open(size, samples=0, vsync=vsync)
         glfw.set_window_title(self.window, title)
         glfw.show_window(self.window)
+        glfw.ERROR_REPORTING = "warn"
         # The window is multisampled itself (or not); the renderer draws straight into it.
         self.renderer = Renderer(self.ctx, size=glfw.get_framebuffer_size(self.window), samples=0,
                                  max_counts=app.source.max_counts(), grid=True)
@@ -381,10 +388,13 @@ class Window:
         glfw.window_hint(glfw.OPENGL_FORWARD_COMPAT, True)
         glfw.window_hint(glfw.SAMPLES, samples)
         glfw.window_hint(glfw.VISIBLE, False)
-        window = glfw.create_window(int(size[0]), int(size[1]), "", None, None)
-        if not window:
+        try:
+            window = glfw.create_window(int(size[0]), int(size[1]), "", None, None)
+        except glfw.GLFWError as error:
             glfw.terminate()
-            raise TvmError("cannot open a window with an OpenGL 3.3 core profile context on this display")
+            reason = error.args[0] if error.args else error
+            raise TvmError(f"cannot open a window with an OpenGL 3.3 core profile context on this display "
+                           f"({reason})") from None
         glfw.make_context_current(window)
         glfw.swap_interval(1 if vsync else 0)
         return window, window_context()
