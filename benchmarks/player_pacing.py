@@ -96,6 +96,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=30.0)
     parser.add_argument("--size", default="960x720")
+    parser.add_argument("--keep-log", metavar="FILE", help="copy the player's --log here")
     args = parser.parse_args()
     missing = [tool for tool in ("Xvfb", "xdotool") if shutil.which(tool) is None]
     if missing:
@@ -129,6 +130,8 @@ def main():
             server.terminate()
             server.wait()
         rows = [json.loads(line) for line in log_path.read_text().splitlines()]
+        if args.keep_log:
+            shutil.copy(log_path, args.keep_log)
     if player.returncode:
         print(err)
         return 1
