@@ -150,7 +150,8 @@ def main():
     refused = sum(1 for row in rows if row.get("event") == "refused")
 
     print(f"library: {lib_path.name}, {len(lib.nodes)} motions, up to {vertices} vertices and {faces} "
-          f"triangles a frame; window {args.size}; {len(t)} sequence frames at {fps:g} fps, {transitions} transitions, {refused} keys refused")
+          f"triangles a frame; window {args.size}; {len(t)} sequence frames at {fps:g} fps, "
+          f"{transitions} transitions, {refused} keys refused")
     print(f"pacing: |deviation from the {1000 / fps:.0f} ms slots| median {1000 * np.median(deviation):.1f} ms, "
           f"p95 {1000 * np.percentile(deviation, 95):.1f} ms, max {1000 * deviation.max():.1f} ms; "
           f"{100 * np.mean(deviation <= SLOT_TOLERANCE_S):.0f}% within +/-{1000 * SLOT_TOLERANCE_S:.0f} ms "

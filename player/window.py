@@ -2,10 +2,12 @@
 
 Two clocks run side by side (the playback clock is not the render clock). The window redraws
 at the display rate, so camera moves stay smooth, while the sequence advances at the
-library's frame rate: a sequence frame is due every ``1 / fps`` seconds, and the mesh is
-fetched and uploaded only when a new one is shown. Which frame comes next is decided by
-``engine.compose.Playhead``, the loop-then-transition rule of section 8: the current texton is
-shown to its end, then each transition of the best path is taken as early as the rule allows.
+library's frame rate: a sequence frame is due every ``1 / fps`` seconds, and its mesh is
+fetched from the library once, when it is first shown; redraws in between draw the same
+arrays (``Renderer.draw`` still copies them into its buffers each time, about 1 MB). Which
+frame comes next is decided by ``engine.compose.Playhead``, the loop-then-transition rule of
+section 8: the current texton is shown to its end, then each transition of the best path is
+taken as early as the rule allows.
 
 ``PlayerApp`` holds everything a user can do (keys -> queue, clock -> frame, camera, the text
 on screen, the ``--log``) and runs without a window or GL, so it is tested with a fake clock;
@@ -99,7 +101,6 @@ class PlayerApp:
         self._bounds = source.bounds()
         self.camera = self.home_camera(aspect)
 
-    # ---- playback clock -------------------------------------------------------------
 
     def next_frame_at(self):
         """When the next sequence frame is due (``inf`` while paused)."""
@@ -160,7 +161,6 @@ class PlayerApp:
             first = max(self._next_slot - now, 0.0)
         return first + frames * self.period
 
-    # ---- keys ----------------------------------------------------------------------
 
     def press(self, key, now):
         """Act on a key by name (``"1"``, ``"a"``, ``"backspace"``, ``"space"``, ``"left"``...).
@@ -216,7 +216,6 @@ class PlayerApp:
         if echo:
             self.print(text)
 
-    # ---- camera --------------------------------------------------------------------
 
     def home_camera(self, aspect):
         # Framed for every azimuth, so orbiting never cuts the actor.
@@ -236,7 +235,6 @@ class PlayerApp:
         distance = min(max(self.camera.distance * factor, 0.2 * self.camera.radius), 50.0 * self.camera.radius)
         self.camera = dataclasses.replace(self.camera, distance=distance)
 
-    # ---- text on screen ---------------------------------------------------------------
 
     def label(self, node):
         name = self.graph.nodes[node].get("name")
@@ -270,7 +268,6 @@ class PlayerApp:
         return lines + ["", "bksp unqueue  space pause", "arrows/drag orbit  +/- zoom",
                         "r reset  s screenshot  q quit"]
 
-    # ---- log -----------------------------------------------------------------------
 
     def write_header(self, wall_zero, library=None):
         self._write({"event": "start", "wall": wall_zero, "fps": self.fps, "library": library,

@@ -24,9 +24,6 @@ from engine.search import best_path
 from player.source import ArraySource
 from player.window import MAX_LAG_S, PlayerApp, motion_keys
 
-# ---------------------------------------------------------------------------------------
-# PlayerApp without a window
-
 
 def _tiny_source_and_graph():
     """Three textons of one sequence: 0 <-> 1 -> 2, and 2 a dead end; frames are triangles."""
@@ -151,10 +148,6 @@ def test_camera_keys_orbit_zoom_and_reset():
     app.press("r", 0.0)
     assert app.camera == home
     assert app.press("s", 0.0) == "screenshot" and app.press("q", 0.0) == "quit"
-
-
-# ---------------------------------------------------------------------------------------
-# A real window under Xvfb
 
 
 @pytest.fixture(scope="session")
@@ -322,7 +315,8 @@ def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, 
         assert (shown[-1], entered) == (edge["exit_frame"], edge["entry_frame"])
 
     # Backspace took back C: the queue held it, then lost it, and C was never reached as a key.
-    events = [(row["event"], row["node"], tuple(row["queue"])) for row in rows if row.get("event") in ("queued", "unqueued")]
+    events = [(row["event"], row["node"], tuple(row["queue"])) for row in rows
+              if row.get("event") in ("queued", "unqueued")]
     assert events == [("queued", a, (a,)), ("queued", b, (a, b)), ("queued", c, (a, b, c)), ("unqueued", c, (a, b))]
     taken_back = next(row["t"] for row in rows if row.get("event") == "unqueued")
     queues = [tuple(row["queue"]) for row in frames if row["t"] > taken_back]
