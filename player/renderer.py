@@ -46,6 +46,7 @@ class Renderer:
         self._vaos = {}
         self._vertex_capacity = self._face_capacity = 0
         self._buffers = None
+        self._uploaded = None  # the mesh tuple now in the buffers
         self._reserve(*max_counts)
 
         self.samples = min(int(samples), ctx.max_samples) if samples else 0
@@ -75,14 +76,18 @@ class Renderer:
         framebuffer : draw there instead of the own framebuffer (e.g. ``ctx.screen``)
         """
         positions, colours, faces, normals = mesh
-        n_vertices, n_faces = len(positions), len(faces)
-        _check(positions, colours, faces, normals)
-        self._reserve(n_vertices, n_faces)
-        self._buffers["in_position"].write(_contiguous(positions, np.float32))
-        self._buffers["in_colour"].write(_contiguous(colours, np.uint8))
-        if normals is not None:
-            self._buffers["in_normal"].write(_contiguous(normals, np.float32))
-        self._buffers["index"].write(_contiguous(faces, np.uint32))
+        n_faces = len(faces)
+        if mesh is not self._uploaded:
+            # A window redraws the same sequence frame many times between frames (60 Hz
+            # against 10 fps); it passes the same tuple, and only a new one is uploaded.
+            _check(positions, colours, faces, normals)
+            self._reserve(len(positions), n_faces)
+            self._buffers["in_position"].write(_contiguous(positions, np.float32))
+            self._buffers["in_colour"].write(_contiguous(colours, np.uint8))
+            if normals is not None:
+                self._buffers["in_normal"].write(_contiguous(normals, np.float32))
+            self._buffers["index"].write(_contiguous(faces, np.uint32))
+            self._uploaded = mesh
 
         target = framebuffer or self._multisample or self.framebuffer
         target.use()
