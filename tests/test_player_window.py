@@ -5,7 +5,6 @@ The window tests start their own ``Xvfb`` on a free display number and drive
 its ``--log``. They skip where Xvfb or xdotool is missing (``.ci/run`` installs both).
 """
 
-import hashlib
 import json
 import os
 import shutil
@@ -18,7 +17,7 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from conftest import CACHE, ROOT, synth_take
+from conftest import ROOT
 from engine.errors import NoPath
 from engine.search import best_path
 from player.source import ArraySource
@@ -174,28 +173,6 @@ def xdisplay():
         server.kill()
         server.wait()
     pytest.fail("no free X display number between :90 and :139 for Xvfb")
-
-
-def _engine_hash():
-    digest = hashlib.sha1()
-    for path in sorted((ROOT / "engine").glob("*.py")):
-        digest.update(path.read_bytes())
-    return digest.hexdigest()[:10]
-
-
-@pytest.fixture(scope="session")
-def small_library():
-    """A library of the synthetic actor: the gym preset at three cycles a motion, 4,000 vertices.
-
-    Built once into the test cache, keyed by the take and the engine's code.
-    """
-    import engine
-
-    take = synth_take("gym", cycles=3, vertices=4000)
-    out = CACHE / f"library-{take.name}-{_engine_hash()}"
-    if not (out / "manifest.json").exists():
-        engine.build([str(take)], out, workers=2, cache=False, force=True)
-    return out
 
 
 def _rows(log_path):
