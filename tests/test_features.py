@@ -146,3 +146,89 @@ def test_distance_properties(a, b, rnd):
     assert frame_distance(vec(a[order]), vb) == pytest.approx(frame_distance(va, vb), abs=1e-6)
     # Duplicating every vertex changes counts, not fractions: the distance stays.
     assert frame_distance(vec(np.vstack([a, a])), vb) == pytest.approx(frame_distance(va, vb), abs=1e-6)
+
+
+def reference_bins(points, origin, bins):
+    """Bins straight from the definition: floor(value / bin size) of :func:`spherical`'s values."""
+    r, theta, phi = spherical(points, origin)
+    values = (r / bins.r, (theta + np.pi) / bins.theta, phi / bins.phi)
+    index = [np.floor(v).astype(int) for v in values]
+    index[1] = np.clip(index[1], 0, bins.n_theta - 1)
+    index[2] = np.clip(index[2], 0, bins.n_phi - 1)
+    # How far each value lies from the nearest bin edge, in bins.
+    margin = np.min([np.abs(v - np.round(v)) for v in values], axis=0)
+    return index, margin
+
+
+def bins_of_each_point(points, origin, bins):
+    found = []
+    for p in points:
+        hists = frame_histograms(p[None], origin, bins)
+        found.append([int(np.flatnonzero(h)[0]) for h in hists])
+    return np.array(found).T
+
+
+@pytest.mark.parametrize("bins", [
+    BinSizes(),
+    BINS,
+    BinSizes(r=0.03, theta=math.radians(7), phi=math.radians(13)),  # partial last bins
+    BinSizes(theta=math.radians(0.01), phi=math.radians(0.01)),      # phi falls back to search
+])
+def test_every_vertex_lands_in_the_bin_of_its_spherical_coordinates(bins):
+    rng = np.random.default_rng(7)
+    points = np.vstack([rng.normal(size=(1500, 3)) * 0.4, rng.normal(size=(300, 3)) * 1e-3,
+                        rng.normal(size=(200, 3)) * 5]).astype(np.float32)
+    origin = np.array([0.013, -0.2, 0.9])
+    expected, margin = reference_bins(points, origin, bins)
+    away = margin > 1e-9
+    assert away.sum() > 1900
+    np.testing.assert_array_equal(bins_of_each_point(points, origin, bins)[:, away],
+                                  np.array(expected)[:, away])
+
+
+def test_axis_and_diagonal_vertices_fall_in_the_bin_they_start():
+    bins = BinSizes(r=1.0, theta=math.radians(45), phi=math.radians(45))
+    pts = np.array([[1, 0, 0], [1, 1, 0], [0, 1, 0], [-1, 1, 0], [-1, 0, 0], [-1, -1, 0],
+                    [0, -1, 0], [1, -1, 0], [0, 0, 0], [-1, -0.0, 0], [0, 0, 1], [0, 0, -1], [1, 0, 1]])
+    theta, phi = bins_of_each_point(pts, [0, 0, 0], bins)[1:]
+    # theta bins start at -180 + 45 k degrees; theta = 180 (negative x axis) is in the last.
+    assert theta.tolist() == [4, 5, 6, 7, 7, 1, 2, 3, 4, 7, 4, 4, 4]
+    # phi bins start at 45 k degrees; phi = 0 at the origin, 180 in the last bin.
+    assert phi.tolist() == [2, 2, 2, 2, 2, 2, 2, 2, 0, 2, 0, 3, 1]
+
+
+def test_edge_count_table_matches_searchsorted_on_and_beside_every_edge():
+    from engine.features import _EdgeCount, _edge_counters
+
+    rng = np.random.default_rng(3)
+    theta, phi = _edge_counters(BinSizes(theta=math.radians(7), phi=math.radians(13)))
+    edges = np.sort(rng.uniform(-1, 1, 40))
+    for counter, lo, hi in [(theta, -2.0, 2.0), (phi, -1.0, 1.0), (_EdgeCount(edges, -1.0, 1.0), -1.0, 1.0)]:
+        assert not counter.searched
+        e = counter.edges
+        u = np.concatenate([e, np.nextafter(e, -np.inf), np.nextafter(e, np.inf), [lo, hi, 0.0, -0.0],
+                            rng.uniform(lo, hi, 5000)])
+        n = len(u)
+        out, tmp, cell, mask = np.empty(n, np.intp), np.empty(n), np.empty(n, np.intp), np.empty(n, bool)
+        for inclusive, side in [(True, "right"), (False, "left")]:
+            counter.count(u, out, tmp, cell, mask, inclusive)
+            np.testing.assert_array_equal(out, np.searchsorted(e, u, side=side))
+
+
+def test_frames_of_any_size_in_any_order_and_thread_agree():
+    from concurrent.futures import ThreadPoolExecutor
+
+    rng = np.random.default_rng(5)
+    frames = [rng.normal(size=(n, 3)) * 0.3 for n in (10, 20000, 3, 5000, 20001, 1)]
+    origin = [0.0, 0.1, 0.0]
+    first = [frame_histograms(f, origin) for f in frames]
+    with ThreadPoolExecutor(4) as pool:
+        again = list(pool.map(lambda f: frame_histograms(f, origin), frames * 8))
+    for k, hists in enumerate(again):
+        for a, b in zip(first[k % len(frames)], hists):
+            np.testing.assert_array_equal(a, b)
+    for f, hists in zip(frames, first):
+        expected, margin = reference_bins(f, origin, BinSizes())
+        assert margin.min() > 1e-9
+        for h, e in zip(hists, expected):
+            np.testing.assert_array_equal(np.round(h * len(f)), np.bincount(e, minlength=len(h)))
