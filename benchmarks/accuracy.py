@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from conftest import mocap_take, synth_take  # noqa: E402  (the tests' generators and cache)
+from conftest import CACHE, mocap_take, synth_take  # noqa: E402  (the tests' generators and cache)
 
 from engine.evaluate import boundary_scores, load_truth, sequence_features, texton_length_accuracy  # noqa: E402
 from engine.structure import StructureParams, parse  # noqa: E402
@@ -44,7 +44,7 @@ METHODS = {
 def score(folder, params):
     """(precision, recall, texton accuracy, clusters, seconds) of one parse."""
     truth = load_truth(folder)
-    features = sequence_features(folder)
+    features = sequence_features(folder, cache_dir=CACHE.parent / "features")
     vectors = features.vectors
     fps = float(truth["fps"])
     t0 = time.perf_counter()

@@ -540,9 +540,13 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     # not fit before the cluster's end is no texton.
     if P is None or ce - cs + 1 < P:
         return []
-    starts = np.arange(cs, min(ce - P + 1, cs + P - 1) + 1)
-    # d_A(u, u + P) for every u at once (ends renormalised as everywhere).
-    rep = _atoms_along_lag(v, P, np.asarray(w, dtype=np.float64))[starts]
+    # d_A(u, u + P) for every u at once (ends renormalised as everywhere); it exists for
+    # u + P < T only, so a cluster that ends the sequence has one candidate fewer.
+    along = _atoms_along_lag(v, P, np.asarray(w, dtype=np.float64))
+    starts = np.arange(cs, min(ce - P + 1, cs + P - 1, len(along) - 1) + 1)
+    if len(starts) == 0:
+        return []
+    rep = along[starts]
     first = int(starts[int(np.argmin(rep))])
     lo, hi = max(1, int(math.ceil(0.75 * P))), int(math.floor(1.25 * P))
     out = []

@@ -9,7 +9,7 @@ seconds, are not fitted to 10 fps. Features are cached next to the generated fra
 
 import pytest
 
-from conftest import mocap_take
+from conftest import CACHE, mocap_take
 from engine.evaluate import boundary_scores, load_truth, sequence_features, texton_length_accuracy
 from engine.structure import StructureParams, parse
 
@@ -18,7 +18,7 @@ pytestmark = pytest.mark.slow
 
 def scores(folder, params=None):
     truth = load_truth(folder)
-    features = sequence_features(folder)
+    features = sequence_features(folder, cache_dir=CACHE.parent / "features")
     fps = float(truth["fps"])
     s = parse(features.vectors, fps, params, theta=features.theta_columns)
     precision, recall, _ = boundary_scores(s.clusters, truth["segments"], tolerance_frames=round(fps))

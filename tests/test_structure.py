@@ -144,3 +144,14 @@ def test_bad_input_is_refused():
         parse(np.zeros((0, 3)), fps=10)
     with pytest.raises(ValueError):
         StructureParams(method="magic")
+
+
+@pytest.mark.parametrize("method", ["energy", "paper"])
+def test_any_sequence_length_parses_up_to_its_last_frame(method):
+    # A cluster that runs to the last frame has no atom at u + P beyond it; every cut of a
+    # sequence must still parse, with textons inside the sequence.
+    vectors, _ = cyclic_sequence([(60, 9), (40, 12)])
+    for length in range(75, 101):
+        s = parse(vectors[:length], 10, StructureParams(method=method))
+        assert s.clusters[-1][1] == length - 1
+        assert all(0 <= t.start <= t.end < length for t in s.textons)
