@@ -571,8 +571,11 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
             vectors = {seq.name: f.vectors for seq, f in zip(sequences, padded)}
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                structures = {seq.name: structure_module.parse(vectors[seq.name], seq.fps, params)
-                              for seq in sequences}
+                # The theta columns tell a one-leg-then-the-other cycle from its half (see
+                # engine.structure): left and right poses share their r and phi histograms.
+                structures = {seq.name: structure_module.parse(vectors[seq.name], seq.fps, params,
+                                                               theta=f.theta_columns)
+                              for seq, f in zip(sequences, padded)}
                 stages["structure"] = time.perf_counter() - t0
 
                 t0 = time.perf_counter()
