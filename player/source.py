@@ -23,6 +23,7 @@ from typing import Protocol
 
 import numpy as np
 
+from engine.builder import vertex_normals  # the library computes them so at build time
 from engine.errors import InputError
 
 
@@ -34,37 +35,6 @@ class MeshSource(Protocol):
     def bounds(self): ...
 
     def max_counts(self): ...
-
-
-def vertex_normals(positions, faces):
-    """Area-weighted unit vertex normals.
-
-    Each face adds its unnormalised cross product (twice its area along its normal) to its three
-    vertices, so large faces count more than slivers, which reconstructed meshes have many of.
-    Vertices that no face uses get (0, 0, 0).
-
-    Parameters
-    ----------
-    positions : (N, 3) float
-    faces : (M, 3) int
-
-    Returns
-    -------
-    (N, 3) float32
-
-    >>> p = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.float32)
-    >>> vertex_normals(p, np.array([[0, 1, 2]])).tolist()
-    [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0]]
-    """
-    p = np.asarray(positions, dtype=np.float64)
-    f = np.asarray(faces, dtype=np.int64)
-    face_n = np.cross(p[f[:, 1]] - p[f[:, 0]], p[f[:, 2]] - p[f[:, 0]])
-    n = np.zeros_like(p)
-    for corner in range(3):
-        np.add.at(n, f[:, corner], face_n)
-    length = np.linalg.norm(n, axis=1, keepdims=True)
-    np.divide(n, length, out=n, where=length > 0)
-    return n.astype(np.float32)
 
 
 class ArraySource:

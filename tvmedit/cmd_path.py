@@ -13,6 +13,8 @@ exits with status 3 and says at which --mu a path would exist.
 
 import json
 
+from . import options
+
 HELP = "best paths between key motions and the frame schedule of the edit"
 
 
@@ -20,8 +22,7 @@ def add_edit_arguments(parser):
     """LIB, KEY..., --forbid and --loops, shared by path, export and render."""
     parser.add_argument("library", metavar="LIB", help="library directory made by tvmedit build")
     parser.add_argument("keys", metavar="KEY", nargs="+", help="key motions, by id or name, in order")
-    parser.add_argument("--forbid", metavar="KEY", nargs="+", action="extend", default=[],
-                        help="motions no path may use (repeatable: --forbid a b --forbid c)")
+    options.add_forbid(parser)
     parser.add_argument("--loops", type=int, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
 

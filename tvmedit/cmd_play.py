@@ -23,6 +23,8 @@ import time
 
 from engine.errors import TvmError
 
+from . import options
+
 HELP = "play a library in a window, queueing key motions from the keyboard"
 
 # The player's times count from here: as close to process start as a command gets.
@@ -34,26 +36,14 @@ def add_arguments(parser):
     parser.add_argument("library", metavar="LIB", help="library folder made by tvmedit build")
     parser.add_argument("keys", metavar="KEY", nargs="*",
                         help="key motions (id or name) to queue at the start; the first one plays first")
-    parser.add_argument("--forbid", metavar="KEY", nargs="+", action="extend", default=[],
-                        help="motions no path may pass through (repeatable)")
-    parser.add_argument("--size", metavar="WxH", default="960x720", type=_size, help="window size (default 960x720)")
+    options.add_forbid(parser)
+    parser.add_argument("--size", metavar="WxH", default="960x720", type=options.size, help="window size (default 960x720)")
     parser.add_argument("--fps", type=float, default=None,
                         help="playback rate, frames per second (default: the library's)")
     parser.add_argument("--log", metavar="FILE.jsonl", default=None,
                         help="write one JSON line per displayed sequence frame")
     parser.add_argument("--seconds", type=float, default=None, help="quit by itself after this many seconds")
     parser.add_argument("--stats", action="store_true", help="print frame and redraw rates on exit")
-
-
-def _size(text):
-    import argparse
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-        if width > 0 and height > 0:
-            return width, height
-    except ValueError:
-        pass
-    raise argparse.ArgumentTypeError(f"size should be WIDTHxHEIGHT in pixels, like 960x720, not {text!r}")
 
 
 def run(args):

@@ -11,31 +11,9 @@ slowly during playback.
 
 import dataclasses
 
+from . import options
+
 HELP = "render an edit to MP4/GIF/PNG frames, or a motion's contact sheet"
-
-
-def _size(text):
-    import argparse
-
-    try:
-        width, height = (int(v) for v in text.lower().split("x"))
-        if width > 0 and height > 0:
-            return width, height
-    except ValueError:
-        pass
-    raise argparse.ArgumentTypeError(f"size should be WIDTHxHEIGHT such as 640x480, not {text!r}")
-
-
-def _camera_arg(text):
-    import argparse
-
-    try:
-        values = [float(v) for v in text.split(",")]
-        if len(values) == 3:
-            return values
-    except ValueError:
-        pass
-    raise argparse.ArgumentTypeError(f"camera should be AZ,EL,DIST such as -90,10,0, not {text!r}")
 
 
 def add_arguments(parser):
@@ -44,12 +22,11 @@ def add_arguments(parser):
     parser.add_argument("-o", "--out", required=True, metavar="OUT",
                         help="OUT.mp4, OUT.gif, a folder for PNG frames, or with --node a .png sheet")
     parser.add_argument("--node", metavar="NAME", help="render a contact sheet of this motion's texton")
-    parser.add_argument("--forbid", metavar="KEY", nargs="+", action="extend", default=[],
-                        help="motions no path may use (repeatable)")
+    options.add_forbid(parser)
     parser.add_argument("--loops", type=int, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
-    parser.add_argument("--size", type=_size, default=(640, 480), metavar="WxH", help="default 640x480")
-    parser.add_argument("--camera", type=_camera_arg, metavar="AZ,EL,DIST",
+    parser.add_argument("--size", type=options.size, default=(640, 480), metavar="WxH", help="default 640x480")
+    parser.add_argument("--camera", type=options.camera, metavar="AZ,EL,DIST",
                         help="camera azimuth, elevation (degrees) and distance (m; 0 = automatic)")
     parser.add_argument("--orbit", type=float, default=0.0, metavar="DEG_PER_S",
                         help="turn the camera this many degrees per second (free viewpoint)")
