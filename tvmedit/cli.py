@@ -17,7 +17,7 @@ from . import __version__
 COMMANDS = ["synth", "check", "build", "info", "rename", "path", "export", "render", "play", "report"]
 
 
-def _parser():
+def _parser(argv):
     parser = argparse.ArgumentParser(
         prog="tvmedit",
         description="Edit time-varying meshes: find cyclic motions, link them in a motion graph, "
@@ -25,17 +25,22 @@ def _parser():
     )
     parser.add_argument("--version", action="version", version=f"tvmedit {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    # Only the invoked command's options are built: some read their defaults from engine
+    # modules (networkx, scikit-image), which `tvmedit play` should not wait for.
+    wanted = next((arg for arg in argv if arg in COMMANDS), None)
     for name in COMMANDS:
         module = importlib.import_module(f"tvmedit.cmd_{name}")
         p = sub.add_parser(name, help=module.HELP, description=module.__doc__,
                            formatter_class=argparse.RawDescriptionHelpFormatter)
-        module.add_arguments(p)
+        if name == wanted:
+            module.add_arguments(p)
         p.set_defaults(_run=module.run)
     return parser
 
 
 def main(argv=None):
-    parser = _parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = _parser(argv)
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()
