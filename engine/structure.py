@@ -39,10 +39,11 @@ Two methods are provided.
        nearly as deep (an exercise done left then right, or down then up, repeats at
        half its period only approximately: with the theta columns given, 2L is taken when
        the azimuth histogram alone shows no valley at L, as left and right poses share
-       their r and phi histograms). Textons then start at the most repeatable atom
-       of the first period (the smallest d_A(u, u + P)) and each next one at the minimum of
-       d_A(t, t_first) within P +/- 25 %, as in the paper. Partial periods at the cluster's
-       ends are not textons.
+       their r and phi histograms; in a cluster holding a single cycle, 2L is the
+       profile's last lag, which stands for the valley when the profile falls into it).
+       Textons then start at the most repeatable atom of the first period (the smallest
+       d_A(u, u + P)) and each next one at the minimum of d_A(t, t_first) within
+       P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
 
 Within K frames of either end of the sequence, the atom window is cut at the end and the
 remaining weights are rescaled to the full window's total, so an atom distance keeps its
@@ -520,6 +521,12 @@ def _period(v, cs, ce, fps, w, p: StructureParams, theta=None):
         return min(near, key=lambda i: prof[i]) if near else None
 
     k2 = valley_near(2 * L)
+    # In a cluster that holds only one whole cycle of a left-right exercise, 2L lies at the
+    # profile's end, where a valley has no far side and is no candidate. A profile still
+    # falling into its last lag, within reach of 2L, stands for that valley.
+    last = len(lags) - 1
+    if k2 is None and abs(lags[last] - 2 * L) <= max(1.0, 0.1 * 2 * L) and prof[last] < prof[last - 1]:
+        k2 = last
     if k2 is not None and prof[k2] < prof[chosen]:
         k3 = valley_near(3 * L) if 3 * L <= top else None
         if theta is not None and k3 is None:

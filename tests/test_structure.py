@@ -155,3 +155,37 @@ def test_any_sequence_length_parses_up_to_its_last_frame(method):
         s = parse(vectors[:length], 10, StructureParams(method=method))
         assert s.clusters[-1][1] == length - 1
         assert all(0 <= t.start <= t.end < length for t in s.textons)
+
+
+def left_right_part(frames, period, theta, seed=0, noise=0.003):
+    """A left-right exercise: r and phi columns repeat every half period, theta every period.
+
+    Left and right poses share their r and phi histograms; only the azimuth (theta)
+    columns, mirrored, tell the two halves apart.
+    """
+    rng = np.random.default_rng(seed)
+    mean = rng.random(DIM) * 0.06
+    a1, a2 = rng.normal(size=(2, DIM)) * 0.02
+    p1, p2 = rng.uniform(0, 2 * np.pi, size=(2, DIM))
+    t = np.arange(frames)[:, None]
+    half = 2 * np.pi * t / (period / 2)
+    v = mean + a1 * np.sin(half + p1) + a2 * np.sin(2 * half + p2)
+    v[:, theta] = mean[theta] + 2 * a1[theta] * np.sin(2 * np.pi * t / period + p1[theta])
+    return v + rng.normal(scale=noise, size=v.shape)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_left_right_cluster_holding_one_period_gets_the_whole_period(seed):
+    # 53 frames of a 42-frame left-right cycle between two other exercises (CMU 13_29's
+    # toe touch cut short by its boundary): 2L = 42 is the lag profile's last lag, where a
+    # valley has no far side. The theta columns still say that 21 is only half a period.
+    theta = slice(30, 40)
+    before, _ = cyclic_sequence([(80, 12)], seed=10 + seed)
+    after, _ = cyclic_sequence([(80, 16)], seed=20 + seed)
+    v = np.concatenate([before, left_right_part(53, 42, theta, seed), after])
+    s = parse(v, fps=10, theta=theta)
+    assert [c[0] for c in s.clusters] == [0, 80, 133]
+    lengths = [len(t) for t in s.textons_of(1)]
+    assert len(lengths) == 1 and abs(lengths[0] - 42) <= 0.15 * 42, lengths
+    # Without the theta columns the half period is all there is to see.
+    assert [len(t) for t in parse(v, fps=10).textons_of(1)][0] == 21
