@@ -22,7 +22,9 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
 
+# Benchmarks also install the peers they measure against (pyrender).
 bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet -e '.[test,report,dask,bench]'
 	$(BIN)/python benchmarks/run_all.py
 
 clean:
