@@ -41,6 +41,11 @@ METHODS = {
 }
 
 
+def take_folder(take, variant="base"):
+    """The cached frames of a CMU take (or ``synth-gym``) in one of :data:`VARIANTS`."""
+    return synth_take("gym") if take == "synth-gym" else mocap_take(take, **VARIANTS[variant])
+
+
 def score(folder, params):
     """(precision, recall, texton accuracy, clusters, seconds) of one parse."""
     truth = load_truth(folder)
@@ -69,7 +74,7 @@ def main(argv=None):
         for name in args.variants:
             if take == "synth-gym" and name != "base":
                 continue
-            folder = synth_take("gym") if take == "synth-gym" else mocap_take(take, **VARIANTS[name])
+            folder = take_folder(take, name)
             for method in args.methods:
                 p, r, acc, s, sec = score(folder, METHODS[method])
                 print(f"{take:9s} {name:11s} {method:12s} {p:5.2f} {r:6.2f} {acc:6.2f} {len(s.clusters):8d} {sec:7.2f}")
