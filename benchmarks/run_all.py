@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-BENCHMARKS = ["accuracy", "analysis_speed", "synth_speed", "build_speed", "search_speed",
+BENCHMARKS = ["accuracy", "bin_sizes", "analysis_speed", "synth_speed", "build_speed", "search_speed",
               "render_speed", "player_pacing"]
 
 
