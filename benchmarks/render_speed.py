@@ -1,14 +1,18 @@
 """Rendering speed of streamed time-varying meshes, against a peer and against the practical limit.
 
-    .venv/bin/python benchmarks/render_speed.py [--frames 60] [--samples 4]
+    .venv/bin/python benchmarks/render_speed.py [--frames 60] [--antialias auto] [--samples 4]
 
 Each displayed frame is a different mesh (like TVM: new vertex count and topology every frame):
 ~17,000 vertices and ~34,000 triangles from marching cubes of a moving body, cycled. A frame
 costs upload + draw + read back of a 640x480 RGB image. Three loops over the same arrays:
 
-* tvmedit   ``player.Renderer``: buffers sized once, overwritten per frame;
+* tvmedit   ``player.Renderer`` at its default anti-aliasing (4x MSAA on a GPU, FXAA on a
+            software rasteriser; ``--antialias`` picks another): buffers sized once, overwritten
+            per frame;
 * bare      moderngl with no other work: the same uploads, one minimal shader, same framebuffer
-            (the practical limit on this machine);
+            (the practical limit on this machine), with tvmedit's multisampling when tvmedit
+            multisamples and none otherwise: no anti-aliasing pass at all when tvmedit runs FXAA,
+            so the ratio charges tvmedit with its FXAA pass;
 * pyrender  ``OffscreenRenderer`` with a new ``pyrender.Mesh`` per frame (the 'bench' extra; it
             is skipped, saying why, when it cannot be imported).
 
@@ -30,7 +34,7 @@ from skimage.measure import marching_cubes  # noqa: E402
 
 from player.camera import Camera  # noqa: E402
 from player.context import headless_context  # noqa: E402
-from player.renderer import Renderer  # noqa: E402
+from player.renderer import ANTIALIAS, Renderer  # noqa: E402
 from player.source import ArraySource  # noqa: E402
 
 SIZE = (640, 480)
@@ -72,8 +76,8 @@ def time_loop(step, frames, warmup=2):
     return frames / (time.perf_counter() - wall), 1000 * (time.process_time() - cpu) / frames
 
 
-def tvmedit_loop(ctx, source, keys, camera, samples):
-    renderer = Renderer(ctx, SIZE, samples=samples, max_counts=source.max_counts())
+def tvmedit_loop(ctx, source, keys, camera, antialias, samples):
+    renderer = Renderer(ctx, SIZE, samples=samples, max_counts=source.max_counts(), antialias=antialias)
 
     def step(i):
         renderer.draw(source.frame_mesh(keys[i % len(keys)]), camera)
@@ -152,7 +156,10 @@ def main(argv=None):
     parser.add_argument("--frames", type=int, default=60, help="timed frames per round (default 60)")
     parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds; the median is reported")
     parser.add_argument("--meshes", type=int, default=8, help="different meshes cycled (default 8)")
-    parser.add_argument("--samples", type=int, default=4, help="multisampling of tvmedit and bare (pyrender: 4)")
+    parser.add_argument("--antialias", choices=ANTIALIAS, default="auto",
+                        help="tvmedit's anti-aliasing (default auto: FXAA on software GL, MSAA otherwise)")
+    parser.add_argument("--samples", type=int, default=4,
+                        help="multisampling of tvmedit and bare when tvmedit multisamples (pyrender: 4)")
     args = parser.parse_args(argv)
 
     print(f"generating {args.meshes} meshes ...", file=sys.stderr)
@@ -166,7 +173,7 @@ def main(argv=None):
           f"{np.mean([len(m[2]) for m in meshes]):.0f} triangles on average; {SIZE[0]}x{SIZE[1]}, "
           f"upload + draw + read back; {ctx.info['GL_RENDERER']}, {os.cpu_count()} CPUs")
 
-    renderer, ours = tvmedit_loop(ctx, source, keys, camera, args.samples)
+    renderer, ours = tvmedit_loop(ctx, source, keys, camera, args.antialias, args.samples)
     loops = {"tvmedit": ours, "bare": bare_loop(ctx, meshes, camera, renderer.samples)}
     frames_per_round = {"tvmedit": args.frames, "bare": args.frames}
     try:
@@ -193,8 +200,9 @@ def main(argv=None):
     fps = {name: statistics.median(t[0] for t in values) for name, values in timings.items()}
     cpu = {name: statistics.median(t[1] for t in values) for name, values in timings.items()}
 
-    samples = f"{renderer.samples}x MSAA" if renderer.samples > 1 else "no MSAA"
-    notes = {"tvmedit": samples, "bare": f"{samples}, the practical limit",
+    chosen = {"msaa": f"{renderer.samples}x MSAA", "fxaa": "FXAA", "none": "no anti-aliasing"}[renderer.antialias]
+    bare = f"{renderer.samples}x MSAA" if renderer.samples > 1 else "no MSAA, no AA pass"
+    notes = {"tvmedit": f"{chosen}, antialias={args.antialias!r}", "bare": f"{bare}, the practical limit",
              "pyrender": "4x MSAA, new pyrender.Mesh per frame"}
     print(f"{'':18} {'fps':>7} {'CPU ms/frame':>13}   (median of {args.rounds} interleaved rounds)")
     for name in loops:

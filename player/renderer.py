@@ -3,8 +3,15 @@
 Topology changes every frame, so the renderer keeps one set of GPU buffers sized for the largest
 frame and overwrites the front of them each frame (``Buffer.write`` at offset 0), drawing only
 the frame's own face count; they grow only when a larger frame appears. The context decides
-where pixels go: headless rendering draws into the renderer's own (multisampled) framebuffer
-and reads it back, the window passes ``ctx.screen``.
+where pixels go: headless rendering draws into the renderer's own framebuffer and reads it
+back, the window passes ``ctx.screen``.
+
+Anti-aliasing is either 4x multisampling (MSAA) or FXAA, one fullscreen pass that softens the
+edges it finds in the finished image (``shaders/fxaa.glsl``). On a GPU multisampling is nearly
+free and better; a software rasteriser shades every sample on the CPU, where 4x MSAA about
+triples the frame time and FXAA adds about a third, so by default each gets its own. With FXAA
+the scene (grid included) is drawn into a texture sized like the output, which the pass then
+copies into the output, anti-aliased and the same way up.
 """
 
 import moderngl
@@ -14,6 +21,12 @@ from player.programs import load_program
 
 BACKGROUND = (0.12, 0.13, 0.15)
 """Default clear colour, sRGB in 0..1."""
+
+ANTIALIAS = ("auto", "msaa", "fxaa", "none")
+"""Anti-aliasing modes; "auto" is FXAA on a software rasteriser and MSAA otherwise."""
+
+SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "swiftshader", "software rasterizer", "gdi generic")
+"""Words in ``GL_RENDERER`` that mark a rasteriser running on the CPU (Mesa, Google, Windows)."""
 
 _GROWTH = 1.25
 """Buffers grow by this factor beyond the frame that outgrew them, so slowly growing
@@ -27,14 +40,18 @@ class Renderer:
     ----------
     ctx : moderngl.Context, from ``player.context``
     size : (width, height) of the own framebuffer, pixels
-    samples : multisample anti-aliasing; clamped to what the context allows, 0 for none
+    samples : samples per pixel when multisampling, clamped to what the context allows; 0 (or 1)
+        for no multisampling
+    antialias : "auto" (FXAA on a software rasteriser, otherwise MSAA with ``samples``), "msaa"
+        (none with ``samples`` 0, FXAA where the context cannot multisample), "fxaa" or "none";
+        ``self.antialias`` and ``self.samples`` say what was chosen
     max_counts : (max_vertices, max_faces) to size buffers up front (``MeshSource.max_counts()``)
     background : sRGB (r, g, b) in 0..1
     grid : draw a floor grid at z = 0
     """
 
     def __init__(self, ctx, size=(640, 480), samples=4, max_counts=(0, 0), background=BACKGROUND,
-                 grid=False):
+                 grid=False, antialias="auto"):
         width, height = (int(v) for v in size)
         if width <= 0 or height <= 0:
             raise ValueError(f"size should be two positive pixel counts, got {size!r}")
@@ -49,16 +66,32 @@ class Renderer:
         self._uploaded = None  # the mesh tuple now in the buffers
         self._reserve(*max_counts)
 
-        self.samples = min(int(samples), ctx.max_samples) if samples else 0
+        if antialias not in ANTIALIAS:
+            raise ValueError(f"antialias should be one of {', '.join(ANTIALIAS)}, got {antialias!r}")
+        samples = int(samples or 0)
+        if antialias == "auto":
+            antialias = "fxaa" if is_software(ctx) else "msaa" if samples > 1 else "none"
+        elif antialias == "msaa" and samples < 2:
+            antialias = "none"
         self.framebuffer = ctx.simple_framebuffer(self.size, components=4)
         self._multisample = None
-        if self.samples > 1:
+        if antialias == "msaa":
+            samples = min(samples, ctx.max_samples)
             try:
-                self._multisample = ctx.framebuffer(
-                    ctx.renderbuffer(self.size, 4, samples=self.samples),
-                    ctx.depth_renderbuffer(self.size, samples=self.samples))
+                if samples > 1:
+                    self._multisample = ctx.framebuffer(
+                        ctx.renderbuffer(self.size, 4, samples=samples),
+                        ctx.depth_renderbuffer(self.size, samples=samples))
             except moderngl.Error:
-                self.samples = 0  # the context cannot multisample this size: draw aliased
+                pass
+            if self._multisample is None:
+                antialias = "fxaa"  # the context cannot multisample (this size)
+        self.antialias = antialias
+        self.samples = samples if antialias == "msaa" else 0
+        self._scene = None  # FXAA's input: colour texture + depth, sized like the last target
+        if antialias == "fxaa":
+            self._fxaa_program = load_program(ctx, "fxaa")
+            self._fxaa_vao = ctx.vertex_array(self._fxaa_program, [])
 
         self._grid_program = load_program(ctx, "grid")
         corners = np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32)
@@ -89,7 +122,13 @@ class Renderer:
             self._buffers["index"].write(_contiguous(faces, np.uint32))
             self._uploaded = mesh
 
-        target = framebuffer or self._multisample or self.framebuffer
+        output = framebuffer or self.framebuffer
+        if self.antialias == "fxaa":
+            target = self._scene_target(output)
+        elif framebuffer is None and self._multisample is not None:
+            target = self._multisample
+        else:
+            target = output  # a given framebuffer multisamples by itself, or not at all
         target.use()
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.disable(moderngl.CULL_FACE)
@@ -101,7 +140,7 @@ class Renderer:
         if framebuffer is None:
             # Draw the own framebuffer upside down: GL reads rows bottom-up, so ``read`` then
             # returns top-down rows with no flipping copy. (Lighting is two-sided, so the
-            # reversed winding changes nothing.)
+            # reversed winding changes nothing; FXAA copies without flipping.)
             projection = projection * np.array([1, -1, 1, 1], np.float32)
         view, projection = camera.view_matrix().tobytes(), projection.tobytes()
         program["view"].write(view)
@@ -111,8 +150,10 @@ class Renderer:
         if self.grid:
             self._draw_grid(target, camera, view, projection)
 
-        if framebuffer is None and self._multisample is not None:
+        if target is self._multisample:
             self.ctx.copy_framebuffer(self.framebuffer, self._multisample)
+        elif target is not output:
+            self._fxaa(output)
 
     def read(self):
         """The own framebuffer's pixels, (H, W, 3) uint8, first row at the top of the image."""
@@ -121,7 +162,7 @@ class Renderer:
         return pixels
 
     def release(self):
-        if self.ctx.fbo in (self.framebuffer, self._multisample):
+        if self.ctx.fbo in (self.framebuffer, self._multisample, self._scene):
             # moderngl rebinds the current framebuffer when it creates the next one; a deleted
             # name there is GL_INVALID_OPERATION, so hand the context back its default one.
             self.ctx.detect_framebuffer(0).use()
@@ -134,8 +175,11 @@ class Renderer:
         self._grid_vao.release()
         self._grid_corners.release()
         self._grid_program.release()
-        if self._multisample is not None:
-            self._multisample.release()
+        _release_with_attachments(self._multisample)
+        if self.antialias == "fxaa":
+            self._fxaa_vao.release()
+            self._fxaa_program.release()
+        self._release_scene()
         self.framebuffer.release()
 
     def _reserve(self, n_vertices, n_faces):
@@ -177,6 +221,28 @@ class Renderer:
             self._vaos[facets] = self.ctx.vertex_array(program, content, b["index"], index_element_size=4)
         return self._vaos[facets]
 
+    def _scene_target(self, output):
+        """FXAA's input for ``output``: a framebuffer of a colour texture and a depth buffer sized
+        like ``output``'s viewport (a window's ``ctx.screen`` keeps the size it was opened with,
+        its viewport follows the window), made anew when that size changes."""
+        size = tuple(output.viewport[2:])
+        if self._scene is None or self._scene.size != size:
+            self._release_scene()
+            self._scene = self.ctx.framebuffer(self.ctx.texture(size, 4), self.ctx.depth_renderbuffer(size))
+        return self._scene
+
+    def _release_scene(self):
+        _release_with_attachments(self._scene)
+        self._scene = None
+
+    def _fxaa(self, output):
+        """Anti-alias the scene texture into ``output`` (one triangle covering its viewport)."""
+        output.use()
+        self.ctx.disable(moderngl.DEPTH_TEST)
+        self._scene.color_attachments[0].use(0)
+        self._fxaa_program["origin"].value = tuple(output.viewport[:2])
+        self._fxaa_vao.render(moderngl.TRIANGLES, vertices=3)
+
     def _draw_grid(self, target, camera, view, projection):
         program = self._grid_program
         program["view"].write(view)
@@ -192,6 +258,21 @@ class Renderer:
         self._grid_vao.render(moderngl.TRIANGLE_STRIP)
         target.depth_mask = True
         self.ctx.disable(moderngl.BLEND)
+
+
+def is_software(ctx):
+    """Whether ``ctx`` rasterises on the CPU (``GL_RENDERER`` names one of ``SOFTWARE_RENDERERS``)."""
+    renderer = ctx.info.get("GL_RENDERER", "").lower()
+    return any(name in renderer for name in SOFTWARE_RENDERERS)
+
+
+def _release_with_attachments(framebuffer):
+    """Release a framebuffer made here and its attachments (moderngl keeps them otherwise)."""
+    if framebuffer is not None:
+        attachments = (*framebuffer.color_attachments, framebuffer.depth_attachment)
+        framebuffer.release()
+        for attachment in attachments:
+            attachment.release()
 
 
 def _contiguous(array, dtype):

@@ -19,7 +19,7 @@ import player
 from engine.errors import InputError
 from player.camera import Camera
 from player.context import ContextError, shared_headless_context
-from player.renderer import BACKGROUND, Renderer
+from player.renderer import ANTIALIAS, BACKGROUND, Renderer, is_software
 
 pytestmark = pytest.mark.gl
 
@@ -67,20 +67,23 @@ def scene_source():
 
 
 def reference_scenes():
-    """name -> function(ctx) returning the (120, 160, 3) image that ``tests/reference/<name>.png`` holds."""
+    """name -> function(ctx) returning the (120, 160, 3) image that ``tests/reference/<name>.png`` holds.
+
+    They are drawn with FXAA, the default on the software GL the tests run on, named here so
+    that a GPU (whose default is multisampling) draws the same images."""
     source = scene_source()
     aspect = SIZE[0] / SIZE[1]
     front = Camera.framing(source.bounds(), aspect, azimuth=-90, elevation=10)
 
     def figure_front(ctx):
-        return _render(ctx, source.frame_mesh(("figure", 0)), front)
+        return _render(ctx, source.frame_mesh(("figure", 0)), front, antialias="fxaa")
 
     def figure_orbit_grid(ctx):
-        return _render(ctx, source.frame_mesh(("figure", 0)), front.orbit(50), grid=True)
+        return _render(ctx, source.frame_mesh(("figure", 0)), front.orbit(50), grid=True, antialias="fxaa")
 
     def ball_facets(ctx):
         positions, colours, faces, _ = source.frame_mesh(("ball", 0))
-        return _render(ctx, (positions, colours, faces, None), front)
+        return _render(ctx, (positions, colours, faces, None), front, antialias="fxaa")
 
     return {"figure_front": figure_front, "figure_orbit_grid": figure_orbit_grid, "ball_facets": ball_facets}
 
@@ -111,6 +114,31 @@ def no_gl_errors(ctx):
 
 def foreground(image):
     return np.any(image != BACKGROUND_RGB, axis=2)
+
+
+def neighbourhood(mask):
+    """``mask`` grown by one pixel in the four directions."""
+    grown = mask.copy()
+    grown[1:] |= mask[:-1]
+    grown[:-1] |= mask[1:]
+    grown[:, 1:] |= mask[:, :-1]
+    grown[:, :-1] |= mask[:, 1:]
+    return grown
+
+
+def not_flat(image):
+    """Pixels that differ from one of their four neighbours (the edges FXAA may touch)."""
+    pixels = image.astype(np.int16)
+    edge = np.zeros(image.shape[:2], bool)
+    for axis in (0, 1):
+        step = np.any(np.diff(pixels, axis=axis) != 0, axis=2)
+        if axis == 0:
+            edge[1:] |= step
+            edge[:-1] |= step
+        else:
+            edge[:, 1:] |= step
+            edge[:, :-1] |= step
+    return edge
 
 
 @pytest.mark.parametrize("name", sorted(reference_scenes()))
@@ -184,12 +212,75 @@ def test_draws_only_the_frames_own_faces(ctx):
     assert foreground(image).any()
 
 
-def test_without_multisampling_draws_the_same_picture_with_harder_edges(ctx):
+def test_auto_antialiasing_is_fxaa_on_software_gl_and_multisampling_on_a_gpu(ctx):
+    renderer = Renderer(ctx, SIZE)
+    try:
+        if is_software(ctx):
+            assert (renderer.antialias, renderer.samples) == ("fxaa", 0)
+        else:
+            assert renderer.antialias == "msaa" and renderer.samples > 1
+    finally:
+        renderer.release()
+    explicit = Renderer(ctx, SIZE, antialias="msaa", samples=0)
+    try:
+        assert (explicit.antialias, explicit.samples) == ("none", 0), "samples=0 asks for no multisampling"
+    finally:
+        explicit.release()
+    with pytest.raises(ValueError, match="antialias"):
+        Renderer(ctx, SIZE, antialias="ssaa")
+
+
+@pytest.mark.parametrize("antialias", ["msaa", "fxaa"])
+def test_antialiasing_draws_the_same_silhouette_as_none(ctx, antialias):
     source = scene_source()
-    mesh, camera = source.frame_mesh(("figure", 0)), Camera.framing(source.bounds(), 4 / 3)
-    smooth, hard = _render(ctx, mesh, camera, samples=4), _render(ctx, mesh, camera, samples=0)
-    assert (foreground(smooth) != foreground(hard)).mean() < 0.02
-    assert np.abs(smooth.astype(int) - hard.astype(int)).mean() < 3
+    mesh, camera = source.frame_mesh(("figure", 0)), Camera.framing(source.bounds(), 4 / 3).orbit(20)
+    hard = foreground(_render(ctx, mesh, camera, antialias="none"))
+    smooth = foreground(_render(ctx, mesh, camera, antialias=antialias))
+    band = neighbourhood(hard) & neighbourhood(~hard)  # one pixel either side of the outline
+    assert (smooth != hard).any(), "anti-aliasing should change the outline's pixels"
+    assert not ((smooth != hard) & ~band).any(), "anti-aliasing moved the silhouette"
+
+
+def test_fxaa_softens_edges_and_leaves_flat_areas_alone(ctx):
+    positions, colours, faces, _ = scene_source().frame_mesh(("ball", 0))
+    mesh = (positions, colours, faces, None)  # flat facets: edges inside the silhouette too
+    camera = Camera.framing(scene_source().bounds(), 4 / 3, azimuth=-70, elevation=20)
+    hard = _render(ctx, mesh, camera, antialias="none")
+    soft = _render(ctx, mesh, camera, antialias="fxaa")
+    changed = np.any(soft != hard, axis=2)
+    assert not (changed & ~not_flat(hard)).any(), "FXAA touched a pixel whose neighbours all match it"
+    # On the outline, FXAA mixes the ball's colours with the background's: the aliased image has
+    # only ball or background colours there, the smoothed one many in-between.
+    outline = neighbourhood(foreground(hard)) & neighbourhood(~foreground(hard))
+    assert changed[outline].mean() > 0.5
+    colours_on_outline = [len(np.unique(image[outline], axis=0)) for image in (hard, soft)]
+    assert colours_on_outline[1] > 1.3 * colours_on_outline[0], colours_on_outline
+    assert np.abs(soft.astype(int) - hard.astype(int)).mean() < 0.5
+
+
+@pytest.mark.parametrize("antialias", ANTIALIAS)
+def test_a_given_framebuffer_gets_the_same_picture_upright_at_its_own_size(ctx, antialias):
+    # The window passes ctx.screen, whose size follows the window: the renderer draws at the
+    # framebuffer's size, not its own, and (unlike its own framebuffer) right side up.
+    source = scene_source()
+    mesh, camera = source.frame_mesh(("figure", 0)), Camera.framing(source.bounds(), 4 / 3).orbit(20)
+    renderer = Renderer(ctx, SIZE, antialias=antialias)
+    targets = [ctx.simple_framebuffer(size, components=4) for size in ((96, 72), SIZE)]
+    try:
+        images = []
+        for target in targets:
+            renderer.draw(mesh, camera, framebuffer=target)
+            pixels = np.frombuffer(target.read(components=3, alignment=1), np.uint8)
+            images.append(pixels.reshape(target.height, target.width, 3)[::-1])
+        # A given framebuffer multisamples by itself (a window asks for it); these do not.
+        drawn = "none" if renderer.antialias == "msaa" else renderer.antialias
+        expected = [_render(ctx, mesh, camera, size=target.size, antialias=drawn) for target in targets]
+    finally:
+        renderer.framebuffer.use()
+        for target in targets:
+            target.release()
+        renderer.release()
+    assert foreground(images[1]).mean() > 1.5 * foreground(images[0]).mean() * 0.5
 
 
 def test_render_frame_fits_the_subject_in_view(ctx):
