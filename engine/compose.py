@@ -101,6 +101,7 @@ class Composition:
     transitions: list
     loops: int | None = 1
     cycle: int = field(default=0, repr=False)  # frames in one cycle of the last key motion
+    library: object = field(default=None, repr=False)  # set by Library.edit: where frames come from
 
     def frames(self):
         """Iterate the schedule; without end when ``loops`` is None."""
