@@ -8,10 +8,14 @@ database holds the representatives of all of them, each remembering where it cam
 
 Clusters with a single texton. The paper assumes every cluster repeats its texton at least
 twice. A parser also reports non-cyclic stretches (a transition from walking to running, a
-pose held once) as one-texton clusters; one texton is no evidence of a repeatable motion,
-so such clusters are left out (``min_textons=2``). If that leaves the whole library without
-a single node although it has textons, every one-texton cluster is taken in after all, with
-a warning: a database of unproven motions can still be edited, an empty one cannot.
+pose held once) as one-texton clusters that the texton fills; one texton is no evidence of
+a repeatable motion, so such clusters are left out (``min_textons=2``). A slow exercise
+(a 3-4 s twist or toe touch, done twice) often holds only one whole texton once its
+start is aligned, yet its cluster runs on for a good part of another cycle: a cluster at
+least ``REPEAT_SPAN`` (1.5) times as long as its only texton shows the motion going on
+past one cycle, so it is kept. If all this leaves the whole library without a single node
+although it has textons, every one-texton cluster is taken in after all, with a warning: a
+database of unproven motions can still be edited, an empty one cannot.
 """
 
 import warnings
@@ -19,6 +23,8 @@ from dataclasses import dataclass
 
 #: Fewest textons a cluster needs before its representative enters the database.
 MIN_TEXTONS = 2
+#: A cluster with fewer textons still enters when it is this many times as long as its texton.
+REPEAT_SPAN = 1.5
 
 
 @dataclass
@@ -67,7 +73,7 @@ class Node:
         return self.end - self.start + 1
 
 
-def select_textons(textons, min_textons=MIN_TEXTONS):
+def select_textons(textons, min_textons=MIN_TEXTONS, clusters=None):
     """Representative texton of every cluster of one sequence, eq. (9).
 
     Parameters
@@ -75,7 +81,10 @@ def select_textons(textons, min_textons=MIN_TEXTONS):
     textons : iterable of objects with ``.start``, ``.end``, ``.cluster``, ``.distance``
         The textons of one sequence; ``distance`` is the texton distance d_T, eq. (6).
     min_textons : int
-        Clusters with fewer textons than this are left out (see the module docstring).
+        Clusters with fewer textons than this are left out (see the module docstring)...
+    clusters : list of (start, end), optional
+        ...unless, with the clusters' inclusive frame ranges given, the cluster is at least
+        ``REPEAT_SPAN`` times as long as its longest texton.
 
     Returns
     -------
@@ -93,12 +102,23 @@ def select_textons(textons, min_textons=MIN_TEXTONS):
     [(10, 19)]
     >>> [(t.start, t.end) for t in select_textons(textons, min_textons=1)]
     [(10, 19), (20, 24)]
+    >>> [(t.start, t.end) for t in select_textons(textons, clusters=[(0, 19), (18, 28)])]
+    [(10, 19), (20, 24)]
     """
     by_cluster = {}
     for texton in textons:
         by_cluster.setdefault(texton.cluster, []).append(texton)
+
+    def repeats(cluster, members):
+        if len(members) >= min_textons:
+            return True
+        if clusters is None:
+            return False
+        start, end = clusters[cluster]
+        return end - start + 1 >= REPEAT_SPAN * max(t.end - t.start + 1 for t in members)
+
     chosen = [min(members, key=lambda t: (t.distance, t.start))
-              for members in by_cluster.values() if len(members) >= min_textons]
+              for cluster, members in by_cluster.items() if repeats(cluster, members)]
     return sorted(chosen, key=lambda t: t.start)
 
 
@@ -136,7 +156,7 @@ def build_database(structures, min_textons=MIN_TEXTONS):
     """
     parsed = {name: _unpack(name, value) for name, value in structures.items()}
     nodes = _nodes(parsed, min_textons)
-    if not nodes and min_textons > 1 and any(parsed.values()):
+    if not nodes and min_textons > 1 and any(textons for textons, _ in parsed.values()):
         warnings.warn("no motion cluster repeats its texton, so the database keeps the "
                       "single textons of all clusters instead", stacklevel=2)
         nodes = _nodes(parsed, 1)
@@ -145,8 +165,8 @@ def build_database(structures, min_textons=MIN_TEXTONS):
 
 def _nodes(parsed, min_textons):
     nodes = []
-    for sequence, textons in parsed.items():
-        for rank, texton in enumerate(select_textons(textons, min_textons), start=1):
+    for sequence, (textons, clusters) in parsed.items():
+        for rank, texton in enumerate(select_textons(textons, min_textons, clusters), start=1):
             nodes.append(Node(id=len(nodes), name=f"{sequence}/{rank:02d}", sequence=sequence,
                               start=int(texton.start), end=int(texton.end),
                               cluster=int(texton.cluster),
@@ -169,4 +189,4 @@ def _unpack(sequence, value):
         if not 0 <= texton.start <= texton.end:
             raise ValueError(f"sequence {sequence!r}: texton {texton.start}-{texton.end} "
                              "is not a frame range")
-    return textons
+    return textons, list(clusters)

@@ -55,6 +55,15 @@ def test_single_texton_cluster_is_left_out():
     assert [(n.start, n.cluster) for n in nodes] == [(10, 0)]
 
 
+def test_single_texton_of_a_cluster_that_runs_on_is_kept():
+    # A slow exercise: one whole 10-frame cycle fits once aligned, but its cluster runs 16
+    # frames (1.6 cycles), so the motion is seen going on; a 14-frame cluster (1.4) is not.
+    textons = [texton(0, 9, 0, 0.3), texton(10, 19, 0, 0.2),
+               texton(23, 32, 1, 0.1), texton(40, 49, 2, 0.1)]
+    nodes = build_database({"gym": (textons, [(0, 19), (20, 35), (36, 49)])})
+    assert [(n.start, n.cluster) for n in nodes] == [(10, 0), (23, 1)]
+
+
 def test_database_never_empty_when_only_single_textons_exist():
     # No cluster anywhere repeats: rather than an empty database, every single texton is kept.
     seq_a = [texton(0, 9, 0, 0.3), texton(10, 14, 1, 0.2)]
