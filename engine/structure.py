@@ -12,9 +12,12 @@ Two methods are provided.
     The procedure of section 4 as printed. Atoms are visited in order; a texton starts at a
     local minimum of d_A(t, t_first) (t_first: the current texton's first atom) once the
     curve has fallen by at least ``texton_contrast`` of its maximum since t_first and by
-    ``texton_drop`` in absolute terms (noise makes shallow minima); after two textons of a cluster, its atoms from the first to the
-    last one of the previous texton form the reference range of eq. (7), and two successive
-    atoms farther than ``beta`` from every reference atom (eq. (8)) start a new cluster.
+    ``texton_drop`` in absolute terms (noise makes shallow minima). The paper leaves
+    "large enough" open; these two thresholds, and a shortest texton of ``min_texton``
+    seconds, are this implementation's reading of it. After two textons of a cluster, its
+    atoms from the first to the last one of the previous texton form the reference range
+    of eq. (7), and two successive atoms farther than ``beta`` from every reference atom
+    (eq. (8)) start a new cluster.
 
 ``method="energy"`` (the default)
     Measured on real motion (CMU takes turned into meshes), the printed procedure misses
@@ -429,7 +432,9 @@ def _energy_clusters(vectors, fps, p: StructureParams):
     f = fps / step
     block = max(3, int(round(p.novelty_window * f)))
     sep = max(2, int(round(p.min_cluster * f)))
-    n = novelty(v, block, min_block=max(3, int(round(0.5 * p.min_cluster * f))))
+    # A block shorter than half the shortest cluster says too little, but never ask for more
+    # than the block holds: novelty() would then skip every frame and find no boundary.
+    n = novelty(v, block, min_block=min(block, max(3, int(round(0.5 * p.min_cluster * f)))))
     # Non-maximum suppression over local maxima only (a broad peak's shoulder is not a
     # second boundary): strongest first, none closer than ``sep``. When a new motion begins
     # with poses of the old one (standing before the first squat) the peak splits in two
@@ -567,10 +572,6 @@ def _textons_by_period(v, cs, ce, P, w, ci):
         nxt = int(cand[min(inner, key=lambda i: d[i])]) if inner else t0 + P
         out.append(Texton(t0, nxt - 1, ci, atom_distance(v, nxt - 1, t0, w)))
         t0 = nxt
-    # One more period before the first texton, when a whole one fits.
-    if out and first - P >= cs:
-        prev = first - P
-        out.insert(0, Texton(prev, first - 1, ci, atom_distance(v, first - 1, prev, w)))
     return out
 
 
@@ -597,7 +598,6 @@ def _parse_paper(v, fps, p, w):
     t = 1
     while t < T:
         d = atom_distance(v, t, t_first, w)
-        run_max = max(run_max, d)
         new_cluster = False
         if n_textons >= 2 and t_sup is not None:
             ref = np.arange(c_start, t_sup + 1)
@@ -608,12 +608,11 @@ def _parse_paper(v, fps, p, w):
         if new_cluster:
             # Eq. (8): atoms t-1 and t both unlike the cluster; the new one starts at t-1.
             start = t - 1
-            if textons and textons[-1].cluster == len(clusters) and textons[-1].end >= start:
-                textons[-1].end = start - 1
             clusters.append((c_start, start - 1))
             c_start = t_first = start
-            n_textons, t_sup, run_max, above = 0, None, 0.0, False
+            n_textons, t_sup, above = 0, None, False
             prev = [None, atom_distance(v, t, t_first, w)]
+            run_max = prev[1]
             t += 1
             continue
         a, b = prev
@@ -625,11 +624,13 @@ def _parse_paper(v, fps, p, w):
                 n_textons += 1
                 t_sup = m - 1
                 t_first = m
-                run_max = 0.0
                 d = atom_distance(v, t, t_first, w)
                 prev = [None, d]
+                run_max = d
                 t += 1
                 continue
+        # The contrast test above saw the texton up to the candidate minimum only.
+        run_max = max(run_max, d)
         prev = [b, d]
         t += 1
     clusters.append((c_start, T - 1))

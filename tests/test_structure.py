@@ -189,3 +189,12 @@ def test_left_right_cluster_holding_one_period_gets_the_whole_period(seed):
     assert len(lengths) == 1 and abs(lengths[0] - 42) <= 0.15 * 42, lengths
     # Without the theta columns the half period is all there is to see.
     assert [len(t) for t in parse(v, fps=10).textons_of(1)][0] == 21
+
+
+@pytest.mark.parametrize("min_cluster, novelty_window", [(6.5, 3.0), (8.0, 3.0), (2.5, 1.0)])
+def test_a_long_shortest_cluster_still_finds_boundaries(min_cluster, novelty_window):
+    # The novelty blocks are novelty_window long; asking each to hold half of min_cluster
+    # must not switch boundary detection off when that is more than a block holds.
+    vectors, starts = cyclic_sequence([(150, 12), (150, 9), (150, 15)])
+    s = parse(vectors, 10, StructureParams(min_cluster=min_cluster, novelty_window=novelty_window))
+    assert len(s.clusters) > 1
