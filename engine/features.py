@@ -53,6 +53,7 @@ __all__ = [
     "spherical",
     "features_of",
     "frame_distance",
+    "histogram_distance",
     "pair_distances",
     "distance_matrix",
 ]
@@ -455,26 +456,41 @@ def features_of(frames: Iterable, bins: BinSizes | None = None) -> Features:
     return acc.result()
 
 
+def histogram_distance(h1, h2) -> float:
+    """Distance between two histograms of one coordinate, eq. (3)-(4).
+
+    The shorter histogram is zero-padded (eq. (4)): a frame that reaches less far out has
+    no vertices in the outer r bins.
+
+    Examples
+    --------
+    >>> histogram_distance([1.0], [0.0, 1.0])
+    1.4142135623730951
+    """
+    h1 = np.asarray(h1, dtype=np.float64)
+    h2 = np.asarray(h2, dtype=np.float64)
+    width = max(len(h1), len(h2))
+    return float(np.linalg.norm(np.pad(h1, (0, width - len(h1))) - np.pad(h2, (0, width - len(h2)))))
+
+
 def frame_distance(a, b) -> float:
     """Frame distance eq. (2)-(4) between two feature vectors (rows of ``Features.vectors``).
 
-    Vectors of different lengths are compared as if the shorter were zero-padded; this is
-    only right when the extra entries are r bins, i.e. for vectors of one library whose
-    r widths were padded alike, or for single histograms.
+    Both rows must share one layout: rows of one :class:`Features`, or of several padded to
+    one r width with :meth:`Features.pad_r` (the builder does this for a library). Rows of
+    different lengths are refused rather than padded at the end, which would misplace the
+    zeros after the phi bins instead of after the r bins.
 
     Examples
     --------
     >>> frame_distance([0.5, 0.5, 0.0], [0.5, 0.0, 0.5])
     0.7071067811865476
-    >>> frame_distance([1.0], [0.0, 1.0])
-    1.4142135623730951
     """
     a = np.asarray(a, dtype=np.float64)
     b = np.asarray(b, dtype=np.float64)
-    if a.shape[-1] != b.shape[-1]:
-        width = max(a.shape[-1], b.shape[-1])
-        a = np.pad(a, (0, width - a.shape[-1]))
-        b = np.pad(b, (0, width - b.shape[-1]))
+    if a.shape != b.shape:
+        raise ValueError(f"feature vectors of {a.shape[-1]} and {b.shape[-1]} values have different "
+                         "r widths; pad them alike with Features.pad_r first")
     return float(np.sqrt(np.sum((a - b) ** 2)))
 
 

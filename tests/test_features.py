@@ -16,6 +16,7 @@ from engine.features import (
     features_of,
     frame_distance,
     frame_histograms,
+    histogram_distance,
     pair_distances,
     spherical,
 )
@@ -75,7 +76,7 @@ def test_frame_distance_zero_pads_the_shorter_r_histogram():
     # The same through the per-histogram form of eq. (2)-(3) with unequal lengths.
     ha = frame_histograms([[0.05, 0, 0]], [0, 0, 0], BINS)
     hb = frame_histograms([[0.05, 0, 0], [0.0, 0.0, 0.25]], [0, 0, 0], BINS)
-    by_parts = math.sqrt(sum(frame_distance(x, y) ** 2 for x, y in zip(ha, hb)))
+    by_parts = math.sqrt(sum(histogram_distance(x, y) ** 2 for x, y in zip(ha, hb)))
     assert by_parts == pytest.approx(expected)
 
 
@@ -134,9 +135,11 @@ def test_distance_properties(a, b, rnd):
     bins = BinSizes()
 
     def vec(p):
+        # Every frame padded to the widest r histogram any frame here can have, so that rows
+        # of separate accumulators share one layout (eq. (4)).
         acc = FeatureAccumulator(bins, origin=origin)
         acc.add(p)
-        return acc.result().vectors[0].astype(np.float64)
+        return acc.result().pad_r(200).vectors[0].astype(np.float64)
 
     va, vb = vec(a), vec(b)
     assert frame_distance(va, vb) == pytest.approx(frame_distance(vb, va))
@@ -232,3 +235,20 @@ def test_frames_of_any_size_in_any_order_and_thread_agree():
         assert margin.min() > 1e-9
         for h, e in zip(hists, expected):
             np.testing.assert_array_equal(np.round(h * len(f)), np.bincount(e, minlength=len(h)))
+
+
+def test_rows_of_different_r_widths_are_refused_not_misaligned():
+    # Padding a whole row at its end would put the zeros after the phi bins (eq. (4) pads
+    # the r histogram); rows must share a layout first.
+    def one_frame(points):
+        acc = FeatureAccumulator(BINS, origin=[0, 0, 0])
+        acc.add(points)
+        return acc.result()
+
+    short = one_frame([[0.05, 0, 0]])                      # r bins [1]
+    long = one_frame([[0.05, 0, 0], [0.0, 0.0, 0.25]])     # r bins [.5, 0, .5]
+    with pytest.raises(ValueError, match="pad_r"):
+        frame_distance(short.vectors[0], long.vectors[0])
+    width = long.r.shape[1]
+    # r: .5^2 + .5^2; theta: no difference; phi: half the points moved from bin 2 to bin 0.
+    assert frame_distance(short.pad_r(width).vectors[0], long.vectors[0]) == pytest.approx(1.0)
