@@ -27,10 +27,10 @@ from functools import partial
 from itertools import repeat
 from typing import NamedTuple
 
-import numpy as np
 
-from .errors import LibraryError, TvmError, UnknownMotion
-from .search import SearchIndex, _known_motions, best_path, motion_label
+from .errors import LibraryError, TvmError
+from .graph import node_by_key
+from .search import SearchIndex, best_path, motion_label
 
 __all__ = ["ScheduleEntry", "Transition", "Leg", "Composition", "Playhead", "compose",
            "play_length", "resolve_motion"]
@@ -149,10 +149,11 @@ def _entries(node, sequence, frames):
     return list(map(_new_entry, zip(repeat(node), repeat(sequence), frames)))
 
 
-def resolve_motion(graph, key, index=None):
-    """Node id of a key motion given as an id or as its ``name`` attribute.
+def resolve_motion(graph, key):
+    """Node id of a key motion given as an id, an id in digits, or its ``name`` attribute.
 
-    Raises :class:`~engine.errors.UnknownMotion` naming the known motions.
+    The one resolver of the engine, :func:`engine.graph.node_by_key`; raises
+    :class:`~engine.errors.UnknownMotion` naming the known motions.
 
     >>> import networkx as nx
     >>> g = nx.DiGraph()
@@ -160,25 +161,7 @@ def resolve_motion(graph, key, index=None):
     >>> resolve_motion(g, "gym/03"), resolve_motion(g, 0), resolve_motion(g, "0")
     (0, 0, 0)
     """
-    if isinstance(key, np.integer):
-        key = key.item()  # a numpy id would not survive to_json()
-    if key in graph:
-        return key
-    names = index if index is not None else _names(graph)
-    if key in names:
-        return names[key]
-    if isinstance(key, str) and key.strip().lstrip("-").isdigit() and int(key) in graph:
-        return int(key)
-    raise UnknownMotion(f"No motion {key!r} in the motion graph; known motions are "
-                        f"{_known_motions(graph)}.")
-
-
-def _names(graph):
-    names = {}
-    for node, name in graph.nodes(data="name"):
-        if name is not None:
-            names.setdefault(name, node)
-    return names
+    return node_by_key(graph, key)
 
 
 def _texton(graph, node):
@@ -251,11 +234,10 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
     {'from': 0, 'to': 1, 'path': [0, 1], 'cost': 0.5, 'edges': 1, 'frames': 5}
     """
     _check_loops(loops)
-    names = _names(graph)
-    keys = [resolve_motion(graph, key, names) for key in keys]
+    keys = [resolve_motion(graph, key) for key in keys]
     if len(keys) < 2:
         raise TvmError(f"An edit needs at least two key motions; got {len(keys)}.")
-    forbidden = {resolve_motion(graph, key, names) for key in forbidden}
+    forbidden = {resolve_motion(graph, key) for key in forbidden}
     index = SearchIndex.of(graph, weight) if index is None else index
 
     schedule, transitions, legs = [], [], []
@@ -333,10 +315,9 @@ class Playhead:
     def __init__(self, graph, start_node, forbidden=(), weight="weight", index=None):
         self.graph = graph
         self.weight = weight
-        self._names = _names(graph)
-        self.forbidden = {resolve_motion(graph, key, self._names) for key in forbidden}
+        self.forbidden = {resolve_motion(graph, key) for key in forbidden}
         self.index = SearchIndex.of(graph, weight) if index is None else index
-        node = resolve_motion(graph, start_node, self._names)
+        node = resolve_motion(graph, start_node)
         sequence, start, end = _texton(graph, node)
         self._visit = _Visit(node, sequence, start, end, start)
         self._plan = deque()
@@ -366,7 +347,7 @@ class Playhead:
         :class:`~engine.errors.NoPath` (or :class:`~engine.errors.UnknownMotion`) and leaves
         the queue unchanged when the motion cannot be reached.
         """
-        node = resolve_motion(self.graph, node, self._names)
+        node = resolve_motion(self.graph, node)
         last = self._last_visit()
         path = best_path(self.graph, last.node, node, self.weight, self.forbidden, index=self.index)
         if len(path) == 1:

@@ -157,7 +157,7 @@ def load_truth(folder):
 
 
 def sequence_features(folder, bins=None, cache_dir=None):
-    """Features of a sequence folder, cached as ``.npz`` keyed by folder, files, bins and code.
+    """Features of a sequence folder, cached as ``.npz`` keyed by its files, bins and code.
 
     Loading about 17,000-vertex PLY frames costs far more than the histograms; tests and
     benchmarks that score many parameter settings on the same takes read them once. The
@@ -165,15 +165,16 @@ def sequence_features(folder, bins=None, cache_dir=None):
     (``$XDG_CACHE_HOME/tvmedit/features``); the key includes a hash of the code that reads
     frames and computes histograms, so a change there recomputes.
     """
-    from .builder import _feature_code_version, cache_dir as default_cache
+    from .builder import _feature_code_version, _stat_list, cache_dir as default_cache
     from .features import BinSizes, FeatureAccumulator, Features
     from .load import frame_paths, iter_frames
 
     bins = bins or BinSizes()
     paths = frame_paths(str(folder))
-    key = hashlib.sha1(json.dumps([str(Path(folder).resolve()), len(paths),
-                                   [Path(p).name for p in paths[:1] + paths[-1:]],
-                                   bins.to_json(), _feature_code_version()]).encode()).hexdigest()[:16]
+    # Every frame file's size and mtime, as the builder's cache: a folder regenerated in
+    # place is recomputed.
+    key = hashlib.sha1(json.dumps([_stat_list(paths), bins.to_json(),
+                                   _feature_code_version()]).encode()).hexdigest()[:16]
     cache = Path(cache_dir) if cache_dir else default_cache() / "features"
     target = cache / f"{Path(folder).name}-{key}.npz"
     if target.exists():

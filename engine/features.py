@@ -20,11 +20,12 @@ distances (eq. (3)); that is exactly the Euclidean distance between the concaten
 therefore stores one zero-padded row per frame and every distance below is a plain
 Euclidean distance between rows.
 
-How the default bin sizes were chosen: 2 cm and 5 degrees give about 100 r bins (a
-standing adult reaches about 1.2 m from its centroid, more with raised arms), 72 theta bins
-and 36 phi bins, so a feature vector has some 200 entries, and a 2 cm shell of a limb still
-holds tens of the ~17,000 vertices of a reconstructed frame (3 mm surface noise stays well
-inside one bin). ``benchmarks/bin_sizes.py`` parses the real-motion takes 13_30 and 13_29
+How the default bin sizes were chosen: 2 cm and 5 degrees give some 50-65 r bins (a
+standing adult reaches about 1 m from its centroid, more with raised arms and as the
+subject drifts from the first frame's origin), 72 theta bins and 36 phi bins, so a feature
+vector has about 170 entries, and a 2 cm shell of a limb still holds tens of the ~17,000
+vertices of a reconstructed frame (3 mm surface noise stays well inside one bin).
+``benchmarks/bin_sizes.py`` parses the real-motion takes 13_30 and 13_29
 (as generated and at build 0.8) and the synthetic gym at r bins of 1, 2, 4 and 8 cm and
 angle bins of 2.5, 5, 10 and 20 degrees. Only 2 cm / 5 degrees meets every target on all
 five (precision, recall and texton accuracy 1.00 at their worst). Next best are 4 cm / 5

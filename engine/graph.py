@@ -312,6 +312,10 @@ def nodes_of(graph):
     return [Node(id=i, **graph.nodes[i]) for i in sorted(graph.nodes)]
 
 
+#: Names an unknown-motion message lists before it says "...".
+KNOWN_LISTED = 30
+
+
 def node_by_key(graph_or_nodes, key):
     """Id of the node a user means by ``key``: an id, an id written as digits, or a name.
 
@@ -337,7 +341,7 @@ def node_by_key(graph_or_nodes, key):
     >>> node_by_key(nodes, "jump")
     Traceback (most recent call last):
     ...
-    engine.errors.UnknownMotion: there is no motion 'jump'; known motions are walk/01, run/01 (or an id from 0 to 1)
+    engine.errors.UnknownMotion: there is no motion 'jump'; known motions are walk/01, run/01 (or an id from 0 to 1; tvmedit info lists them).
     """
     names = _names(graph_or_nodes)
     if isinstance(key, str):
@@ -350,10 +354,11 @@ def node_by_key(graph_or_nodes, key):
     elif isinstance(key, (int, np.integer)) and not isinstance(key, bool) and int(key) in names:
         return int(key)
     if not names:
-        raise UnknownMotion(f"there is no motion {key!r}; the library has no motions")
-    known = ", ".join(names[i] for i in sorted(names))
+        raise UnknownMotion(f"there is no motion {key!r}; the library has no motions.")
+    ids = sorted(names)
+    known = ", ".join(names[i] for i in ids[:KNOWN_LISTED]) + (", ..." if len(ids) > KNOWN_LISTED else "")
     raise UnknownMotion(f"there is no motion {key!r}; known motions are {known} "
-                        f"(or an id from {min(names)} to {max(names)})")
+                        f"(or an id from {ids[0]} to {ids[-1]}; tvmedit info lists them).")
 
 
 def rename(graph_or_nodes, key, name):

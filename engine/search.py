@@ -162,6 +162,8 @@ class SearchIndex:
         path through nodes settled at the floor instead of below costs no more than the
         answer. The cost of the empty path is ``-inf`` (0 in :func:`path_cost`).
         """
+        if s == t:
+            return -math.inf
         w = self.weights
         n = len(self.nodes)
         cost = np.full(n, np.inf)
@@ -313,6 +315,8 @@ def minimum_mu(graph, source, target, forbidden=()):
     """
     if "unpruned" not in graph.graph:
         return None
+    if source == target:
+        return 0.0  # the empty path: the motion simply continues, at any mu
     nodes = SearchIndex.of(graph)
     index = SearchIndex(nodes.nodes, _threshold_ratios(graph, nodes))
     blocked = index.blocked(forbidden)

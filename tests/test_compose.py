@@ -151,8 +151,10 @@ def test_forbidden_motions_by_name_are_avoided():
 
 def test_bad_keys_are_explained():
     g = three_textons(exit_b=12)
-    with pytest.raises(UnknownMotion, match="'nope'.*known motions are 'm0', 'm1', 'm2'"):
+    with pytest.raises(UnknownMotion, match="'nope'.*known motions are m0, m1, m2"):
         compose(g, ["m0", "nope"])
+    with pytest.raises(UnknownMotion):
+        compose(g, [0, True])  # a bool is not an id
     with pytest.raises(TvmError, match="at least two key motions"):
         compose(g, ["m0"])
     with pytest.raises(TvmError, match="loops"):

@@ -1,5 +1,6 @@
 """Best path, eq. (15)-(16): tiny hand-built graphs with known answers, and brute force."""
 
+import math
 import random
 
 import networkx as nx
@@ -247,3 +248,11 @@ def test_reported_mu_connects_the_graph_the_builder_makes():
                 assert f"'take/{source:02d}'" in str(error)
                 best_path(graph_from(nodes, unpruned, frames, mu=error.mu), source, target)
     assert refused > 5
+
+
+def test_a_motion_reaches_itself_at_no_cost_and_any_mu():
+    g = nx.DiGraph(unpruned={(0, 1): 1.0, (1, 0): 2.0}, mu=0.9)
+    g.add_edge(0, 1, weight=1.0)
+    assert best_path(g, 0, 0) == [0]
+    assert SearchIndex.of(g).bottleneck(0, 0) == -math.inf
+    assert minimum_mu(g, 0, 0) == 0.0
