@@ -64,10 +64,10 @@ class Renderer:
         self._vertex_capacity = self._face_capacity = 0
         self._buffers = None
         self._uploaded = None  # the mesh tuple now in the buffers
-        self._reserve(*max_counts)
-
         if antialias not in ANTIALIAS:
             raise ValueError(f"antialias should be one of {', '.join(ANTIALIAS)}, got {antialias!r}")
+        self._reserve(*max_counts)
+
         samples = int(samples or 0)
         if antialias == "auto":
             antialias = "fxaa" if is_software(ctx) else "msaa" if samples > 1 else "none"
@@ -180,7 +180,9 @@ class Renderer:
             self._fxaa_vao.release()
             self._fxaa_program.release()
         self._release_scene()
-        self.framebuffer.release()
+        # simple_framebuffer made a colour and a depth renderbuffer that releasing the
+        # framebuffer alone would leave behind (a render per report thumbnail adds up).
+        _release_with_attachments(self.framebuffer)
 
     def _reserve(self, n_vertices, n_faces):
         """Make the buffers hold at least this many vertices and faces, growing if needed."""
