@@ -1,4 +1,4 @@
-"""Everything that touches OpenGL: context, camera, renderer, headless output (and later the window).
+"""Everything that touches OpenGL: context, camera, renderer, headless output, the window, the report.
 
 The player consumes a ``MeshSource`` (``player.source``): the library implements it, and
 ``ArraySource`` holds frames in memory for tests and small scripts.

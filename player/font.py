@@ -52,8 +52,8 @@ def text_mask(text, scale=1):
 def draw_text(image, text, position=(2, 2), scale=1, colour=(255, 255, 255), backing=(0, 0, 0)):
     """Write ``text`` into ``image`` (H, W, 3) uint8 in place, top-left corner at ``position`` (x, y).
 
-    A one-pixel ``backing`` box (None for none) keeps the label readable on any picture; text
-    that does not fit is clipped at the image edge.
+    A ``backing`` box with a margin of ``scale`` pixels (None for none) keeps the label
+    readable on any picture; text that does not fit is clipped at the image edge.
     """
     mask = text_mask(text, scale)
     x, y = position

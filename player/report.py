@@ -104,7 +104,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     Returns
     -------
     dict
-        ``texton_starts``: the x positions (frames) of the plotted markers, in order;
+        ``texton_starts``: the x positions (frames) of the markers as plotted, in order;
         ``size``: the PNG's (width, height).
     """
     curve = np.asarray(curve, dtype=np.float64)
@@ -120,7 +120,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     t = np.arange(len(curve))
     ax.plot(t, curve, color="#3060a0", lw=1.2, label="d_A(t, t_first)")
     ys = [curve[s] if 0 <= s < len(curve) and np.isfinite(curve[s]) else 0.0 for s in starts]
-    ax.plot(starts, ys, "o", color="black", ms=4, label="texton start")
+    (markers,) = ax.plot(starts, ys, "o", color="black", ms=4, label="texton start")
     ax.set_xlim(-0.5, max(len(curve), 1) - 0.5)
     ax.set_ylabel("atom distance")
     ax.tick_params(labelbottom=False)
@@ -142,7 +142,8 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     unit = f"frame ({fps:g} fps)" if fps else "frame"
     fig.axes[-1].set_xlabel(unit)
     _save(fig, out_png)
-    return {"texton_starts": starts, "size": list(size)}
+    # What the figure really marks, read back from the plotted line (not the input).
+    return {"texton_starts": [int(x) for x in markers.get_xdata()], "size": list(size)}
 
 
 def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_SIZE):
@@ -386,8 +387,8 @@ class _Report:
                 parts.append(
                     f"<p class='score'>Cluster boundaries against truth.json "
                     f"(tolerance {tolerance} frames, {TOLERANCE_S:g} s): precision {precision:.3f}, "
-                    f"recall {recall:.3f} ({len(matches)} of {len(_inner(structure.clusters))} "
-                    f"detected, {len(_inner(segments))} true boundaries matched){accuracy}</p>")
+                    f"recall {recall:.3f} ({len(matches)} matched of {len(_inner(structure.clusters))} "
+                    f"detected and {len(_inner(segments))} true boundaries){accuracy}</p>")
             summary["sequences"].append(row)
         return "\n".join(parts)
 

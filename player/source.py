@@ -65,9 +65,6 @@ class ArraySource:
         self._max_counts = (max(len(m[0]) for m in self._frames.values()),
                             max(len(m[2]) for m in self._frames.values()))
 
-    def keys(self):
-        return list(self._frames)
-
     def frame_mesh(self, key):
         try:
             return self._frames[key]

@@ -3,8 +3,8 @@
 Two clocks run side by side (the playback clock is not the render clock). The window redraws
 at the display rate, so camera moves stay smooth, while the sequence advances at the
 library's frame rate: a sequence frame is due every ``1 / fps`` seconds, and its mesh is
-fetched from the library once, when it is first shown; redraws in between draw the same
-arrays (``Renderer.draw`` still copies them into its buffers each time, about 1 MB). Which
+fetched from the library once, when it is first shown; redraws in between pass the same
+arrays, which ``Renderer.draw`` recognises and does not upload again. Which
 frame comes next is decided by ``engine.compose.Playhead``, the loop-then-transition rule of
 section 8: the current texton is shown to its end, then each transition of the best path is
 taken as early as the rule allows.

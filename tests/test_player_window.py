@@ -334,3 +334,22 @@ def test_bad_arguments_and_a_missing_display_are_one_sentence(small_library, tmp
     headless = _play_command(small_library, env=env)
     assert headless.returncode != 0 and headless.stderr.strip() == (
         "error: no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
+
+
+def test_an_unwritable_log_is_one_sentence(small_library, tmp_path):
+    env = {**os.environ, "DISPLAY": os.environ.get("DISPLAY", ":0")}
+    result = _play_command(small_library, "--log", tmp_path / "no" / "such" / "log.jsonl", "--seconds", "1", env=env)
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert result.stderr.startswith("error: cannot write the log") and result.stderr.count("\n") == 1
+
+
+def test_without_keys_the_player_starts_on_the_first_motion_not_forbidden(xdisplay, small_library, tmp_path):
+    from engine import Library
+
+    order = [node.id for node in Library.open(small_library).nodes]
+    log = tmp_path / "play.jsonl"
+    result = _play_command(small_library, "--forbid", str(order[0]), "--log", log, "--seconds", "2",
+                           env={**os.environ, "DISPLAY": xdisplay})
+    assert result.returncode == 0, result.stderr
+    frames = _frames(_rows(log))
+    assert frames and {row["node"] for row in frames} == {order[1]}

@@ -9,7 +9,6 @@ check with one sentence naming the file, unless --skip-bad-frames is given.
 import sys
 import warnings
 
-import numpy as np
 
 HELP = "load a TVM sequence and report frames, vertices and colours"
 
@@ -23,6 +22,8 @@ def add_arguments(parser):
 
 
 def run(args):
+    import numpy as np
+
     from engine.load import iter_frames, open_sequence, warn_skipped
 
     sequence = open_sequence(args.input, fps=args.fps)

@@ -13,7 +13,11 @@ it leaves it (section 8). The legend on screen lists the keys.
 
 Playback runs at the library's frame rate on its own clock; the window redraws at the
 display rate in between. With --log every displayed sequence frame is written as one JSON
-line, {"t", "node", "sequence", "frame", "queue"}, between a "start" and a "stop" line.
+line, {"t", "node", "sequence", "frame", "queue"} (t in seconds since start, node ids as in
+`tvmedit info --json`). Lines with an "event" key are not frames: "start" (first line),
+"queued", "unqueued" and "refused" (with the queue after the key press), and "stop"
+(last line, with the redraw rate); skip them to read frames only.
+The first motion played is the first key motion, or the first motion that is not forbidden.
 Needs a display: set DISPLAY, or run under xvfb-run; for video files use `tvmedit render`.
 """
 
@@ -61,14 +65,21 @@ def run(args):
         if node in forbidden:
             raise TvmError(f"Motion {node} is both a key motion and forbidden; drop it from one of them.")
     order = [node.id for node in library.nodes]     # the order of `tvmedit info`
-    start = keys[0] if keys else order[0]
+    allowed = [node for node in order if node not in forbidden]
+    if not allowed:
+        raise TvmError("Every motion of the library is forbidden; forbid fewer.")
+    start = keys[0] if keys else allowed[0]
     fps = args.fps or library.sequence(graph.nodes[start]["sequence"]).fps
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
 
     from player.window import PlayerApp, Window
 
-    log = open(args.log, "w", encoding="utf-8") if args.log else None
+    try:
+        log = open(args.log, "w", encoding="utf-8") if args.log else None
+    except OSError as error:
+        raise TvmError(f"cannot write the log {args.log} ({error.strerror}); "
+                       "give a path in a folder that exists.") from None
     try:
         app = PlayerApp(graph, library, order, start, fps=fps, forbidden=forbidden,
                         aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO)

@@ -6,10 +6,12 @@ contact sheet PNG of that motion's texton (what you look at when choosing key mo
 
 The camera frames the person automatically; --camera AZ,EL,DIST sets azimuth and elevation
 in degrees and distance in metres (0 keeps the automatic distance), --orbit turns it
-slowly during playback.
+slowly during playback. With --node, --size is the size of each tile and --orbit, --fps and
+--loops do not apply.
 """
 
 import dataclasses
+
 
 from . import options
 
@@ -25,7 +27,8 @@ def add_arguments(parser):
     options.add_forbid(parser)
     parser.add_argument("--loops", type=int, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
-    parser.add_argument("--size", type=options.size, default=(640, 480), metavar="WxH", help="default 640x480")
+    parser.add_argument("--size", type=options.size, default=None, metavar="WxH",
+                        help="frame size (default 640x480); with --node the size of each tile (default 160x120)")
     parser.add_argument("--camera", type=options.camera, metavar="AZ,EL,DIST",
                         help="camera azimuth, elevation (degrees) and distance (m; 0 = automatic)")
     parser.add_argument("--orbit", type=float, default=0.0, metavar="DEG_PER_S",
@@ -46,6 +49,8 @@ def camera_for(library, size, camera_arg, orbit=0.0, bounds=None):
 
 
 def run(args):
+    import numpy as np
+
     from engine.errors import TvmError
     from engine.library import Library
     import player
@@ -56,18 +61,25 @@ def run(args):
             node = library.node(args.node)
             keys = [(node.sequence, f) for f in range(node.start, node.end + 1)]
             labels = [f"{node.name} {f}" for f in range(node.start, node.end + 1)]
+            tile = args.size or (160, 120)
             camera = None
             if args.camera:
-                camera = camera_for(library, (160, 120), args.camera)
-            player.contact_sheet(library, keys, args.out, labels=labels, camera=camera, grid=args.grid)
+                # Framed on this motion's frames, as the automatic camera of a sheet is.
+                points = [library.frame(*key)[0] for key in keys]
+                bounds = (np.min([p.min(axis=0) for p in points], axis=0),
+                          np.max([p.max(axis=0) for p in points], axis=0))
+                camera = camera_for(library, tile, args.camera, bounds=bounds)
+            player.contact_sheet(library, keys, args.out, tile=tile, labels=labels, camera=camera,
+                                 grid=args.grid)
             print(f"wrote the contact sheet of {node.name} ({len(keys)} frames) to {args.out}")
             return 0
         if len(args.keys) < 2:
             raise TvmError("give two or more key motions to render an edit, or --node NAME for a contact sheet.")
         edit = library.edit(args.keys, forbid=args.forbid, loops=args.loops)
         fps = args.fps or library.sequence(edit.schedule[0].sequence).fps
-        camera = camera_for(library, args.size, args.camera, args.orbit) if args.camera else None
-        out = player.render(edit, args.out, size=args.size, fps=fps, camera=camera,
+        size = args.size or (640, 480)
+        camera = camera_for(library, size, args.camera, args.orbit) if args.camera else None
+        out = player.render(edit, args.out, size=size, fps=fps, camera=camera,
                             orbit_deg_per_s=args.orbit, progress=not args.quiet, grid=args.grid)
     except (ValueError, FileExistsError) as error:
         raise TvmError(str(error).rstrip(".") + ".") from None
