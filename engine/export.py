@@ -1,14 +1,21 @@
 """Export an edit as a new TVM sequence: binary PLY frames with their vertex colours, plus ``edit.json``.
 
 The exported folder is an ordinary TVM sequence: tvmedit's own loader and any mesh tool read
-it. ``edit.json`` records, for each output frame, its source sequence, frame and file, and for
-each transition the edge taken and its weight, so the edit can be traced back to the capture.
-The folder is written under a temporary name and renamed into place, so a failure never
-leaves a half-written export.
+it. ``edit.json`` records, for each output frame, its file, its source sequence and frame, and
+the capture's frame file it came from (``source_file``, as the library's manifest records it,
+so frames skipped at build time do not shift it), and for each transition the edge taken and
+its weight, so the edit can be traced back to the capture. The folder is written under a
+temporary name and renamed into place, so a failure never leaves a half-written export.
+
+Replacing an existing folder (``overwrite``) is allowed only where that folder is a previous
+export: it holds ``edit.json`` and nothing but ``frame_*.ply``, ``edit.json`` and
+``sequence.json``. Any other folder, and the current folder or one that holds it, is refused,
+so a mistyped ``-o`` never deletes a capture.
 """
 
 import json
 import os
+import re
 import shutil
 from pathlib import Path
 
@@ -16,6 +23,28 @@ from .errors import TvmError
 from .plyfast import write_ply
 
 __all__ = ["export_edit"]
+
+_EXPORT_FILE = re.compile(r"frame_\d+\.ply|edit\.json|sequence\.json")
+
+
+def _check_target(out, overwrite):
+    """Refuse to write over anything but a previous export (with ``overwrite``)."""
+    if not out.exists() and not out.is_symlink():
+        return
+    if out.is_symlink() or not out.is_dir():
+        raise TvmError(f"{out} exists and is not a folder; choose another -o.")
+    if not overwrite:
+        raise TvmError(f"{out} already exists; choose another folder or pass --force to replace it.")
+    here = Path.cwd().resolve()
+    target = out.resolve()
+    if target == here or target in here.parents:
+        raise TvmError(f"{out} is the current folder or holds it, so --force will not replace it; "
+                       "choose a new folder for -o.")
+    names = [p.name for p in out.iterdir()]
+    if names and ("edit.json" not in names or not all(_EXPORT_FILE.fullmatch(n) for n in names)):
+        raise TvmError(f"{out} exists and is not a previous tvmedit export (only a folder holding "
+                       "edit.json and nothing but frame_*.ply and sequence.json is replaced); "
+                       "choose another -o or remove it yourself.")
 
 
 def export_edit(edit, out, overwrite=False, progress=False):
@@ -36,8 +65,7 @@ def export_edit(edit, out, overwrite=False, progress=False):
     """
     library = edit.library
     out = Path(out)
-    if out.exists() and not overwrite:
-        raise TvmError(f"{out} already exists; choose another folder or pass --force to replace it.")
+    _check_target(out, overwrite)
     tmp = out.parent / f".{out.name}.tmp-{os.getpid()}"
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir(parents=True)
@@ -53,7 +81,8 @@ def export_edit(edit, out, overwrite=False, progress=False):
             name = f"frame_{index:05d}.ply"
             write_ply(tmp / name, positions, faces, colours)
             frames.append({"index": index, "file": name, "node": int(entry.node),
-                           "sequence": entry.sequence, "frame": int(entry.frame)})
+                           "sequence": entry.sequence, "frame": int(entry.frame),
+                           "source_file": _source_file(library, entry.sequence, entry.frame)})
         record = {
             "library": str(Path(library.path).resolve()),
             "fps": library.sequence(schedule[0].sequence).fps if schedule else None,
@@ -64,10 +93,22 @@ def export_edit(edit, out, overwrite=False, progress=False):
         }
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
         (tmp / "sequence.json").write_text(json.dumps({"fps": record["fps"], "name": out.name}))
+        _check_target(out, overwrite)  # checked again: the folder may have changed meanwhile
         if out.exists():
-            shutil.rmtree(out)
-        tmp.rename(out)
+            # The previous export goes aside first, so no moment leaves neither of the two.
+            old = out.parent / f".{out.name}.old-{os.getpid()}"
+            os.replace(out, old)
+            os.replace(tmp, out)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return record
+
+
+def _source_file(library, sequence, frame):
+    """The capture's file of ``frame`` of ``sequence``, as the library recorded it, or None."""
+    paths = library.sequence(sequence).paths
+    return str(paths[frame]) if 0 <= frame < len(paths) else None

@@ -148,3 +148,45 @@ def test_example_scripts_run(small_library, tmp_path, script):
         tour = result.stdout.splitlines()[0].removeprefix("tour: ").split(" -> ")
         assert len(tour) >= 2
         assert len(load_sequence(tmp_path / "tour").frames) == int(result.stdout.split("exported ")[1].split()[0])
+
+
+def test_export_force_replaces_only_a_previous_export(small_library, tmp_path):
+    library = Library.open(small_library)
+    a, b, edit = _reachable_pair(library)
+    out = tmp_path / "edited"
+    assert tvmedit("export", small_library, a.name, b.name, "-o", out, "-q").returncode == 0
+    (out / "frame_99999.ply").write_bytes((out / "frame_00000.ply").read_bytes())
+    again = tvmedit("export", small_library, a.name, b.name, "-o", out, "-q", "--force")
+    assert again.returncode == 0, again.stderr
+    assert not (out / "frame_99999.ply").exists()
+    assert len(list(out.glob("frame_*.ply"))) == len(edit.schedule)
+    assert not list(tmp_path.glob(".edited.*"))
+
+    capture = tmp_path / "capture"
+    capture.mkdir()
+    (capture / "frame_00000.ply").write_bytes((out / "frame_00000.ply").read_bytes())
+    (capture / "notes.md").write_text("take 3: the good one")
+    for target, cwd in ((capture, None), (".", capture), ("..", capture)):
+        result = tvmedit("export", small_library, a.name, b.name, "-o", target, "-q", "--force", cwd=cwd)
+        assert result.returncode == 2 and "Traceback" not in result.stderr
+        assert result.stderr.startswith("error: ") and result.stderr.count("\n") == 1
+        assert (capture / "notes.md").read_text() == "take 3: the good one"
+        assert (capture / "frame_00000.ply").exists() and out.exists()
+    # The current folder is refused even when it is a previous export.
+    result = tvmedit("export", small_library, a.name, b.name, "-o", ".", "-q", "--force", cwd=out)
+    assert result.returncode == 2 and "current folder" in result.stderr
+    assert (out / "edit.json").exists()
+
+
+def test_edit_json_traces_each_frame_to_its_capture_file(small_library, tmp_path):
+    library = Library.open(small_library)
+    a, b, edit = _reachable_pair(library)
+    out = tmp_path / "edited"
+    assert tvmedit("export", small_library, a.name, b.name, "-o", out, "-q").returncode == 0
+    record = json.loads((out / "edit.json").read_text())
+    manifest = json.loads((small_library / "manifest.json").read_text())
+    files = {s["name"]: [row[0] for row in s["files"]] for s in manifest["sequences"]}
+    for frame in record["frames"]:
+        assert frame["source_file"] == files[frame["sequence"]][frame["frame"]]
+        assert Path(frame["source_file"]).is_file()
+        assert frame["source_file"] != frame["file"]
