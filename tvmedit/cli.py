@@ -7,6 +7,7 @@ that draw, so ``tvmedit --help`` and the analysis commands start fast and run wi
 
 import argparse
 import importlib
+import signal
 import sys
 
 from engine.errors import TvmError
@@ -45,6 +46,8 @@ def main(argv=None):
     if args.command is None:
         parser.print_help()
         return 0
+    # SIGTERM unwinds like Ctrl-C, so every command removes its temporary files.
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         return args._run(args) or 0
     except TvmError as error:
@@ -53,6 +56,19 @@ def main(argv=None):
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # The reader went away (`tvmedit path ... | head`): nothing more to say to it.
+        sys.stderr.close()
+        return 141
+    except OSError as error:
+        where = f" {error.filename}" if error.filename else ""
+        print(f"error: cannot use{where} ({error.strerror or error}); check the path, its "
+              "permissions and the free disk space.", file=sys.stderr)
+        return 2
+
+
+def _terminate(signum, frame):
+    raise SystemExit(128 + signum)
 
 
 if __name__ == "__main__":

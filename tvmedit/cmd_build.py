@@ -16,7 +16,6 @@ import argparse
 import dataclasses
 import math
 import re
-import signal
 import sys
 from pathlib import Path
 
@@ -109,16 +108,15 @@ def add_arguments(parser):
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bars and no summary")
 
 
-def _terminate(signum, frame):
-    # SIGTERM unwinds like Ctrl-C, so the build removes its temporary directory.
-    raise SystemExit(128 + signum)
-
-
 def run(args):
     from engine.builder import build
     from engine.features import BinSizes
 
-    say = (lambda message: None) if args.quiet else (lambda message: print(message, file=sys.stderr))
+    def say(message):
+        # -q silences progress and the summary, never a warning (skipped frames, no motions).
+        if not args.quiet or message.startswith("warning") or "skipped" in message:
+            print(message, file=sys.stderr)
+
     bins = BinSizes(r=args.bin_r, theta=math.radians(args.bin_theta), phi=math.radians(args.bin_phi))
     cls, fields = _structure_fields()
     defaults = cls()
@@ -126,14 +124,12 @@ def run(args):
     for field in fields:
         value = getattr(args, f"structure_{field.name}")
         structure[field.name] = tuple(value) if isinstance(getattr(defaults, field.name), tuple) else value
-    previous = signal.signal(signal.SIGTERM, _terminate)
-    try:
-        library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
-                        skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
-                        workers=args.workers, dask=args.dask, force=args.force,
-                        cache=not args.no_cache, log=say)
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
+                    skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
+                    workers=args.workers, dask=args.dask, force=args.force,
+                    cache=not args.no_cache, log=say)
+    if args.quiet:
+        return 0
     report = library.report
     reused = report["reused"]
     say(f"built {library.path}: {report['sequences']} sequence(s), {report['frames']} frames, "

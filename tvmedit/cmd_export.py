@@ -25,6 +25,7 @@ def run(args):
 
     _, edit = open_edit(args)
     record = export_edit(edit, args.out, overwrite=args.force, progress=not args.quiet)
-    print(f"wrote {len(record['frames'])} frames and edit.json to {args.out}/ "
-          f"({len(record['transitions'])} transitions)")
+    transitions = len(record["transitions"])
+    print(f"wrote {len(record['frames'])} frames and edit.json to {args.out.rstrip('/')}/ "
+          f"({transitions} transition{'s' * (transitions != 1)})")
     return 0

@@ -23,7 +23,7 @@ def add_edit_arguments(parser):
     parser.add_argument("library", metavar="LIB", help="library directory made by tvmedit build")
     parser.add_argument("keys", metavar="KEY", nargs="+", help="key motions, by id or name, in order")
     options.add_forbid(parser)
-    parser.add_argument("--loops", type=int, default=1, metavar="N",
+    parser.add_argument("--loops", type=options.cycles, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
 
 

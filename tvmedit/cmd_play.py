@@ -66,6 +66,9 @@ def run(args):
             raise TvmError(f"Motion {node} is both a key motion and forbidden; drop it from one of them.")
     order = [node.id for node in library.nodes]     # the order of `tvmedit info`
     allowed = [node for node in order if node not in forbidden]
+    if not order:
+        raise TvmError(f"library {args.library} has no motions (no cluster repeats a texton); "
+                       "rebuild it with other structure parameters (tvmedit build --help).")
     if not allowed:
         raise TvmError("Every motion of the library is forbidden; forbid fewer.")
     start = keys[0] if keys else allowed[0]

@@ -25,15 +25,16 @@ def add_arguments(parser):
                         help="OUT.mp4, OUT.gif, a folder for PNG frames, or with --node a .png sheet")
     parser.add_argument("--node", metavar="NAME", help="render a contact sheet of this motion's texton")
     options.add_forbid(parser)
-    parser.add_argument("--loops", type=int, default=1, metavar="N",
+    parser.add_argument("--loops", type=options.cycles, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
     parser.add_argument("--size", type=options.size, default=None, metavar="WxH",
                         help="frame size (default 640x480); with --node the size of each tile (default 160x120)")
     parser.add_argument("--camera", type=options.camera, metavar="AZ,EL,DIST",
                         help="camera azimuth, elevation (degrees) and distance (m; 0 = automatic)")
-    parser.add_argument("--orbit", type=float, default=0.0, metavar="DEG_PER_S",
+    parser.add_argument("--orbit", type=options.finite, default=0.0, metavar="DEG_PER_S",
                         help="turn the camera this many degrees per second (free viewpoint)")
-    parser.add_argument("--fps", type=float, default=None, help="output frame rate (default: the library's)")
+    parser.add_argument("--fps", type=options.positive, default=None,
+                        help="output frame rate (default: the library's)")
     parser.add_argument("--grid", action="store_true", help="draw a floor grid")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
 
@@ -58,6 +59,8 @@ def run(args):
     library = Library.open(args.library)
     try:
         if args.node is not None:
+            if not args.out.lower().endswith(".png"):
+                raise TvmError(f"a contact sheet is a PNG image: name it like sheet.png, not {args.out}.")
             node = library.node(args.node)
             keys = [(node.sequence, f) for f in range(node.start, node.end + 1)]
             labels = [f"{node.name} {f}" for f in range(node.start, node.end + 1)]

@@ -115,7 +115,9 @@ def main():
     print("5. report")
     index = write_report(library, DEMO / "report", progress=False)
     print(f"   {index}")
-    print(f"done in {time.perf_counter() - start:.1f} s. Next: tvmedit play {library.path}")
+    print(f"done in {time.perf_counter() - start:.1f} s. Next, with a display: "
+          f".venv/bin/tvmedit play {library.path}  (or `source .venv/bin/activate` first, "
+          "then plain `tvmedit ...`)")
     return 0
 
 

@@ -1,24 +1,29 @@
 """Argument types shared by the commands (parsed before any heavy import)."""
 
 import argparse
+import math
+
+#: Largest image side a GL context is sure to allocate (GL_MAX_TEXTURE_SIZE is 16384 or more).
+MAX_SIZE = 8192
 
 
 def size(text):
     """``"640x480"`` -> ``(640, 480)``, for --size."""
     try:
         width, height = (int(v) for v in text.lower().split("x"))
-        if width > 0 and height > 0:
+        if 0 < width <= MAX_SIZE and 0 < height <= MAX_SIZE:
             return width, height
     except ValueError:
         pass
-    raise argparse.ArgumentTypeError(f"size should be WIDTHxHEIGHT in pixels, like 640x480, not {text!r}")
+    raise argparse.ArgumentTypeError(f"size should be WIDTHxHEIGHT in pixels, like 640x480, each at most "
+                                     f"{MAX_SIZE}, not {text!r}")
 
 
 def camera(text):
     """``"-90,10,0"`` -> ``[-90.0, 10.0, 0.0]``, for --camera AZ,EL,DIST."""
     try:
         values = [float(v) for v in text.split(",")]
-        if len(values) == 3:
+        if len(values) == 3 and all(math.isfinite(v) for v in values) and values[2] >= 0:
             return values
     except ValueError:
         pass
@@ -29,3 +34,36 @@ def add_forbid(parser):
     """--forbid KEY..., repeatable: ``--forbid a b --forbid c``."""
     parser.add_argument("--forbid", metavar="KEY", nargs="+", action="extend", default=[],
                         help="motions no path may use (repeatable: --forbid a b --forbid c)")
+
+
+def positive(text):
+    """A finite number above 0, for --fps."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"should be a number above 0, not {text!r}")
+    return value
+
+
+def finite(text):
+    """Any finite number, for --orbit."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"should be a finite number, not {text!r}")
+    return value
+
+
+def cycles(text):
+    """A whole number of cycles, 1 or more, for --loops."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"should be a whole number of cycles, 1 or more, not {text!r}")
+    return value

@@ -1,0 +1,80 @@
+"""What the command line does when things go wrong: a signal, a closed pipe, a bad path, -q."""
+
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from engine import Library, NoPath
+
+
+def tvmedit(*args, **kwargs):
+    return subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True,
+                          text=True, **kwargs)
+
+
+def _pair(library):
+    for a in library.nodes:
+        for b in library.nodes:
+            if a.id != b.id:
+                try:
+                    library.edit([a.id, b.id])
+                    return a.name, b.name
+                except NoPath:
+                    pass
+    pytest.fail("the test library has no transition")
+
+
+def test_sigterm_during_export_leaves_nothing_behind(small_library, tmp_path):
+    a, b = _pair(Library.open(small_library))
+    out = tmp_path / "edited"
+    process = subprocess.Popen([sys.executable, "-m", "tvmedit", "export", str(small_library), a, b,
+                                "--loops", "200", "-o", str(out), "-q"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not any(p.name.startswith(".edited.tmp") for p in tmp_path.iterdir()):
+        time.sleep(0.02)
+    process.send_signal(signal.SIGTERM)
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 128 + signal.SIGTERM, stderr
+    assert "Traceback" not in stderr
+    assert list(tmp_path.iterdir()) == []  # neither the export nor its temporary folder
+
+
+def test_a_closed_pipe_is_not_an_error(small_library):
+    a, b = _pair(Library.open(small_library))
+    result = subprocess.run(f"{sys.executable} -m tvmedit path {small_library} {a} {b} --loops 300 | head -c 20",
+                            shell=True, capture_output=True, text=True)
+    assert "Traceback" not in result.stderr and "BrokenPipe" not in result.stderr
+
+
+def test_an_unusable_output_path_is_one_sentence(small_library, tmp_path):
+    a, b = _pair(Library.open(small_library))
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    result = tvmedit("export", small_library, a, b, "-o", blocker / "edited")
+    assert result.returncode == 2 and result.stderr.startswith("error: ")
+    assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1
+
+
+@pytest.mark.parametrize("option", [["--loops", "0"], ["--fps", "0"], ["--camera", "nan,0,0"],
+                                    ["--size", "40000x40000"], ["--orbit", "inf"]])
+def test_bad_numbers_are_refused_before_any_work(small_library, tmp_path, option):
+    result = tvmedit("render", small_library, "0", "1", "-o", tmp_path / "out.mp4", *option)
+    assert result.returncode == 2 and option[0] in result.stderr and "Traceback" not in result.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_quiet_build_still_warns_about_skipped_frames(synth_walk, tmp_path):
+    frames = tmp_path / "walk"
+    frames.mkdir()
+    for path in sorted(synth_walk.glob("frame_*.ply"))[:40]:
+        (frames / path.name).symlink_to(path)
+    (frames / "frame_00041.ply").write_bytes(b"ply\ntruncated")
+    result = tvmedit("build", frames, "-o", tmp_path / "walk.tvmlib", "--skip-bad-frames", "-q",
+                     "--workers", "1", "--no-cache")
+    assert result.returncode == 0, result.stderr
+    assert "skipped 1 bad frame" in result.stderr and "frame_00041.ply" in result.stderr
+    assert "built" not in result.stderr  # the summary is what -q leaves out
