@@ -23,6 +23,7 @@ import dataclasses
 import glob as _glob
 import hashlib
 import json
+import math
 import os
 import shutil
 import sys
@@ -436,15 +437,29 @@ def _alive(pid):
     return True
 
 
+def _is_library(out):
+    """Whether ``out`` holds a tvmedit library's manifest (what ``--force`` may replace)."""
+    try:
+        manifest = json.loads((out / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(manifest, dict) and "format" in manifest and "tvmedit" in manifest
+
+
 def _check_target(out, force):
     if out.is_file():
         raise LibraryError(f"{out} is a file; give a directory name for the library.")
     if out.exists():
-        is_library = (out / "manifest.json").exists()
+        is_library = _is_library(out)
         if not is_library and any(out.iterdir()):
-            raise LibraryError(f"{out} exists and is not a tvmedit library; choose another -o or remove it.")
+            raise LibraryError(f"{out} exists and is not a tvmedit library (no tvmedit manifest.json), "
+                               "so it is not replaced; choose another -o or remove it yourself.")
         if is_library and not force:
             raise LibraryError(f"library {out} already exists; add --force to replace it.")
+        here = Path.cwd().resolve()
+        if is_library and (out.resolve() == here or out.resolve() in here.parents):
+            raise LibraryError(f"library {out} is the current folder or holds it, so it is not "
+                               "replaced; run the build from outside it.")
 
 
 def _open_old(out):
@@ -513,9 +528,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     graph_module, structure_module = _graph_module(), _structure_module()
     bins = bins if bins is not None else BinSizes()
     params = _structure_params(structure_module, structure)
-    mu = graph_module.MU if mu is None else float(mu)
-    if not mu > 0:
-        raise InputError(f"mu must be a positive number, not {mu}.")
+    mu = graph_module.MU if mu is None else _check_mu(mu)
 
     expanded = expand_inputs(inputs)
     if not expanded:
@@ -647,6 +660,25 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
     return library
+
+
+def _check_mu(mu):
+    """``mu`` as a float, or one sentence: JSON (manifest, graph) cannot hold inf or NaN.
+
+    >>> _check_mu("inf")
+    Traceback (most recent call last):
+    ...
+    engine.errors.InputError: mu must be a finite number above 0 (the default is 0.9), not 'inf'.
+    """
+    from .graph import MU
+
+    try:
+        value = float(mu)
+    except (TypeError, ValueError):
+        value = None
+    if value is None or not math.isfinite(value) or value <= 0:
+        raise InputError(f"mu must be a finite number above 0 (the default is {MU:g}), not {str(mu)!r}.")
+    return value
 
 
 def _carry_names(old, nodes, tmp):

@@ -173,3 +173,11 @@ def test_bad_input_is_one_sentence(tmp_path, capsys):
     assert err.startswith("error: sequence folder") and err.count("\n") == 1
     assert not (tmp_path / "lib").exists()
 
+
+
+def test_an_infinite_mu_is_refused_in_one_sentence(take_13_30, tmp_path, capsys):
+    out = tmp_path / "lib"
+    assert main(["build", _small(take_13_30), "-o", str(out), "--mu", "inf", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err == "error: mu must be a finite number above 0 (the default is 0.9), not 'inf'.\n"
+    assert not out.exists()

@@ -309,3 +309,31 @@ def test_a_synthetic_walk_builds_into_a_library_named_after_its_folder(synth_wal
         assert np.mean(np.abs(lengths - 1) < 1e-5) > 0.999  # closed surfaces: every vertex has a normal
     (low, high) = library.bounds()
     assert 1.5 < high[2] - low[2] < 2.0  # the actor is about 1.70 m tall
+
+
+def test_force_replaces_only_a_tvmedit_library(built, tmp_path, take_13_30, monkeypatch):
+    folder = tmp_path / "webapp"
+    folder.mkdir()
+    (folder / "manifest.json").write_text(json.dumps({"name": "my web app", "icons": []}))
+    (folder / "index.html").write_text("<p>hello</p>")
+    with pytest.raises(LibraryError, match="exists and is not a tvmedit library"):
+        build(_inputs(take_13_30), folder, workers=1, force=True)
+    assert (folder / "index.html").exists() and json.loads((folder / "manifest.json").read_text())["icons"] == []
+
+    copy = tmp_path / "copy.lib"
+    shutil.copytree(built, copy)
+    monkeypatch.chdir(copy)
+    with pytest.raises(LibraryError, match="is the current folder or holds it"):
+        build(_inputs(take_13_30), ".", workers=1, force=True)
+    (copy / "sub").mkdir()
+    monkeypatch.chdir(copy / "sub")
+    with pytest.raises(LibraryError, match="is the current folder or holds it"):
+        build(_inputs(take_13_30), copy, workers=1, force=True)
+    assert Library.open(copy).manifest == Library.open(built).manifest
+
+
+@pytest.mark.parametrize("mu", [float("inf"), float("nan"), -1.0, 0.0, "abc"])
+def test_mu_must_be_finite_and_positive(take_13_30, tmp_path, mu):
+    with pytest.raises(InputError, match=r"mu must be a finite number above 0 \(the default is 0.9\), not '"):
+        build(_inputs(take_13_30), tmp_path / "lib", workers=1, mu=mu)
+    assert not list(tmp_path.iterdir())
