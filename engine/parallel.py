@@ -98,7 +98,7 @@ class Workers:
                 from distributed import Client, LocalCluster
             except ImportError:
                 raise TvmError("--dask needs dask.distributed, which is not installed; "
-                               "install it with: pip install tvmedit[dask]") from None
+                               "install it with: pip install 'tvmedit[dask]'") from None
             try:
                 if self.dask == "local":
                     self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
@@ -106,6 +106,11 @@ class Workers:
                     self._client = Client(self._cluster)
                 else:
                     self._client = Client(self.dask, timeout=10)
+            except ValueError as error:
+                # distributed parses the address only now: "missing port number", "unknown
+                # address scheme", a port that is not a number.
+                raise TvmError(f"--dask {self.dask} is not a scheduler address ({error}); give one "
+                               "such as tcp://host:8786, or local to start one here.") from None
             except (OSError, TimeoutError) as error:
                 raise TvmError(f"cannot reach the dask scheduler at {self.dask} ({error}); "
                                "start one with `dask scheduler` or use --dask local.") from None

@@ -291,8 +291,17 @@ def test_vertex_normals_are_area_weighted_unit_vectors():
 
 def test_dask_missing_is_one_sentence(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
-    with pytest.raises(TvmError, match=r"pip install tvmedit\[dask\]"):
+    with pytest.raises(TvmError, match=r"pip install 'tvmedit\[dask\]'"):
         with Workers(2, dask="local") as pool:
+            list(pool.map(abs, [1]))
+
+
+@pytest.mark.parametrize("address", ["nonsense", "tcp://host:port", "ftp://host:8786"])
+def test_a_malformed_dask_address_is_one_sentence(address):
+    pytest.importorskip("distributed")
+    with pytest.raises(TvmError, match=f"--dask {address} is not a scheduler address .*; give one "
+                                       r"such as tcp://host:8786, or local to start one here\.$"):
+        with Workers(2, dask=address) as pool:
             list(pool.map(abs, [1]))
 
 
