@@ -184,6 +184,47 @@ def _rebuild_hint(path):
     return f"rebuild it with `tvmedit build INPUT... -o {path} --force`"
 
 
+def _not_a_library(path):
+    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
+    from .load import MESH_SUFFIXES
+
+    try:
+        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
+    except OSError:
+        frames = False
+    if frames:
+        plain = path if path.name not in ("", ".", "..") else path.resolve()
+        target = plain.with_name(f"{plain.name}.tvmlib")
+        return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
+                f"build a library from it with `tvmedit build {path} -o {target}`.")
+    return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
+            "or build one with `tvmedit build INPUT... -o LIB`.")
+
+
+def _check_names(names_path, names):
+    """``names.json`` is edited by hand at times: it must map ids to names, as rename writes it."""
+    if not isinstance(names, dict):
+        shown = json.dumps(names)
+        shown = shown if len(shown) <= 40 else shown[:37] + "..."
+        raise LibraryError(f"{names_path} must hold a JSON object of motion names such as "
+                           f"{{\"3\": \"squats\"}}, not {shown}; fix it or delete it "
+                           "to go back to the default names.")
+    for key, name in names.items():
+        if not key.strip().isdigit() or not isinstance(name, str) or not name.strip() or name.strip().isdigit():
+            raise LibraryError(f"{names_path} maps {key!r} to {name!r}, but it must map motion ids to "
+                               "names with at least one non-digit, such as {\"3\": \"squats\"}; "
+                               "fix it or delete it to go back to the default names.")
+
+
+def _check_unique(names_path, nodes):
+    seen = {}
+    for node in nodes:
+        if node.name in seen:
+            raise LibraryError(f"{names_path} gives motions {seen[node.name]} and {node.id} the same "
+                               f"name {node.name!r}; fix it or delete it to go back to the default names.")
+        seen[node.name] = node.id
+
+
 def _write_atomic(path, text):
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     tmp.write_text(text)
@@ -225,8 +266,7 @@ class Library:
                 raise LibraryError(f"no library at {path}, but an interrupted build left the previous "
                                    f"one at {leftovers[0]}; rename it back to {path.name}.")
             if path.is_dir():
-                raise LibraryError(f"{path} is not a tvmedit library (it has no manifest.json); "
-                                   f"{_rebuild_hint(path)}.")
+                raise LibraryError(_not_a_library(path))
             raise LibraryError(f"no library at {path}; build one with `tvmedit build INPUT... -o {path}`.")
         try:
             manifest = json.loads(manifest_path.read_text())
@@ -317,7 +357,9 @@ class Library:
             except ValueError as error:
                 raise LibraryError(f"{names_path} is not valid JSON ({error}); fix it or delete it "
                                    "to go back to the default names.") from None
+            _check_names(names_path, names)
             nodes = [replace(node, name=names.get(str(node.id), node.name)) for node in nodes]
+            _check_unique(names_path, nodes)
         return nodes
 
     @property

@@ -346,3 +346,38 @@ def test_mu_must_be_finite_and_positive(take_13_30, tmp_path, mu):
     with pytest.raises(InputError, match=r"mu must be a finite number above 0 \(the default is 0.9\), not '"):
         build(_inputs(take_13_30), tmp_path / "lib", workers=1, mu=mu)
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("names, words", [
+    ([1, 2], r"must hold a JSON object of motion names such as \{\"3\": \"squats\"\}, not \[1, 2\]"),
+    ({"0": 7}, r"maps '0' to 7, but it must map motion ids to names"),
+    ({"first": "walk"}, r"maps 'first' to 'walk'"),
+    ({"0": "12"}, r"maps '0' to '12'"),
+    ({"0": "same", "1": "same"}, r"gives motions 0 and 1 the same name 'same'"),
+])
+def test_a_hand_edited_names_json_is_checked(built, tmp_path, names, words):
+    copy = tmp_path / "copy.lib"
+    shutil.copytree(built, copy)
+    (copy / "names.json").write_text(json.dumps(names))
+    with pytest.raises(LibraryError, match=f"names.json {words}.*; fix it or delete it"):
+        Library.open(copy)
+
+
+def test_a_sequence_folder_is_told_how_to_become_a_library(take_13_30, tmp_path, monkeypatch):
+    from tvmedit.cli import main
+
+    walk = tmp_path / "walk"
+    walk.mkdir()
+    for path in open_sequence(_inputs(take_13_30)[0][1]).paths[:40]:
+        shutil.copy2(path, walk / path.name)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(LibraryError) as caught:
+        Library.open("walk")
+    message = str(caught.value)
+    assert message.startswith("walk is a sequence folder (frame files, no manifest.json), not a library")
+    assert message.endswith("build a library from it with `tvmedit build walk -o walk.tvmlib`.")
+    suggested = message.split("`")[1].split()[1:]
+    assert main([*suggested, "--workers", "1", "-q"]) == 0
+    assert Library.open("walk.tvmlib").sequences[0].name == "walk"
+    with pytest.raises(LibraryError, match="is not a tvmedit library .*give a library folder"):
+        Library.open(tmp_path / "xdg")
