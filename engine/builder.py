@@ -533,7 +533,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     expanded = expand_inputs(inputs)
     if not expanded:
         raise InputError("no input sequences given; name at least one sequence folder.")
-    sequences = [open_sequence(source, name=name, fps=fps) for name, source in expanded]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sequences = [open_sequence(source, name=name, fps=fps) for name, source in expanded]
+    _pass_on(caught, log)
     seen = {}
     for (_, source), sequence in zip(expanded, sequences):
         if sequence.name in seen:
@@ -598,11 +601,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
                 G = graph_module.build_graph(nodes, vectors, mu=mu)
                 nodes = graph_module.nodes_of(G)
                 stages["graph"] = time.perf_counter() - t0
-            for warning in caught:
-                if log is None:
-                    warnings.warn(warning.message, warning.category, stacklevel=2)
-                else:
-                    say(f"warning: {warning.message}")
+            _pass_on(caught, log)
             if not nodes:
                 say("warning: the database is empty (no motion texton was found), so the library "
                     "has nothing to edit; try other structure parameters")
@@ -660,6 +659,15 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
     return library
+
+
+def _pass_on(caught, log):
+    """Warnings caught during the build go to ``log`` as ``warning: ...`` lines, if given."""
+    for warning in caught:
+        if log is None:
+            warnings.warn(warning.message, warning.category, stacklevel=3)
+        else:
+            log(f"warning: {warning.message}")
 
 
 def _check_mu(mu):

@@ -24,12 +24,20 @@ from .plyfast import read_ply
 MESH_SUFFIXES = (".ply", ".obj", ".off")
 # Files that commonly sit beside frames and are not frames.
 SIDECAR_SUFFIXES = (".json", ".txt", ".md", ".csv", ".log", ".yaml", ".yml")
+# Companions of frames that are not meshes either (OBJ materials, textures, photos): left
+# out without a word. Any other file beside the frames is reported as left out.
+_QUIET_SUFFIXES = SIDECAR_SUFFIXES + (".mtl", ".png", ".jpg", ".jpeg")
 NEUTRAL_COLOUR = (180, 180, 180)
 DEFAULT_FPS = 10.0
 
 
 class SkippedFramesWarning(UserWarning):
     """Bad frames were skipped (``skip_bad_frames=True``); the message lists them."""
+
+
+class UnsupportedFilesWarning(UserWarning):
+    """Files beside the frames of a sequence folder were left out for their extension
+    (``frame_00004.stl`` among ``.ply`` frames); the message lists them."""
 
 
 @dataclass(frozen=True)
@@ -106,6 +114,13 @@ def frame_paths(source):
             raise InputError(f"{others[0]} has the unsupported extension '{others[0].suffix}' and {folder} "
                              f"holds no {', '.join(MESH_SUFFIXES)} frames; convert the frames to PLY, OBJ or OFF.")
         raise InputError(f"sequence folder {folder} is empty: it holds no PLY, OBJ or OFF frames.")
+    left_out = sorted((p for p in files if p.suffix and p.suffix.lower() not in MESH_SUFFIXES + _QUIET_SUFFIXES),
+                      key=_natural_key)
+    if left_out:
+        listing = ", ".join(p.name for p in left_out[:10]) + (", ..." if len(left_out) > 10 else "")
+        warnings.warn(f"{folder}: left out {len(left_out)} file(s) with an unsupported extension "
+                      f"({listing}); convert them to {', '.join(MESH_SUFFIXES)} to use them as frames.",
+                      UnsupportedFilesWarning, stacklevel=3)
     return sorted(paths, key=_natural_key)
 
 
@@ -229,16 +244,21 @@ def open_sequence(source, name=None, fps=None):
     """
     paths = frame_paths(source)
     meta = _sidecar(paths)
-    if fps is None:
-        fps = meta.get("fps", DEFAULT_FPS)
+    given = meta.get("fps", DEFAULT_FPS) if fps is None else fps
     try:
-        fps = float(fps)
+        fps = float(given) if not isinstance(given, bool) else float("nan")
     except (TypeError, ValueError):
         fps = float("nan")
     if not np.isfinite(fps) or fps <= 0:
-        raise InputError(f"the frame rate of {source} must be a positive number, not {fps!r}; "
+        raise InputError(f"the frame rate of {source} must be a positive number, not {given!r}; "
                          "set it with --fps or in sequence.json.")
-    return Sequence(name=name or meta.get("name") or _default_name(source), fps=fps, paths=paths)
+    if name is None and "name" in meta:
+        name = meta["name"]
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"{Path(paths[0]).parent / 'sequence.json'} gives the sequence name "
+                             f"{json.dumps(name)}, but a name must be a non-empty string such as "
+                             "\"walk\"; fix it or remove the name.")
+    return Sequence(name=name or _default_name(source), fps=fps, paths=paths)
 
 
 def iter_frames(paths, skip_bad_frames=False, skipped=None):

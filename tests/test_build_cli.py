@@ -181,3 +181,26 @@ def test_an_infinite_mu_is_refused_in_one_sentence(take_13_30, tmp_path, capsys)
     err = capsys.readouterr().err
     assert err == "error: mu must be a finite number above 0 (the default is 0.9), not 'inf'.\n"
     assert not out.exists()
+
+
+def test_build_reports_a_file_left_out_and_refuses_a_bad_sequence_name(take_13_30, tmp_path, capsys):
+    import glob
+    import shutil
+
+    walk = tmp_path / "walk"
+    walk.mkdir()
+    for path in sorted(glob.glob(str(take_13_30 / "frame_000[0-3]?.ply"))):
+        shutil.copy2(path, walk)
+    (walk / "frame_00040.stl").write_bytes(b"solid x\nendsolid x\n")
+    (walk / "notes.md").write_text("take 3")
+    assert main(["build", str(walk), "-o", str(tmp_path / "walk.tvmlib"), "--workers", "1", "-q"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: " in err and "left out 1 file(s) with an unsupported extension (frame_00040.stl)" in err
+    assert "notes.md" not in err
+    assert Library.open(tmp_path / "walk.tvmlib").sequences[0].frames == 40
+
+    (walk / "sequence.json").write_text(json.dumps({"name": 7}))
+    assert main(["build", str(walk), "-o", str(tmp_path / "named.tvmlib"), "--workers", "1", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: ") and "sequence name 7" in err and err.count("\n") == 1
+    assert not (tmp_path / "named.tvmlib").exists()

@@ -10,8 +10,8 @@ import pytest
 import trimesh
 
 from engine.errors import InputError
-from engine.load import (NEUTRAL_COLOUR, SkippedFramesWarning, frame_paths, load_sequence,
-                         open_sequence, read_frame)
+from engine.load import (NEUTRAL_COLOUR, SkippedFramesWarning, UnsupportedFilesWarning, frame_paths,
+                         load_sequence, open_sequence, read_frame)
 
 
 def _mesh(subdivisions=1, colour=(200, 30, 40), shift=0.0):
@@ -150,3 +150,46 @@ def test_check_command_skips_with_a_warning(tmp_path):
     assert result.returncode == 0, result.stderr
     assert "warning: skipped 1 bad frame(s): f1.ply" in result.stderr
     assert "2 frames at 10 fps" in result.stdout
+
+
+@pytest.mark.parametrize("meta, words", [
+    ({"name": 7}, "gives the sequence name 7, but a name must be a non-empty string"),
+    ({"name": ["walk"]}, r'gives the sequence name \["walk"\], but a name must be'),
+    ({"fps": "abc"}, "must be a positive number, not 'abc'"),
+    ({"fps": True}, "must be a positive number, not True"),
+    ({"fps": -5}, "must be a positive number, not -5"),
+])
+def test_sequence_json_values_are_checked(tmp_path, meta, words):
+    _mesh().export(tmp_path / "f0.ply")
+    (tmp_path / "sequence.json").write_text(json.dumps(meta))
+    with pytest.raises(InputError, match=words):
+        open_sequence(tmp_path)
+    assert open_sequence(tmp_path, name="walk", fps=12).name == "walk"
+
+
+def test_sequence_json_names_the_sequence(tmp_path):
+    _mesh().export(tmp_path / "f0.ply")
+    (tmp_path / "sequence.json").write_text(json.dumps({"name": "walk", "fps": 25}))
+    sequence = open_sequence(tmp_path)
+    assert (sequence.name, sequence.fps) == ("walk", 25)
+
+
+def test_a_file_of_another_format_among_the_frames_is_reported(tmp_path):
+    for index in range(4):
+        _mesh(shift=index).export(tmp_path / f"frame_{index:05d}.ply")
+    _mesh().export(tmp_path / "frame_00004.stl")
+    for name in ("notes.md", "take.txt", "sequence.json", "material.mtl"):
+        (tmp_path / name).write_text("{}")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        paths = frame_paths(tmp_path)
+    assert len(paths) == 4
+    assert [w.category for w in caught] == [UnsupportedFilesWarning]
+    message = str(caught[0].message)
+    assert "left out 1 file(s) with an unsupported extension (frame_00004.stl)" in message
+    assert not any(name in message for name in ("notes.md", "take.txt", "sequence.json", "material.mtl"))
+
+    (tmp_path / "frame_00004.stl").unlink()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(frame_paths(tmp_path)) == 4
