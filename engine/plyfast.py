@@ -5,8 +5,9 @@ reader pays for generality on every file. A capture system writes the same layou
 frame (``element vertex`` with float x, y, z and optional uchar red, green, blue;
 ``element face`` with ``property list uchar int vertex_indices``), which numpy reads in one
 ``np.frombuffer`` per element with a structured dtype. Anything else (ASCII or big-endian
-files, polygons that are not all triangles, extra face properties, other elements first)
-makes :func:`read_ply` return ``None`` so the caller falls back to trimesh.
+files, float colours, polygons that are not all triangles, extra face
+properties, other elements first) makes :func:`read_ply` return ``None`` so the caller falls
+back to trimesh.
 
 A file that announces more data than it holds raises ``ValueError`` naming what is missing.
 """
@@ -74,7 +75,11 @@ def read_ply(path):
     -------
     vertices : (N, 3) float32
     faces : (M, 3) integer array, the index type of the file (int32 usually)
-    colours : (N, 3) uint8, or None when the file has no red, green, blue
+    colours : (N, 3) uint8, or None when the file has no red, green, blue; colours of a
+        wider integer type (ushort) are scaled from its range to 0-255
+
+    Returns None instead, for trimesh to read, when the layout is not the common one (see
+    the module's docstring), float colours included.
 
     Examples
     --------
@@ -118,11 +123,21 @@ def read_ply(path):
     positions = np.empty((n_vertices, 3), np.float32)
     for axis, name in enumerate("xyz"):
         positions[:, axis] = vertices[name]
+    rgb = ("red", "green", "blue")
     colours = None
-    if {"red", "green", "blue"} <= set(names) and all(vertex_dtype[c] == np.uint8 for c in ("red", "green", "blue")):
+    if any(c in names for c in rgb):
+        kinds = {vertex_dtype[c].kind for c in rgb if c in names}
+        # Float colours (0-1) go to trimesh, which scales them; it would cut 16-bit ones to
+        # their low byte, so integers are scaled from their type's range here.
+        if not set(rgb) <= set(names) or kinds != {"u"} and kinds != {"i"}:
+            return None
         colours = np.empty((n_vertices, 3), np.uint8)
-        for axis, name in enumerate(("red", "green", "blue")):
-            colours[:, axis] = vertices[name]
+        for axis, name in enumerate(rgb):
+            channel = vertices[name]
+            if channel.dtype != np.uint8:
+                top = np.iinfo(channel.dtype).max
+                channel = np.rint(np.clip(channel, 0, top) * (255.0 / top))
+            colours[:, axis] = channel
     return positions, np.ascontiguousarray(faces["i"]), colours
 
 

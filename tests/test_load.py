@@ -193,3 +193,24 @@ def test_a_file_of_another_format_among_the_frames_is_reported(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert len(frame_paths(tmp_path)) == 4
+
+
+@pytest.mark.parametrize("kind, scale", [("float", 1.0), ("ushort", 65535.0), ("uchar", 255.0)])
+def test_binary_ply_colours_of_any_type_are_kept(tmp_path, kind, scale):
+    from engine.plyfast import read_ply
+
+    dtypes = {"float": "<f4", "ushort": "<u2", "uchar": "u1"}
+    rgb = np.array([[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 1.0]])
+    vertex = np.empty(3, dtype=[("p", "<f4", 3), ("c", dtypes[kind], 3)])
+    vertex["p"], vertex["c"] = np.eye(3), rgb if kind == "float" else np.rint(rgb * scale)
+    face = np.empty(1, dtype=[("n", "u1"), ("i", "<i4", 3)])
+    face["n"], face["i"] = 3, [0, 1, 2]
+    header = ("ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              + "".join(f"property {kind} {c}\n" for c in ("red", "green", "blue"))
+              + "element face 1\nproperty list uchar int vertex_indices\nend_header\n")
+    path = tmp_path / "f.ply"
+    path.write_bytes(header.encode() + vertex.tobytes() + face.tobytes())
+    assert (read_ply(path) is None) == (kind == "float")  # trimesh scales float colours
+    colours = read_frame(path).colours
+    np.testing.assert_allclose(colours, np.rint(rgb * 255), atol=1)
