@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
+from .parallel import _watch_parent
 from .plyfast import write_ply
 
 VERSION = 2                 # bump when the output for given options changes
@@ -493,7 +494,11 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
     if progress:
         from tqdm import tqdm
         bar = tqdm(total=len(jobs), unit="frame", desc=f"synth {out.name}")
-    pool = multiprocessing.get_context("fork").Pool(workers) if workers > 1 else None
+    # Workers leave Ctrl-C to this process (which says "interrupted" once and terminates them)
+    # and exit if it is killed.
+    pool = (multiprocessing.get_context("fork").Pool(workers, initializer=_watch_parent,
+                                                     initargs=(os.getpid(),))
+            if workers > 1 else None)
     try:
         for index, count in (pool.imap_unordered(_frame_job, jobs) if pool else map(_frame_job, jobs)):
             counts[index] = count

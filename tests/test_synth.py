@@ -165,3 +165,24 @@ def test_cli_help_runs():
     assert result.returncode == 0
     for option in ("--preset", "--motions", "--cycles", "--vertices", "--workers", "--overwrite"):
         assert option in result.stdout
+
+
+def test_ctrl_c_is_reported_once_by_the_parent(tmp_path):
+    import os
+    import signal
+    import time
+
+    out = tmp_path / "walk"
+    process = subprocess.Popen([sys.executable, "-m", "tvmedit", "synth", "--preset", "walk", "--out", str(out),
+                                "--workers", "2", "--vertices", "16000", "-q"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    deadline = time.monotonic() + 60
+    while not list(out.glob("frame_*.ply")) and time.monotonic() < deadline and process.poll() is None:
+        time.sleep(0.05)
+    assert process.poll() is None, "synth ended before it could be interrupted"
+    os.killpg(process.pid, signal.SIGINT)  # what Ctrl-C does: the whole foreground group
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 130
+    assert err == "interrupted\n"
+    assert not (out / "truth.json").exists()
