@@ -9,6 +9,7 @@ import argparse
 import importlib
 import signal
 import sys
+import warnings
 
 from engine.errors import TvmError
 
@@ -48,6 +49,7 @@ def main(argv=None):
         return 0
     # SIGTERM unwinds like Ctrl-C, so every command removes its temporary files.
     signal.signal(signal.SIGTERM, _terminate)
+    warnings.showwarning = _show_warning
     try:
         return args._run(args) or 0
     except TvmError as error:
@@ -69,6 +71,12 @@ def main(argv=None):
 
 def _terminate(signum, frame):
     raise SystemExit(128 + signum)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    # What the engine warns about (skipped frames, files left out) is for the user: one line,
+    # without Python's file and line.
+    print(f"warning: {message}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -6,10 +6,6 @@ that is not a mesh, is truncated, has no vertices, or has NaN/inf coordinates st
 check with one sentence naming the file, unless --skip-bad-frames is given.
 """
 
-import sys
-import warnings
-
-
 HELP = "load a TVM sequence and report frames, vertices and colours"
 
 
@@ -33,11 +29,7 @@ def run(args):
         counts.append(len(frame.positions))
         faces.append(len(frame.faces))
         coloured += int(len(np.unique(frame.colours[:64], axis=0)) > 1)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        warn_skipped(skipped)
-    for warning in caught:
-        print(f"warning: {warning.message}", file=sys.stderr)
+    warn_skipped(skipped)
     if not counts:
         from engine.errors import InputError
         raise InputError(f"no usable frames in {args.input}: all {len(sequence.paths)} were bad.")
