@@ -36,12 +36,16 @@ def add_forbid(parser):
                         help="motions no path may use (repeatable: --forbid a b --forbid c)")
 
 
+def _number(text):
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
 def positive(text):
     """A finite number above 0, for --fps."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
+    value = _number(text)
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"should be a number above 0, not {text!r}")
     return value
@@ -49,10 +53,7 @@ def positive(text):
 
 def finite(text):
     """Any finite number, for --orbit."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
+    value = _number(text)
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"should be a finite number, not {text!r}")
     return value
