@@ -149,6 +149,16 @@ def _feature_key(stats, bins, skip_bad_frames):
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
 
+def _read(path, skip_bad_frames):
+    """``(frame, None)``, or ``(None, reason)`` for a bad frame when skipping; raises otherwise."""
+    try:
+        return read_frame(path), None
+    except InputError as error:
+        if not skip_bad_frames:
+            raise
+        return None, str(error)
+
+
 def _feature_task(task):
     """Histograms of a chunk of frames: ``(rows, read_s, compute_s)``.
 
@@ -159,12 +169,9 @@ def _feature_task(task):
     rows, read_s, compute_s = [], 0.0, 0.0
     for path in paths:
         t0 = time.perf_counter()
-        try:
-            frame = read_frame(path)
-        except InputError as error:
-            if not skip_bad_frames:
-                raise
-            rows.append(str(error))
+        frame, reason = _read(path, skip_bad_frames)
+        if frame is None:
+            rows.append(reason)
             continue
         t1 = time.perf_counter()
         rows.append(tuple(h.astype(np.float32) for h in frame_histograms(frame.positions, origin, bins)))
@@ -230,12 +237,9 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
     # The origin is the centroid of the first usable frame; everything else waits on it.
     for k, path in enumerate(paths):
         t0 = time.perf_counter()
-        try:
-            frame = read_frame(path)
-        except InputError as error:
-            if not skip_bad_frames:
-                raise
-            skipped.append((str(path), str(error)))
+        frame, reason = _read(path, skip_bad_frames)
+        if frame is None:
+            skipped.append((str(path), reason))
             bar.update()
             continue
         timing["read"] += time.perf_counter() - t0
