@@ -27,7 +27,6 @@ number of workers writes byte-identical files.
 import json
 import multiprocessing
 import os
-import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path

@@ -7,7 +7,8 @@ import time
 
 import pytest
 
-from engine import Library, NoPath
+from engine import Library
+from test_edit_cli import _reachable_pair
 
 
 def tvmedit(*args, **kwargs):
@@ -16,15 +17,8 @@ def tvmedit(*args, **kwargs):
 
 
 def _pair(library):
-    for a in library.nodes:
-        for b in library.nodes:
-            if a.id != b.id:
-                try:
-                    library.edit([a.id, b.id])
-                    return a.name, b.name
-                except NoPath:
-                    pass
-    pytest.fail("the test library has no transition")
+    a, b, _ = _reachable_pair(library)
+    return a.name, b.name
 
 
 def test_sigterm_during_export_leaves_nothing_behind(small_library, tmp_path):
