@@ -23,7 +23,7 @@ from typing import Protocol
 
 import numpy as np
 
-from engine.builder import vertex_normals  # the library computes them so at build time
+from engine.normals import vertex_normals  # the library computes them so at build time
 from engine.errors import InputError
 
 
