@@ -7,18 +7,14 @@ user's feature cache.
 import json
 import os
 import signal
-import subprocess
-import sys
-import time
 
 import jsonschema
 import pytest
 
 from engine import Library
 from engine.library import INFO_SCHEMA
+from interrupt import run_signalled
 from tvmedit.cli import main
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 # Short snippets of one take rarely repeat a texton; the database then says so.
@@ -33,13 +29,6 @@ def _cache_home(tmp_path, monkeypatch):
 def _small(take):
     """Frames 0-59 of the take, as a quoted glob."""
     return "gym=" + str(take / "frame_000[0-5]?.ply")
-
-
-def _tvmedit(*args, env_cache, **popen):
-    env = {**os.environ, "XDG_CACHE_HOME": str(env_cache)}
-    return subprocess.Popen([sys.executable, "-m", "tvmedit", *map(str, args)], cwd=ROOT, env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            start_new_session=True, **popen)
 
 
 def _library_files(path):
@@ -108,49 +97,36 @@ def test_serial_worker_and_dask_builds_are_identical(take_13_30, tmp_path):
     assert libraries["dask"] == libraries["serial"]
 
 
-def _kill_when(process, condition, timeout=120):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if condition():
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
-            return
-        if process.poll() is not None:
-            pytest.fail(f"the build ended before it could be interrupted: {process.stderr.read()}")
-        time.sleep(0.01)
-    os.killpg(process.pid, signal.SIGKILL)
-    pytest.fail("the build never reached the point where it was to be interrupted")
+def _leftovers(folder):
+    return sorted(p.name for p in folder.iterdir() if ".tmp-" in p.name or ".old-" in p.name)
 
 
 def test_an_interrupted_build_leaves_no_library_or_the_previous_one(take_13_30, tmp_path):
     out = tmp_path / "gym.lib"
-    process = _tvmedit("build", take_13_30, "-o", out, "--workers", "1", "-q", env_cache=tmp_path / "xdg")
-    tmp = tmp_path / f".gym.lib.tmp-{process.pid}"
-    _kill_when(process, tmp.exists)
-    assert not out.exists()
+    env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "xdg")}
+    build = ["build", _small(take_13_30), "-o", out, "--workers", "1", "-q"]
 
-    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q"]) == 0
-    assert not tmp.exists()  # what the killed build left is cleaned up by the next one
+    # Killed outright just after its temporary folder was made.
+    result = run_signalled(build, at="engine.builder:_stat_list", signum=signal.SIGKILL, env=env)
+    assert result.returncode == -signal.SIGKILL
+    assert not out.exists() and len(_leftovers(tmp_path)) == 1
+
+    assert main([str(arg) for arg in build]) == 0
+    assert _leftovers(tmp_path) == []  # what the killed build left is cleaned up by the next one
     before = _library_files(out)
 
     # Killed while the meshes of the new library were being written.
-    process = _tvmedit("build", take_13_30, "-o", out, "--workers", "1", "-q", "--force",
-                       env_cache=tmp_path / "xdg")
-    tmp = tmp_path / f".gym.lib.tmp-{process.pid}"
-    _kill_when(process, lambda: (tmp / "positions.npy").exists())
+    result = run_signalled([*build, "--force"], at="engine.builder:_NpyStream.append", after=30,
+                           signum=signal.SIGKILL, env=env)
+    assert result.returncode == -signal.SIGKILL
     assert _library_files(out) == before
     assert Library.open(out).sequences[0].frames == 60
 
-    # Stopped politely (SIGTERM), the build removes its temporary directory itself.
-    process = _tvmedit("build", take_13_30, "-o", out, "--workers", "1", "--force",
-                       env_cache=tmp_path / "xdg")
-    tmp = tmp_path / f".gym.lib.tmp-{process.pid}"
-    deadline = time.monotonic() + 120
-    while not tmp.exists() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    process.send_signal(signal.SIGTERM)
-    process.wait(timeout=60)
-    assert process.returncode != 0 and not tmp.exists()
+    # Stopped politely (SIGTERM) at the same point, the build removes its temporary folder itself.
+    result = run_signalled([*build, "--force"], at="engine.builder:_NpyStream.append", after=30,
+                           signum=signal.SIGTERM, env=env)
+    assert result.returncode == 128 + signal.SIGTERM and "Traceback" not in result.stderr
+    assert _leftovers(tmp_path) == []
     assert _library_files(out) == before
 
 

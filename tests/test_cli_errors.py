@@ -3,11 +3,11 @@
 import signal
 import subprocess
 import sys
-import time
 
 import pytest
 
 from engine import Library
+from interrupt import run_signalled
 from test_edit_cli import _reachable_pair
 
 
@@ -24,16 +24,11 @@ def _pair(library):
 def test_sigterm_during_export_leaves_nothing_behind(small_library, tmp_path):
     a, b = _pair(Library.open(small_library))
     out = tmp_path / "edited"
-    process = subprocess.Popen([sys.executable, "-m", "tvmedit", "export", str(small_library), a, b,
-                                "--loops", "200", "-o", str(out), "-q"],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and not any(p.name.startswith(".edited.tmp") for p in tmp_path.iterdir()):
-        time.sleep(0.02)
-    process.send_signal(signal.SIGTERM)
-    _, stderr = process.communicate(timeout=60)
-    assert process.returncode == 128 + signal.SIGTERM, stderr
-    assert "Traceback" not in stderr
+    # SIGTERM arrives after the fifth frame file is written.
+    result = run_signalled(["export", small_library, a, b, "--loops", "3", "-o", out, "-q"],
+                           at="engine.export:write_ply", after=5, signum=signal.SIGTERM)
+    assert result.returncode == 128 + signal.SIGTERM, result.stderr
+    assert "Traceback" not in result.stderr
     assert list(tmp_path.iterdir()) == []  # neither the export nor its temporary folder
 
 

@@ -1,0 +1,49 @@
+"""Run ``tvmedit`` in a child process that receives a real signal at a chosen point of its work.
+
+Sending a signal from the test when a file appears is a race: on a fast machine the command
+can finish between the check and the signal. Here the child sends the signal to itself,
+right after the N-th call of a named function returns, so the signal always lands mid-work
+and the test states exactly where.
+"""
+
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+_CHILD = """
+import functools, importlib, os, sys
+module, attribute, after, signum = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+owner = importlib.import_module(module)
+*path, name = attribute.split(".")
+for part in path:
+    owner = getattr(owner, part)
+original = getattr(owner, name)
+calls = 0
+
+@functools.wraps(original)
+def signalled(*args, **kwargs):
+    global calls
+    result = original(*args, **kwargs)
+    calls += 1
+    if calls == after:
+        os.kill(os.getpid(), signum)
+    return result
+
+setattr(owner, name, signalled)
+from tvmedit.cli import main
+sys.exit(main(sys.argv[5:]))
+"""
+
+
+def run_signalled(args, *, at, signum, after=1, env=None):
+    """Run ``tvmedit ARGS``, sending ``signum`` to itself after ``after`` calls of ``at``.
+
+    ``at`` is ``"module:attribute"``, e.g. ``"engine.export:write_ply"`` or
+    ``"engine.builder:_NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
+    """
+    module, attribute = at.split(":")
+    command = [sys.executable, "-c", _CHILD, module, attribute, str(after), str(int(signum)),
+               *map(str, args)]
+    return subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
