@@ -11,7 +11,10 @@ edges it finds in the finished image (``shaders/fxaa.glsl``). On a GPU multisamp
 free and better; a software rasteriser shades every sample on the CPU, where 4x MSAA about
 triples the frame time and FXAA adds about a third, so by default each gets its own. With FXAA
 the scene (grid included) is drawn into a texture sized like the output, which the pass then
-copies into the output, anti-aliased and the same way up.
+copies into the output, anti-aliased and the same way up. The scene's alpha marks the mesh, and
+the pass changes only pixels next to it (the grid's lines are anti-aliased already), so for the
+own framebuffer it covers just the mesh's box on screen and ``read`` takes the rest of the image
+from the scene texture: the pass then costs what the person's pixels cost, not the image's.
 """
 
 import moderngl
@@ -89,6 +92,7 @@ class Renderer:
         self.antialias = antialias
         self.samples = samples if antialias == "msaa" else 0
         self._scene = None  # FXAA's input: colour texture + depth, sized like the last target
+        self._fxaa_box = None  # where the last FXAA pass wrote the own framebuffer, if it did
         if antialias == "fxaa":
             self._fxaa_program = load_program(ctx, "fxaa")
             self._fxaa_vao = ctx.vertex_array(self._fxaa_program, [])
@@ -132,7 +136,8 @@ class Renderer:
         target.use()
         self.ctx.enable(moderngl.DEPTH_TEST)
         self.ctx.disable(moderngl.CULL_FACE)
-        target.clear(*self.background, 1.0, depth=1.0)
+        # FXAA's input keeps alpha 0 off the mesh: the pass leaves those pixels alone.
+        target.clear(*self.background, 0.0 if target is self._scene else 1.0, depth=1.0)
 
         facets = normals is None
         program = self._program(facets)
@@ -142,6 +147,7 @@ class Renderer:
             # returns top-down rows with no flipping copy. (Lighting is two-sided, so the
             # reversed winding changes nothing; FXAA copies without flipping.)
             projection = projection * np.array([1, -1, 1, 1], np.float32)
+        view_projection = np.asarray(camera.view_matrix()) @ np.asarray(projection)
         view, projection = camera.view_matrix().tobytes(), projection.tobytes()
         program["view"].write(view)
         program["projection"].write(projection)
@@ -150,15 +156,28 @@ class Renderer:
         if self.grid:
             self._draw_grid(target, camera, view, projection)
 
+        self._fxaa_box = None
         if target is self._multisample:
             self.ctx.copy_framebuffer(self.framebuffer, self._multisample)
+        elif target is not output and framebuffer is None:
+            # Only pixels near the mesh can change, so the pass covers the mesh's box on screen;
+            # ``read`` takes the rest of the image straight from the scene.
+            self._fxaa_box = _screen_box(positions, view_projection, self.size)
+            self._fxaa(output, self._fxaa_box)
         elif target is not output:
-            self._fxaa(output)
+            self._fxaa(output, output.viewport)
 
     def read(self):
         """The own framebuffer's pixels, (H, W, 3) uint8, first row at the top of the image."""
         pixels = np.empty((self.size[1], self.size[0], 3), np.uint8)
-        self.framebuffer.read_into(pixels, components=3, alignment=1)
+        if self._fxaa_box is None:
+            self.framebuffer.read_into(pixels, components=3, alignment=1)
+            return pixels
+        self._scene.read_into(pixels, components=3, alignment=1)
+        x, y, w, h = self._fxaa_box
+        if w and h:
+            box = self.framebuffer.read(viewport=self._fxaa_box, components=3, alignment=1)
+            pixels[y:y + h, x:x + w] = np.frombuffer(box, np.uint8).reshape(h, w, 3)
         return pixels
 
     def release(self):
@@ -237,13 +256,19 @@ class Renderer:
         _release_with_attachments(self._scene)
         self._scene = None
 
-    def _fxaa(self, output):
-        """Anti-alias the scene texture into ``output`` (one triangle covering its viewport)."""
+    def _fxaa(self, output, box):
+        """Anti-alias the scene texture into the ``box`` (x, y, width, height) of ``output``,
+        its viewport or a part of the own framebuffer (one triangle covering the box)."""
+        if not (box[2] and box[3]):
+            return
+        viewport = output.viewport
+        output.viewport = box
         output.use()
         self.ctx.disable(moderngl.DEPTH_TEST)
         self._scene.color_attachments[0].use(0)
-        self._fxaa_program["origin"].value = tuple(output.viewport[:2])
+        self._fxaa_program["origin"].value = tuple(viewport[:2])
         self._fxaa_vao.render(moderngl.TRIANGLES, vertices=3)
+        output.viewport = viewport
 
     def _draw_grid(self, target, camera, view, projection):
         program = self._grid_program
@@ -254,7 +279,9 @@ class Renderer:
         program["spacing"].value = 0.5
         program["line_colour"].value = tuple(min(c + 0.25, 1.0) for c in self.background)
         self.ctx.enable(moderngl.BLEND)
-        self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA
+        # The target's alpha stays as it was: FXAA reads it as "mesh here" (the grid's lines
+        # are anti-aliased already).
+        self.ctx.blend_func = moderngl.SRC_ALPHA, moderngl.ONE_MINUS_SRC_ALPHA, moderngl.ZERO, moderngl.ONE
         # The floor is see-through: it must not hide mesh parts below z = 0 drawn after it.
         target.depth_mask = False
         self._grid_vao.render(moderngl.TRIANGLE_STRIP)
@@ -266,6 +293,29 @@ def is_software(ctx):
     """Whether ``ctx`` rasterises on the CPU (``GL_RENDERER`` names one of ``SOFTWARE_RENDERERS``)."""
     renderer = ctx.info.get("GL_RENDERER", "").lower()
     return any(name in renderer for name in SOFTWARE_RENDERERS)
+
+
+def _screen_box(positions, view_projection, size, margin=2):
+    """The pixels (x, y, width, height) that the mesh's bounding box covers, ``margin`` pixels
+    wider on each side and clipped to the image; the whole image when part of the box is behind
+    the camera. ``view_projection`` is row-vector (pyrr) like the camera's matrices."""
+    width, height = size
+    if not len(positions):
+        return (0, 0, 0, 0)
+    # Column by column: numpy reduces an (N, 3) array over axis 0 about ten times slower.
+    low = [positions[:, k].min() for k in range(3)]
+    high = [positions[:, k].max() for k in range(3)]
+    corners = np.array([[x, y, z, 1.0] for x in (low[0], high[0]) for y in (low[1], high[1])
+                        for z in (low[2], high[2])])
+    clip = corners @ np.asarray(view_projection, np.float64)
+    if (clip[:, 3] <= 1e-6).any():
+        return (0, 0, width, height)
+    ndc = clip[:, :2] / clip[:, 3:]
+    x0, y0 = np.floor((ndc.min(axis=0) + 1) / 2 * size).astype(int) - margin
+    x1, y1 = np.ceil((ndc.max(axis=0) + 1) / 2 * size).astype(int) + margin
+    x0, x1 = min(max(x0, 0), width), min(max(x1, 0), width)
+    y0, y1 = min(max(y0, 0), height), min(max(y1, 0), height)
+    return (int(x0), int(y0), int(x1 - x0), int(y1 - y0))
 
 
 def _release_with_attachments(framebuffer):

@@ -17,6 +17,10 @@
 // The price is quality: long, nearly straight edges keep steps that FXAA's search would ramp
 // out; stair corners and curved silhouettes are smoothed.
 //
+// Only pixels with the mesh among the five are blended: the scene's alpha is 1 on the mesh and
+// 0 elsewhere (the floor grid draws its lines anti-aliased and leaves alpha alone), so the
+// renderer may run this pass over the mesh's box on screen alone.
+//
 // The scene holds sRGB-encoded colour, the perceptual scale FXAA is tuned for. Luma comes from all
 // three channels (not green alone, as FXAA may), so a red figure on the dark grey background
 // still shows an edge. The pass copies without flipping.
@@ -49,18 +53,21 @@ void main() {
     ivec2 last = textureSize(scene, 0) - 1;
     ivec2 p = ivec2(gl_FragCoord.xy) - origin;
     // Clamped: a texelFetch outside the texture is undefined.
-    vec3 m = texelFetch(scene, p, 0).rgb;
-    vec3 n = texelFetch(scene, ivec2(p.x, min(p.y + 1, last.y)), 0).rgb;
-    vec3 s = texelFetch(scene, ivec2(p.x, max(p.y - 1, 0)), 0).rgb;
-    vec3 e = texelFetch(scene, ivec2(min(p.x + 1, last.x), p.y), 0).rgb;
-    vec3 w = texelFetch(scene, ivec2(max(p.x - 1, 0), p.y), 0).rgb;
+    vec4 m4 = texelFetch(scene, p, 0);
+    vec4 n4 = texelFetch(scene, ivec2(p.x, min(p.y + 1, last.y)), 0);
+    vec4 s4 = texelFetch(scene, ivec2(p.x, max(p.y - 1, 0)), 0);
+    vec4 e4 = texelFetch(scene, ivec2(min(p.x + 1, last.x), p.y), 0);
+    vec4 w4 = texelFetch(scene, ivec2(max(p.x - 1, 0), p.y), 0);
+    vec3 m = m4.rgb, n = n4.rgb, s = s4.rgb, e = e4.rgb, w = w4.rgb;
+    // Alpha marks the mesh; pixels with no mesh among the five stay as drawn.
+    bool near_mesh = max(max(max(n4.a, s4.a), max(e4.a, w4.a)), m4.a) > 0.5;
     float luma_m = luma(m), luma_n = luma(n), luma_s = luma(s), luma_e = luma(e), luma_w = luma(w);
 
     float luma_max = max(max(max(luma_n, luma_s), max(luma_e, luma_w)), luma_m);
     float luma_min = min(min(min(luma_n, luma_s), min(luma_e, luma_w)), luma_m);
     float range = luma_max - luma_min;
     float stand_out = abs(0.25 * (luma_n + luma_s + luma_e + luma_w) - luma_m) / max(range, 1e-4);
-    float blend = range < max(EDGE_THRESHOLD_MIN, EDGE_THRESHOLD * luma_max) ? 0.0 : smoothstep(0.0, 1.0, stand_out);
+    float blend = !near_mesh || range < max(EDGE_THRESHOLD_MIN, EDGE_THRESHOLD * luma_max) ? 0.0 : smoothstep(0.0, 1.0, stand_out);
     frag_colour = vec4(mix(m, 0.25 * (n + s + e + w), STRENGTH * blend), 1.0);
 }
 

@@ -5,6 +5,7 @@ reference images in ``tests/reference`` change only when the renderer does
 (``tests/regen_references.py`` rewrites them).
 """
 
+import dataclasses
 import os
 from pathlib import Path
 from types import SimpleNamespace
@@ -285,6 +286,51 @@ def test_a_given_framebuffer_gets_the_same_picture_upright_at_its_own_size(ctx, 
         # Upright and at the target's size: the same picture as the renderer's own output
         # (a flipped image differs by several levels on average).
         assert np.abs(image.astype(float) - reference).mean() < 0.5
+
+
+@pytest.mark.parametrize("view", ["framed", "close", "inside"])
+def test_fxaa_on_the_meshs_box_equals_a_pass_over_the_whole_image(ctx, view):
+    # The own framebuffer gets FXAA only on the mesh's box on screen, a window's the whole
+    # pass: both must give the same picture, grid included, also when the mesh leaves the frame
+    # or the eye is inside the mesh's bounding box.
+    source = scene_source()
+    mesh = source.frame_mesh(("figure", 0))
+    camera = Camera.framing(source.bounds(), 4 / 3).orbit(20)
+    camera = {"framed": camera, "close": dataclasses.replace(camera, distance=0.45 * camera.distance),
+              "inside": dataclasses.replace(camera, distance=0.3)}[view]
+    renderer = Renderer(ctx, SIZE, antialias="fxaa", grid=True)
+    target = ctx.simple_framebuffer(SIZE, components=4)
+    try:
+        renderer.draw(mesh, camera)
+        own = renderer.read()
+        renderer.draw(mesh, camera, framebuffer=target)
+        whole = np.frombuffer(target.read(components=3, alignment=1), np.uint8).reshape(own.shape)[::-1]
+    finally:
+        renderer.framebuffer.use()
+        target.release()
+        renderer.release()
+    assert foreground(own).any()
+    difference = np.abs(own.astype(int) - whole).max(axis=2)
+    # Drawn upside down, the grid's blending may round a few pixels the other way.
+    assert difference.max() <= 2 and (difference > 0).mean() < 0.001, (difference > 0).sum()
+
+
+def test_the_fxaa_box_holds_every_vertex_and_is_the_whole_image_when_the_mesh_reaches_behind_the_eye():
+    from player.renderer import _screen_box
+
+    camera = Camera(target=(0, 0, 1), azimuth=-90, elevation=0, distance=3, aspect=4 / 3)
+    matrix = np.asarray(camera.view_matrix()) @ np.asarray(camera.projection_matrix())
+    points = np.random.default_rng(0).uniform((-0.4, -0.3, 0.0), (0.4, 0.3, 1.8), (500, 3))
+    x, y, w, h = _screen_box(points, matrix, SIZE)
+    clip = np.c_[points, np.ones(len(points))] @ matrix
+    pixel = np.clip((clip[:, :2] / clip[:, 3:] + 1) / 2 * SIZE, 0, SIZE)  # the box ends at the image's
+    assert 0 < w < SIZE[0] and 0 < h < SIZE[1]
+    assert (pixel >= (x, y)).all() and (pixel <= (x + w, y + h)).all()
+    # The eye at (0, -3, 1): a mesh stretching from in front of it to behind it.
+    assert np.allclose(camera.eye, (0, -3, 1))
+    around_the_eye = np.array([[0.0, -2.0, 1.0], [0.1, -3.5, 1.1]])
+    assert _screen_box(around_the_eye, matrix, SIZE) == (0, 0, *SIZE)
+    assert _screen_box(np.zeros((0, 3)), matrix, SIZE)[2:] == (0, 0)
 
 
 def test_render_frame_fits_the_subject_in_view(ctx):
