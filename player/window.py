@@ -356,7 +356,8 @@ class Window:
             glfw.KEY_LEFT: "left", glfw.KEY_RIGHT: "right", glfw.KEY_UP: "up", glfw.KEY_DOWN: "down",
             glfw.KEY_KP_ADD: "kp_add", glfw.KEY_KP_SUBTRACT: "kp_subtract"}
         self.redraws = 0
-        self._redraw_s = 0.0        # how long a camera redraw takes (moving average)
+        self._redraw_s = 0.0        # how long a camera redraw takes (80th percentile of recent ones)
+        self._redraw_times = []     # recent camera redraws, seconds
         self._swap_s = 0.0          # how long a swap takes (moving average)
         self._prepare_s = 0.0       # how long before its slot a sequence frame is started
         self._prepares = []         # recent times to fetch, upload and draw a sequence frame
@@ -446,7 +447,10 @@ class Window:
     def _learn(self, began, ready, swapping, shown, new_frame):
         """Track how long drawing and swapping take, to start each sequence frame in time."""
         if not new_frame:
-            self._redraw_s = 0.8 * self._redraw_s + 0.2 * (shown - began)
+            # A redraw that does not fit before the next sequence frame's start is put off;
+            # one that overruns a little is absorbed by the start's own margin.
+            self._redraw_times = (self._redraw_times + [shown - began])[-30:]
+            self._redraw_s = sorted(self._redraw_times)[int(0.8 * (len(self._redraw_times) - 1))]
             return
         # Only sequence frames are finished before their swap, so only their swaps tell how
         # long presenting a finished frame takes.
@@ -456,9 +460,9 @@ class Window:
         if self.app.frames_shown == 1:
             work = min(work, 0.25 * self.app.period)   # the first frame also compiled shaders
         self._prepares = (self._prepares + [work])[-20:]
-        # Start early enough for all but an outlier among recent frames: starting early costs
-        # only a wait, starting late makes the frame late.
-        prepare = sorted(self._prepares)[int(0.9 * (len(self._prepares) - 1))] + self._swap_s + 0.002
+        # Start early enough for the slowest recent frame, and a little more: starting early
+        # costs only a wait, starting late makes the frame late.
+        prepare = max(self._prepares) + self._swap_s + 0.004
         self._prepare_s = min(prepare, 0.5 * self.app.period)
 
     def close(self):
