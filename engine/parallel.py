@@ -105,10 +105,10 @@ class Workers:
                                                  processes=True, dashboard_address=None)
                     self._client = Client(self._cluster)
                 else:
+                    _check_address(self.dask)
                     self._client = Client(self.dask, timeout=10)
             except ValueError as error:
-                # distributed parses the address only now: "missing port number", "unknown
-                # address scheme", a port that is not a number.
+                # "missing port number", "unknown address scheme", a port that is not a number.
                 raise TvmError(f"--dask {self.dask} is not a scheduler address ({error}); give one "
                                "such as tcp://host:8786, or local to start one here.") from None
             except (OSError, TimeoutError) as error:
@@ -163,3 +163,18 @@ class Workers:
         if self._cluster is not None:
             self._cluster.close()
             self._cluster = None
+
+
+def _check_address(address):
+    """Raise ValueError for a scheduler address that cannot be one, before any connection.
+
+    A ``Client`` finds out only once its event loop runs, which takes a second and has been
+    seen to hang; distributed's own parsers answer at once, with its own messages.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    scheme, location = parse_address(address)
+    get_backend(scheme)
+    if scheme in ("tcp", "tls"):
+        parse_host_port(location)
