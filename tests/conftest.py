@@ -59,6 +59,17 @@ def take_13_29():
     return mocap_take("13_29")
 
 
+@pytest.fixture(scope="session")
+def ctx():
+    """The shared headless (EGL) OpenGL context; the test skips, saying why, where there is none."""
+    from player.context import ContextError, shared_headless_context
+
+    try:
+        return shared_headless_context()
+    except ContextError as error:
+        pytest.skip(str(error))
+
+
 def synth_take(preset, **options):
     """Folder of a take made by the synthetic actor (:func:`engine.synth.generate` options)."""
     from engine import synth

@@ -19,7 +19,6 @@ import trimesh
 import player
 from engine.errors import InputError
 from player.camera import Camera
-from player.context import ContextError, shared_headless_context
 from player.renderer import ANTIALIAS, BACKGROUND, Renderer, is_software
 
 pytestmark = pytest.mark.gl
@@ -96,14 +95,6 @@ def _render(ctx, mesh, camera, size=SIZE, **options):
         return renderer.read()
     finally:
         renderer.release()
-
-
-@pytest.fixture(scope="module")
-def ctx():
-    try:
-        return shared_headless_context()
-    except ContextError as error:
-        pytest.skip(str(error))
 
 
 @pytest.fixture(autouse=True)

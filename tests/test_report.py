@@ -27,16 +27,6 @@ SECTIONS = ["Motion structure", "Motion database", "Motion graph", "Transitions"
 
 
 @pytest.fixture(scope="module")
-def egl():
-    from player.context import ContextError, shared_headless_context
-
-    try:
-        return shared_headless_context()
-    except ContextError as error:
-        pytest.skip(str(error))
-
-
-@pytest.fixture(scope="module")
 def take():
     return synth_take("gym", motions=["walk", "jumping-jacks", "arm-circles", "side-bends"],
                       cycles=4, vertices=3000)
@@ -69,7 +59,7 @@ def _report(lib, out, capsys, *flags):
 
 
 @pytest.fixture(scope="module")
-def report(egl, library, tmp_path_factory):
+def report(ctx, library, tmp_path_factory):
     from player.report import write_report
 
     out = tmp_path_factory.mktemp("report") / "gym-report"
@@ -83,7 +73,7 @@ def _images(page):
             for m in re.finditer(r"<img src='([^']+)' width='(\d+)' height='(\d+)'", page)]
 
 
-def test_the_cli_prints_the_page_it_wrote_and_draws_pruned_edges_on_request(egl, library, tmp_path, capsys):
+def test_the_cli_prints_the_page_it_wrote_and_draws_pruned_edges_on_request(ctx, library, tmp_path, capsys):
     page, summary = _report(library, tmp_path / "out", capsys, "--show-pruned")
     assert all(f">{title}</h2>" in page for title in SECTIONS)
     assert not list(tmp_path.glob(".out.partial-*"))
@@ -166,7 +156,7 @@ def test_transitions_are_listed_by_weight_with_frame_pairs_at_both_ends(report, 
     assert all((out / rows[k]["image"]).is_file() for k in with_pairs)
 
 
-def test_a_library_without_truth_reports_without_ground_truth(egl, library_without_truth, tmp_path, capsys):
+def test_a_library_without_truth_reports_without_ground_truth(ctx, library_without_truth, tmp_path, capsys):
     page, summary = _report(library_without_truth, tmp_path / "out", capsys)
     for title in SECTIONS:
         assert f">{title}</h2>" in page
@@ -197,7 +187,7 @@ def test_pruned_edges_are_hidden_unless_asked_for(tmp_path):
     assert (a != b).any()
 
 
-def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(egl, library, tmp_path):
+def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(ctx, library, tmp_path):
     from player.report import write_report
 
     class Broken:
