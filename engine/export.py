@@ -14,11 +14,10 @@ so a mistyped ``-o`` never deletes a capture.
 """
 
 import json
-import os
 import re
-import shutil
 from pathlib import Path
 
+from . import atomic
 from .errors import TvmError
 from .plyfast import write_ply
 
@@ -35,9 +34,7 @@ def _check_target(out, overwrite):
         raise TvmError(f"{out} exists and is not a folder; choose another -o.")
     if not overwrite:
         raise TvmError(f"{out} already exists; choose another folder or pass --force to replace it.")
-    here = Path.cwd().resolve()
-    target = out.resolve()
-    if target == here or target in here.parents:
+    if atomic.holds_cwd(out):
         raise TvmError(f"{out} is the current folder or holds it, so --force will not replace it; "
                        "choose a new folder for -o.")
     names = [p.name for p in out.iterdir()]
@@ -66,10 +63,9 @@ def export_edit(edit, out, overwrite=False, progress=False):
     library = edit.library
     out = Path(out)
     _check_target(out, overwrite)
-    tmp = out.parent / f".{out.name}.tmp-{os.getpid()}"
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir(parents=True)
-    try:
+    out.parent.mkdir(parents=True, exist_ok=True)
+    # Checked again before the swap: the folder may have changed meanwhile.
+    with atomic.replacing_folder(out, recheck=lambda target: _check_target(target, overwrite)) as tmp:
         frames = []
         schedule = edit.schedule
         iterator = schedule
@@ -93,18 +89,6 @@ def export_edit(edit, out, overwrite=False, progress=False):
         }
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
         (tmp / "sequence.json").write_text(json.dumps({"fps": record["fps"], "name": out.name}))
-        _check_target(out, overwrite)  # checked again: the folder may have changed meanwhile
-        if out.exists():
-            # The previous export goes aside first, so no moment leaves neither of the two.
-            old = out.parent / f".{out.name}.old-{os.getpid()}"
-            os.replace(out, old)
-            os.replace(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return record
 
 

@@ -33,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import atomic
 from .errors import InputError
 from .parallel import _watch_parent
 from .plyfast import write_ply
@@ -537,7 +538,5 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
                       "transition_s": TRANSITION_S, "cycle_periods_s": [
                           [round(p, 4) for p in per] for per in periods]},
     }
-    part = out / "truth.json.part"
-    part.write_text(json.dumps(truth, indent=1))
-    os.replace(part, out / "truth.json")
+    atomic.write_text(out / "truth.json", json.dumps(truth, indent=1))
     return truth

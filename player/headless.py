@@ -8,8 +8,6 @@ the target and renamed at the end, so a failure never leaves a half-written file
 
 import contextlib
 import math
-import os
-import shutil
 from pathlib import Path
 
 import imageio.v3 as iio
@@ -17,6 +15,7 @@ import imageio_ffmpeg
 import numpy as np
 from tqdm import tqdm
 
+from engine import atomic
 from player.camera import Camera
 from player.context import shared_headless_context
 from player.font import draw_text
@@ -76,24 +75,17 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     if kind == "folder" and out.exists() and not _is_frame_folder(out):
         raise FileExistsError(f"{out} exists and holds other files than rendered frames; choose another output")
     out.parent.mkdir(parents=True, exist_ok=True)
-    temporary = out.with_name(f".{out.stem}.partial-{os.getpid()}{out.suffix}")
-
     base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
     bar = tqdm(keys, desc=f"render {out.name}", unit="frame", disable=not progress)
+    # A folder is swapped in whole; a file is written under a temporary name with its suffix.
+    target = atomic.replacing_folder(out) if kind == "folder" else atomic.replacing_file(out)
     try:
-        with _renderer(source, (width, height), grid, background, samples) as renderer:
+        with target as temporary, _renderer(source, (width, height), grid, background, samples) as renderer:
             frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps))
                       for i, key in enumerate(bar))
             _WRITERS[kind](frames, temporary, (width, height), fps)
-        if kind == "folder" and out.exists():
-            shutil.rmtree(out)
-        os.replace(temporary, out)
     finally:
         bar.close()
-        if temporary.is_dir():
-            shutil.rmtree(temporary)
-        elif temporary.exists():
-            temporary.unlink()
     return out
 
 
@@ -147,12 +139,8 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
             sheet[r * th:(r + 1) * th, c * tw:(c + 1) * tw] = image
     out_png = Path(out_png)
     out_png.parent.mkdir(parents=True, exist_ok=True)
-    temporary = out_png.with_name(f".{out_png.stem}.partial-{os.getpid()}.png")
-    try:
-        iio.imwrite(temporary, sheet)
-        os.replace(temporary, out_png)
-    finally:
-        temporary.unlink(missing_ok=True)
+    with atomic.replacing_file(out_png) as temporary:
+        iio.imwrite(temporary, sheet, extension=".png")
     return sheet
 
 
@@ -200,7 +188,6 @@ def _write_gif(frames, path, size, fps):
 
 
 def _write_folder(frames, path, size, fps):
-    path.mkdir()
     for i, image in enumerate(frames):
         iio.imwrite(path / FRAME_PATTERN.format(i), image)
 

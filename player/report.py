@@ -30,13 +30,12 @@ only when a figure is drawn; figures draw with Agg, so no display is needed.
 import html
 import json
 import math
-import os
-import shutil
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from engine import atomic
 from engine.errors import TvmError
 
 #: Largest |detected - true| cluster start that counts as a hit, in seconds (rounded to
@@ -291,22 +290,12 @@ def write_report(library, out, show_pruned=False, progress=True, source=None):
     if out.exists() and not _is_report(out):
         raise TvmError(f"{out} exists and is not a report folder; choose another output folder")
     out.parent.mkdir(parents=True, exist_ok=True)
-    temporary = out.with_name(f".{out.name}.partial-{os.getpid()}")
-    if temporary.exists():
-        shutil.rmtree(temporary)
-    temporary.mkdir()
     say = _say if progress else (lambda *a: None)
-    try:
+    with atomic.replacing_folder(out) as temporary:
         page = _Report(library, source if source is not None else library, temporary, say)
         html_text, summary = page.build(show_pruned)
         (temporary / "index.html").write_text(html_text, encoding="utf-8")
         (temporary / "report.json").write_text(json.dumps(summary, indent=1, allow_nan=False), encoding="utf-8")
-        if out.exists():
-            shutil.rmtree(out)
-        os.replace(temporary, out)
-    finally:
-        if temporary.exists():
-            shutil.rmtree(temporary)
     return out / "index.html"
 
 

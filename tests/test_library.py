@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from engine import Library, LibraryError, UnknownMotion, build
-from engine.builder import cache_dir, expand_inputs
+from engine.builder import expand_inputs
+from engine.featcache import cache_dir
 from engine.normals import vertex_normals
 from engine.database import build_database
 from engine.errors import InputError, TvmError

@@ -1,0 +1,385 @@
+"""The library's on-disk format, written and read in this one place.
+
+A library is a directory written by :func:`engine.build` and opened by
+:class:`engine.library.Library`; nothing in it is parsed while playing. Its files:
+
+``manifest.json``
+    format version, tvmedit version, build parameters, and per sequence its name, fps,
+    frame count, rows in ``features.npy``, r width, origin, feature cache key, frame files
+    (resolved path, size, mtime_ns) and skipped frames; the size of every file below (checked
+    on open), the bounds of the stored meshes and their largest vertex and face counts.
+``features.npy``
+    (T, D) float32: one feature vector per frame of every sequence in order (eq. (1)-(4)),
+    r histograms zero-padded to the library's widest, then theta, then phi.
+``structure.json``
+    per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
+``database.json``
+    the motion database (section 5): nodes with id, default name, sequence, inclusive frame
+    range, cluster, texton distance and intensity.
+``graph.json``
+    the complete graph's weights ``[[i, j, w], ...]`` (eq. (12)), transition frames
+    ``[[i, j, exit, entry], ...]`` (eq. (10), frames within each node's sequence) and mu; the
+    pruned graph (eq. (14)) is rebuilt from them on open.
+``graph.graphml``
+    the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
+``positions.npy``, ``colours.npy``, ``normals.npy``
+    (V, 3) float32, uint8, float32: vertices of every stored frame, one after another.
+``faces.npy``
+    (F, 3) uint32, indices local to each frame.
+``frames.npy``
+    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
+``frame_keys.npy``
+    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
+``names.json``
+    optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
+
+Only the frames of database textons are stored. Every array opens with
+``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
+"""
+
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import atomic
+from .errors import LibraryError
+
+__all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", "write_json",
+           "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
+           "write_manifest", "read_manifest", "is_library", "load_array", "read_json",
+           "read_names", "write_names", "tvmedit_version"]
+
+#: On-disk format version; a library of another version must be rebuilt.
+FORMAT = 1
+
+#: Files whose sizes the manifest records and :func:`read_manifest` checks.
+CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
+                 "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy")
+
+#: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
+MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
+               ("faces", np.uint32, 3))
+
+
+def tvmedit_version():
+    """The installed tvmedit's version, recorded in every manifest."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("tvmedit")
+    except PackageNotFoundError:  # running from a source tree that was never installed
+        return "0.0.0+unknown"
+
+
+# --- writing ------------------------------------------------------------------------------
+
+def _json_default(value):
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, tuple):
+        return list(value)
+    if dataclasses.is_dataclass(value):
+        return dataclasses.asdict(value)
+    raise TypeError(f"cannot store {type(value).__name__} in JSON")
+
+
+def write_json(path, data):
+    """Write ``data`` compactly (numpy scalars and arrays, tuples and dataclasses allowed)."""
+    Path(path).write_text(json.dumps(data, default=_json_default, separators=(",", ":")))
+
+
+class NpyStream:
+    """An ``.npy`` file of rows appended in pieces, whose length is known only at the end.
+
+    The header is written last, into a fixed 128 bytes reserved at the start (numpy's own
+    header for a 2-D array is that long), so the rows go straight to disk and are never
+    copied.
+    """
+
+    HEADER = 128
+
+    def __init__(self, path, dtype, width):
+        self.path, self.dtype, self.width, self.rows = path, np.dtype(dtype), width, 0
+        self.handle = open(path, "wb")
+        self.handle.write(b"\0" * self.HEADER)
+
+    def append(self, array):
+        array = np.ascontiguousarray(array, dtype=self.dtype)
+        self.handle.write(memoryview(array).cast("B"))
+        self.rows += len(array)
+
+    def close(self):
+        header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
+                  "shape": (self.rows, self.width)}
+        text = repr(header).encode("latin1")
+        length = self.HEADER - 10
+        if len(text) + 1 > length:
+            raise ValueError(f"npy header too long for {self.path}")
+        self.handle.seek(0)
+        self.handle.write(b"\x93NUMPY\x01\x00" + length.to_bytes(2, "little")
+                          + text + b" " * (length - len(text) - 1) + b"\n")
+        self.handle.close()
+
+
+class MeshWriter:
+    """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
+
+    ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
+    """
+
+    def __init__(self, folder):
+        folder = Path(folder)
+        self._arrays = {name: NpyStream(folder / f"{name}.npy", dtype, width)
+                        for name, dtype, width in MESH_ARRAYS}
+        self._offsets = NpyStream(folder / "frames.npy", np.int64, 4)
+        self._keys = NpyStream(folder / "frame_keys.npy", np.int64, 2)
+        self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
+        self._starts = [0, 0]
+        self.frames = 0
+        self.max_counts = (0, 0)
+
+    def add(self, sequence_index, frame, positions, colours, faces, normals):
+        """Append frame ``frame`` of the ``sequence_index``-th sequence."""
+        for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
+                            ("faces", faces)):
+            self._arrays[name].append(array)
+        v0, f0 = self._starts
+        self._offsets.append(np.array([[v0, len(positions), f0, len(faces)]]))
+        self._keys.append(np.array([[sequence_index, frame]]))
+        self._starts = [v0 + len(positions), f0 + len(faces)]
+        self.max_counts = (max(self.max_counts[0], len(positions)), max(self.max_counts[1], len(faces)))
+        np.minimum(self._low, positions.min(axis=0), out=self._low)
+        np.maximum(self._high, positions.max(axis=0), out=self._high)
+        self.frames += 1
+
+    @property
+    def bounds(self):
+        """``(low, high)`` corners over every frame added (zeros when none)."""
+        if not self.frames:
+            return [0.0] * 3, [0.0] * 3
+        return self._low.tolist(), self._high.tolist()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        for stream in (*self._arrays.values(), self._offsets, self._keys):
+            stream.close()
+
+
+def graph_to_json(graph):
+    """What ``graph.json`` holds: the complete graph's weights, transition frames and mu."""
+    unpruned = graph.graph["unpruned"]
+    transitions = graph.graph["transitions"]
+    return {
+        "mu": graph.graph["mu"],
+        "unpruned": [[int(i), int(j), float(w)] for (i, j), w in sorted(unpruned.items())],
+        "transitions": [[int(i), int(j), int(a), int(b)] for (i, j), (a, b) in sorted(transitions.items())],
+    }
+
+
+def write_graphml(graph, path):
+    """Export the pruned graph as GraphML (only mu among the graph attributes), atomically."""
+    import networkx as nx
+
+    plain = nx.DiGraph(mu=float(graph.graph["mu"]))
+    for i, data in graph.nodes(data=True):
+        plain.add_node(i, **{k: v for k, v in data.items() if v is not None})
+    plain.add_edges_from(graph.edges(data=True))
+    with atomic.replacing_file(path) as tmp:
+        nx.write_graphml(plain, tmp)
+
+
+def sequence_record(name, fps, rows, features, feature_key, files, skipped):
+    """One sequence's entry in the manifest; ``features`` are its own (unpadded) ones."""
+    return {
+        "name": name,
+        "fps": fps,
+        "frames": rows[1] - rows[0],
+        "rows": list(rows),
+        "r_bins": int(features.r.shape[1]),
+        "origin": [float(x) for x in features.origin],
+        "feature_key": feature_key,
+        "files": files,
+        "skipped": [list(s) for s in skipped],
+    }
+
+
+def manifest(records, params, feature_columns, counts, bounds, max_counts):
+    """The manifest's contents but for the file sizes (added by :func:`write_manifest`)."""
+    return {
+        "format": FORMAT,
+        "tvmedit": tvmedit_version(),
+        "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "params": json.loads(json.dumps(params, default=_json_default)),
+        "feature_columns": feature_columns,
+        "sequences": records,
+        "counts": counts,
+        "bounds": [list(bounds[0]), list(bounds[1])],
+        "max_counts": list(max_counts),
+    }
+
+
+def write_manifest(folder, data):
+    """Record the sizes of the :data:`CHECKED_FILES` in ``folder`` and write ``manifest.json`` last."""
+    folder = Path(folder)
+    data = dict(data, files={path.name: path.stat().st_size for path in sorted(folder.iterdir())
+                             if path.name in CHECKED_FILES})
+    write_json(folder / "manifest.json", data)
+
+
+# --- reading ------------------------------------------------------------------------------
+
+def _rebuild_hint(path):
+    return f"rebuild it with `tvmedit build INPUT... -o {path} --force`"
+
+
+def _not_a_library(path):
+    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
+    from .load import MESH_SUFFIXES
+
+    try:
+        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
+    except OSError:
+        frames = False
+    if frames:
+        plain = path if path.name not in ("", ".", "..") else path.resolve()
+        target = plain.with_name(f"{plain.name}.tvmlib")
+        return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
+                f"build a library from it with `tvmedit build {path} -o {target}`.")
+    return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
+            "or build one with `tvmedit build INPUT... -o LIB`.")
+
+
+def is_library(path):
+    """Whether ``path`` holds a tvmedit library's manifest (what ``--force`` may replace)."""
+    try:
+        data = json.loads((Path(path) / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(data, dict) and "format" in data and "tvmedit" in data
+
+
+def read_manifest(path):
+    """The manifest of the library at ``path``, its format and file sizes checked.
+
+    Raises
+    ------
+    LibraryError
+        When ``path`` is not a library, is of another format version, or misses or
+        has a truncated file; the message says how to rebuild it.
+    """
+    path = Path(path)
+    manifest_path = path / "manifest.json"
+    if not manifest_path.is_file():
+        leftovers = sorted(path.parent.glob(f".{path.name}.old-*"))
+        if leftovers and not path.exists():
+            raise LibraryError(f"no library at {path}, but an interrupted build left the previous "
+                               f"one at {leftovers[0]}; rename it back to {path.name}.")
+        if path.is_dir():
+            raise LibraryError(_not_a_library(path))
+        raise LibraryError(f"no library at {path}; build one with `tvmedit build INPUT... -o {path}`.")
+    try:
+        data = json.loads(manifest_path.read_text())
+    except (OSError, ValueError) as error:
+        raise LibraryError(f"library {path} has an unreadable manifest.json ({error}); "
+                           f"{_rebuild_hint(path)}.") from None
+    version = data.get("format") if isinstance(data, dict) else None
+    if version != FORMAT:
+        raise LibraryError(f"library {path} has format version {version} but this tvmedit "
+                           f"reads version {FORMAT}; {_rebuild_hint(path)}.")
+    for name, size in data.get("files", {}).items():
+        try:
+            actual = (path / name).stat().st_size
+        except OSError:
+            raise LibraryError(f"library {path} is incomplete: {name} is missing; "
+                               f"{_rebuild_hint(path)}.") from None
+        if actual != size:
+            raise LibraryError(f"library {path} is damaged: {name} has {actual} bytes where "
+                               f"{size} were written (truncated or changed); {_rebuild_hint(path)}.")
+    return data
+
+
+def damaged(path, error):
+    """The LibraryError for a library whose files cannot be read as the format says."""
+    return LibraryError(f"library {path} cannot be read ({type(error).__name__}: {error}); "
+                        f"{_rebuild_hint(path)}.")
+
+
+def read_json(path, name):
+    """The JSON file ``name`` of the library at ``path``."""
+    return json.loads((Path(path) / name).read_text())
+
+
+def load_array(path, name):
+    """Array file ``name`` of the library at ``path``, memory-mapped."""
+    try:
+        return np.load(Path(path) / name, mmap_mode="r")
+    except (OSError, ValueError) as error:
+        raise LibraryError(f"library {path} has an unreadable {name} ({error}); "
+                           f"{_rebuild_hint(path)}.") from None
+
+
+def read_graph(path):
+    """``(unpruned, transitions, mu)`` from ``graph.json``: ``{(i, j): w}``, ``{(i, j): (exit, entry)}``."""
+    data = read_json(path, "graph.json")
+    unpruned = {(i, j): w for i, j, w in data["unpruned"]}
+    transitions = {(i, j): (a, b) for i, j, a, b in data["transitions"]}
+    return unpruned, transitions, float(data["mu"])
+
+
+def read_names(path):
+    """The names given with ``rename`` (``{"id": "name"}``), checked; ``{}`` when none."""
+    names_path = Path(path) / "names.json"
+    if not names_path.exists():
+        return {}
+    try:
+        names = json.loads(names_path.read_text())
+    except ValueError as error:
+        raise LibraryError(f"{names_path} is not valid JSON ({error}); fix it or delete it "
+                           "to go back to the default names.") from None
+    _check_names(names_path, names)
+    return names
+
+
+def write_names(path, names):
+    """Store ``names`` (``{"id": "name"}``) in ``names.json`` atomically."""
+    target = Path(path) / "names.json"
+    try:
+        atomic.write_text(target, json.dumps(names, indent=1, sort_keys=True))
+    except OSError as error:
+        raise LibraryError(f"cannot write {target} ({error.strerror}); "
+                           "check that the library is writable.") from None
+
+
+def _check_names(names_path, names):
+    """``names.json`` is edited by hand at times: it must map ids to names, as rename writes it."""
+    if not isinstance(names, dict):
+        shown = json.dumps(names)
+        shown = shown if len(shown) <= 40 else shown[:37] + "..."
+        raise LibraryError(f"{names_path} must hold a JSON object of motion names such as "
+                           f"{{\"3\": \"squats\"}}, not {shown}; fix it or delete it "
+                           "to go back to the default names.")
+    for key, name in names.items():
+        if not key.strip().isdigit() or not isinstance(name, str) or not name.strip() or name.strip().isdigit():
+            raise LibraryError(f"{names_path} maps {key!r} to {name!r}, but it must map motion ids to "
+                               "names with at least one non-digit, such as {\"3\": \"squats\"}; "
+                               "fix it or delete it to go back to the default names.")
+
+
+def check_unique(path, nodes):
+    """Names applied from ``names.json`` must not give two motions one name."""
+    seen = {}
+    for node in nodes:
+        if node.name in seen:
+            raise LibraryError(f"{Path(path) / 'names.json'} gives motions {seen[node.name]} and "
+                               f"{node.id} the same name {node.name!r}; fix it or delete it to go "
+                               "back to the default names.")
+        seen[node.name] = node.id
