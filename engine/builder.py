@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import atomic, featcache, libformat
-from .errors import InputError, LibraryError, TvmError
+from .errors import InputError, TvmError
 from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
 from .load import open_sequence, read_frame
 from .normals import vertex_normals
@@ -359,20 +359,10 @@ def _open_inputs(inputs, fps, log):
     return sequences
 
 
-def _check_target(out, force):
-    if out.is_file():
-        raise LibraryError(f"{out} is a file; give a directory name for the library.")
-    if out.exists():
-        is_library = libformat.is_library(out)
-        if not is_library and any(out.iterdir()):
-            raise LibraryError(f"{out} exists and is not a tvmedit library (no tvmedit manifest.json), "
-                               "so it is not replaced; choose another -o or remove it yourself.")
-        if is_library and not force:
-            raise LibraryError(f"library {out} already exists; add --force to replace it.")
-        here = Path.cwd().resolve()
-        if is_library and (out.resolve() == here or out.resolve() in here.parents):
-            raise LibraryError(f"library {out} is the current folder or holds it, so it is not "
-                               "replaced; run the build from outside it.")
+def _check_target(out, force, sequences):
+    """Refuse an ``out`` that is not a library of ours, holds user files or lies in an input."""
+    inputs = {str(Path(path).parent) for seq in sequences for path in seq.paths}
+    atomic.check_target(out, "library", force, inputs=sorted(inputs), legacy=libformat.legacy_foreign)
 
 
 def _open_old(out):
@@ -433,9 +423,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     sequences = _open_inputs(inputs, fps, log)
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
-    _check_target(out, force)
+    _check_target(out, force, sequences)
     old = _open_old(out)
-    with atomic.replacing_folder(out, recheck=lambda target: _check_target(target, force)) as tmp:
+    recheck = lambda target: _check_target(target, force, sequences)  # noqa: E731
+    with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
             computed = run.stage("features", lambda: [
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)

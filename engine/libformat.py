@@ -49,7 +49,7 @@ from .errors import LibraryError
 
 __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
-           "write_manifest", "read_manifest", "is_library", "load_array", "read_json",
+           "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version"]
 
 #: On-disk format version; a library of another version must be rebuilt.
@@ -237,8 +237,18 @@ def write_manifest(folder, data):
 
 # --- reading ------------------------------------------------------------------------------
 
+def build_call(inputs, out, force=False):
+    """How to (re)build a library, said in Python; the command line says it as a command.
+
+    >>> build_call(None, "lib", force=True)
+    "build(inputs, 'lib', force=True)"
+    """
+    sources = "inputs" if inputs is None else repr([str(i) for i in inputs])
+    return f"build({sources}, {str(out)!r}{', force=True' if force else ''})"
+
+
 def _rebuild_hint(path):
-    return f"rebuild it with `tvmedit build INPUT... -o {path} --force`"
+    return f"rebuild it with {build_call(None, path, force=True)}"
 
 
 def _not_a_library(path):
@@ -253,18 +263,24 @@ def _not_a_library(path):
         plain = path if path.name not in ("", ".", "..") else path.resolve()
         target = plain.with_name(f"{plain.name}.tvmlib")
         return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
-                f"build a library from it with `tvmedit build {path} -o {target}`.")
+                f"build a library from it with {build_call([path], target)}.")
     return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
-            "or build one with `tvmedit build INPUT... -o LIB`.")
+            f"or build one with {build_call(None, path)}.")
 
 
-def is_library(path):
-    """Whether ``path`` holds a tvmedit library's manifest (what ``--force`` may replace)."""
-    try:
-        data = json.loads((Path(path) / "manifest.json").read_text())
-    except (OSError, ValueError):
-        return False
-    return isinstance(data, dict) and "format" in data and "tvmedit" in data
+#: Every file a library may hold besides the marker.
+LIBRARY_FILES = (*CHECKED_FILES, "manifest.json", "graph.graphml", "names.json")
+
+
+def legacy_foreign(path):
+    """For a library built before the ownership marker: the files in it that a build did not write.
+
+    None when ``path`` is not such a library (see :func:`engine.atomic.check_target`).
+    """
+    if atomic.owner(path) != "library":
+        return None
+    return sorted(str(p.relative_to(path)) for p in Path(path).rglob("*")
+                  if str(p.relative_to(path)) not in LIBRARY_FILES)
 
 
 def read_manifest(path):
@@ -285,7 +301,7 @@ def read_manifest(path):
                                f"one at {leftovers[0]}; rename it back to {path.name}.")
         if path.is_dir():
             raise LibraryError(_not_a_library(path))
-        raise LibraryError(f"no library at {path}; build one with `tvmedit build INPUT... -o {path}`.")
+        raise LibraryError(f"no library at {path}; build one with {build_call(None, path)}.")
     try:
         data = json.loads(manifest_path.read_text())
     except (OSError, ValueError) as error:
@@ -293,8 +309,9 @@ def read_manifest(path):
                            f"{_rebuild_hint(path)}.") from None
     version = data.get("format") if isinstance(data, dict) else None
     if version != FORMAT:
-        raise LibraryError(f"library {path} has format version {version} but this tvmedit "
-                           f"reads version {FORMAT}; {_rebuild_hint(path)}.")
+        shown = "no format version" if version is None else f"format version {version!r}"
+        raise LibraryError(f"library {path} has {shown} but this tvmedit reads version "
+                           f"{FORMAT!r}; {_rebuild_hint(path)}.")
     for name, size in data.get("files", {}).items():
         try:
             actual = (path / name).stat().st_size
@@ -354,6 +371,7 @@ def write_names(path, names):
     target = Path(path) / "names.json"
     try:
         atomic.write_text(target, json.dumps(names, indent=1, sort_keys=True))
+        atomic.note_written(path, "names.json")
     except OSError as error:
         raise LibraryError(f"cannot write {target} ({error.strerror}); "
                            "check that the library is writable.") from None

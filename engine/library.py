@@ -275,6 +275,11 @@ class Library:
         names = [s.name for s in self.sequences]
         return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist())}
 
+    def sources(self):
+        """The library's folder and its sequences' folders: no output may go inside them."""
+        folders = {str(Path(path).parent) for seq in self.sequences for path in seq.paths[:1]}
+        return [self.path, *sorted(folders)]
+
     def stored_frames(self):
         """Keys ``(sequence, frame)`` of every stored frame, in storage order."""
         return list(self._frame_rows)

@@ -204,7 +204,7 @@ def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(ctx, 
     other = tmp_path / "photos"
     other.mkdir()
     (other / "a.jpg").write_bytes(b"x")
-    with pytest.raises(TvmError, match="not a report folder"):
+    with pytest.raises(TvmError, match="is not a tvmedit report"):
         write_report(library, other, progress=False)
     assert [p.name for p in other.iterdir()] == ["a.jpg"]
 
