@@ -18,7 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from .errors import InputError, summarise
+from .params import MAX_FPS
 from .plyfast import read_ply
 
 MESH_SUFFIXES = (".ply", ".obj", ".off")
@@ -29,10 +30,16 @@ SIDECAR_SUFFIXES = (".json", ".txt", ".md", ".csv", ".log", ".yaml", ".yml")
 _QUIET_SUFFIXES = SIDECAR_SUFFIXES + (".mtl", ".png", ".jpg", ".jpeg")
 NEUTRAL_COLOUR = (180, 180, 180)
 DEFAULT_FPS = 10.0
+#: Largest vertex coordinate accepted: a kilometre in metres, a metre in micrometres.
+MAX_COORDINATE = 1e6
 
 
 class SkippedFramesWarning(UserWarning):
     """Bad frames were skipped (``skip_bad_frames=True``); the message lists them."""
+
+
+class FrameListWarning(UserWarning):
+    """Frame files that link to nothing, share a frame number or are one file twice; one line."""
 
 
 class UnsupportedFilesWarning(UserWarning):
@@ -76,6 +83,25 @@ class Sequence:
         return len(self.paths)
 
 
+def _warn_listing(where, entries, paths):
+    """One warning line for dangling links, repeated frame numbers and one file listed twice."""
+    dangling = sorted(p.name for p in entries
+                      if p.is_symlink() and not p.exists() and p.suffix.lower() in MESH_SUFFIXES)
+    by_number, by_file = {}, {}
+    for path in paths:
+        by_number.setdefault(_natural_key(path)[0], []).append(Path(path).name)
+        by_file.setdefault(Path(path).resolve(), []).append(Path(path).name)
+    numbered = sorted(" and ".join(sorted(names)) for number, names in by_number.items()
+                      if len(names) > 1 and number >= 0)
+    twice = sorted(" and ".join(sorted(names)) for names in by_file.values() if len(names) > 1)
+    problems = [f"{what}: {summarise(names)}" for what, names in (
+        ("links to nothing, left out", dangling), ("frame numbers used twice", numbered),
+        ("one file listed twice", twice)) if names]
+    if problems:
+        warnings.warn(f"{where}: " + "; ".join(problems) + "; check the frame files.",
+                      FrameListWarning, stacklevel=4)
+
+
 def _natural_key(path):
     """Order by the last number in the file name, so ``f2`` comes before ``f10``."""
     numbers = re.findall(r"\d+", Path(path).stem)
@@ -99,6 +125,7 @@ def frame_paths(source):
             if path.suffix.lower() not in MESH_SUFFIXES:
                 raise InputError(f"{path} has the unsupported extension '{path.suffix}'; "
                                  f"frames must be {', '.join(MESH_SUFFIXES)} files.")
+        _warn_listing(text, [Path(p) for p in _glob.glob(text)], paths)
         return sorted(paths, key=_natural_key)
     folder = Path(source)
     if not folder.exists():
@@ -106,7 +133,8 @@ def frame_paths(source):
                          "frames or a glob such as 'capture/*.ply'.")
     if folder.is_file():
         raise InputError(f"{folder} is a file, not a sequence folder; give the folder that holds the frames.")
-    files = [p for p in folder.iterdir() if p.is_file() and not p.name.startswith(".")]
+    entries = [p for p in folder.iterdir() if not p.name.startswith(".")]
+    files = [p for p in entries if p.is_file()]
     paths = [p for p in files if p.suffix.lower() in MESH_SUFFIXES]
     if not paths:
         others = sorted(p for p in files if p.suffix.lower() not in SIDECAR_SUFFIXES)
@@ -114,6 +142,7 @@ def frame_paths(source):
             raise InputError(f"{others[0]} has the unsupported extension '{others[0].suffix}' and {folder} "
                              f"holds no {', '.join(MESH_SUFFIXES)} frames; convert the frames to PLY, OBJ or OFF.")
         raise InputError(f"sequence folder {folder} is empty: it holds no PLY, OBJ or OFF frames.")
+    _warn_listing(folder, entries, paths)
     left_out = sorted((p for p in files if p.suffix and p.suffix.lower() not in MESH_SUFFIXES + _QUIET_SUFFIXES),
                       key=_natural_key)
     if left_out:
@@ -201,6 +230,11 @@ def read_frame(path):
         bad = int((~np.isfinite(vertices)).any(axis=1).sum())
         raise InputError(f"frame {path} has {bad} vertices with NaN or infinite coordinates; "
                          "repair the reconstruction or pass skip_bad_frames=True.")
+    reach = float(np.abs(vertices).max())
+    if reach > MAX_COORDINATE:
+        raise InputError(f"frame {path} has a vertex coordinate of {reach:.3g}, beyond the "
+                         f"{MAX_COORDINATE:g} that any capture reaches in metres or millimetres; "
+                         "repair the reconstruction or pass skip_bad_frames=True.")
     if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
         raise InputError(f"frame {path} has no triangles (a point cloud or polygon soup); "
                          "tvmedit needs triangle meshes.")
@@ -249,9 +283,9 @@ def open_sequence(source, name=None, fps=None):
         fps = float(given) if not isinstance(given, bool) else float("nan")
     except (TypeError, ValueError):
         fps = float("nan")
-    if not np.isfinite(fps) or fps <= 0:
-        raise InputError(f"the frame rate of {source} must be a positive number, not {given!r}; "
-                         "set it with fps=FPS or in sequence.json.")
+    if not np.isfinite(fps) or fps <= 0 or fps > MAX_FPS:
+        raise InputError(f"the frame rate of {source} must be a number above 0 and at most "
+                         f"{MAX_FPS}, not {given!r}; set it with fps=FPS or in sequence.json.")
     if name is None and "name" in meta:
         name = meta["name"]
         if not isinstance(name, str) or not name.strip():

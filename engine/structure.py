@@ -69,7 +69,9 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from .errors import ParameterError
 from .features import distance_matrix
+from .params import MAX_FPS, number
 
 __all__ = [
     "StructureParams",
@@ -157,10 +159,42 @@ class StructureParams:
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):
-            raise ValueError(f"unknown structure method {self.method!r}; use 'energy' or 'paper'")
-        taps = self.window_taps
-        if len(taps) < 3 or len(taps) % 2 == 0:
-            raise ValueError(f"the atom window needs an odd number >= 3 of taps, got {len(taps)}")
+            raise ParameterError(f"method={self.method!r} is not a structure method; use 'energy' or 'paper'.")
+        for name, limits in _LIMITS.items():
+            object.__setattr__(self, name, number(name, getattr(self, name), **limits))
+        taps = tuple(number("window_taps", tap, at_least=0) for tap in self.window_taps)
+        if not 3 <= len(taps) <= MAX_TAPS or len(taps) % 2 == 0 or not sum(taps) > 0:
+            raise ParameterError(f"window_taps has {len(taps)} taps summing to {sum(taps):g}; the atom "
+                                 f"window needs an odd number from 3 to {MAX_TAPS} of them, not all 0.")
+        object.__setattr__(self, "window_taps", taps)
+        if (len(taps) - 1) / self.window_fps > MAX_WINDOW_S:
+            raise ParameterError(f"window_fps={self.window_fps:g} makes the atom window "
+                                 f"{(len(taps) - 1) / self.window_fps:g} s long; it may span at most "
+                                 f"{MAX_WINDOW_S:g} s.")
+        if self.max_period <= self.min_texton:
+            raise ParameterError(f"max_period={self.max_period:g} must be above "
+                                 f"min_texton={self.min_texton:g}.")
+
+
+#: Longest atom window (eq. (5)), seconds, and most taps it may have.
+MAX_WINDOW_S = 10.0
+MAX_TAPS = 101
+#: The range of every numeric field of :class:`StructureParams` (times in seconds).
+_LIMITS = {
+    "window_fps": {"above": 0, "at_most": MAX_FPS},
+    "beta": {"at_least": 0},
+    "texton_contrast": {"at_least": 0, "at_most": 1},
+    "texton_drop": {"at_least": 0},
+    "min_texton": {"above": 0, "at_most": 600},
+    "max_period": {"above": 0, "at_most": 600},
+    "min_periodicity": {"at_least": 0, "at_most": 1},
+    "period_tolerance": {"at_least": 0, "at_most": 1},
+    "novelty_window": {"above": 0, "at_most": 3600},
+    "novelty_threshold": {"at_least": 0},
+    "min_cluster": {"above": 0, "at_most": 3600},
+    "twin_peak": {"at_least": 0, "at_most": 1},
+    "analysis_fps": {"above": 0, "at_most": MAX_FPS},
+}
 
 
 @dataclass

@@ -91,7 +91,9 @@ def as_flags(message, parser):
     options = {name: (option, name in ("force", "skip_bad_frames")) for name, option in _OTHER.items()}
     for action in parser._actions:
         if action.option_strings:
-            options[action.dest] = (action.option_strings[-1], action.nargs == 0)
+            option = action.option_strings[-1]
+            for name in (action.dest, option.lstrip("-").replace("-", "_")):
+                options[name] = (option, action.nargs == 0)
 
     def flag(match):
         name, value = match.group(1), match.group(2)
