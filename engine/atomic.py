@@ -68,11 +68,18 @@ def _remove(path):
 def replacing_file(path, keep_suffix=None):
     """Yield a temporary path to write; when the block ends without error it becomes ``path``.
 
-    On an error (or Ctrl-C) the temporary file is removed and ``path`` is left as it was.
+    The temporary file exists (empty) when the block starts. On an error (or Ctrl-C) it is
+    removed and ``path`` is left as it was.
     """
     path = Path(path)
     tmp = temporary(path, keep_suffix=keep_suffix)
     _remove(tmp)
+    # Created at once, so that a folder that cannot be written to is found before any work
+    # (an OSError naming the file), not by a writer deep in a library.
+    try:
+        tmp.touch()
+    except OSError as error:
+        raise OSError(error.errno, error.strerror, str(path)) from None
     try:
         yield tmp
         os.replace(tmp, path)

@@ -22,7 +22,6 @@ never half of one.
 
 import dataclasses
 import glob as _glob
-import math
 import os
 import sys
 import time
