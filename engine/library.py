@@ -284,10 +284,6 @@ class Library:
         """Keys ``(sequence, frame)`` of every stored frame, in storage order."""
         return list(self._frame_rows)
 
-    def has_frame(self, sequence, frame):
-        """Whether the meshes of ``frame`` of ``sequence`` are stored (texton frames only)."""
-        return (sequence, int(frame)) in self._frame_rows
-
     def _row(self, sequence, frame):
         try:
             return self._frame_rows[sequence, int(frame)]
@@ -296,13 +292,12 @@ class Library:
             raise LibraryError(f"frame {frame} of {sequence} is not stored in library {self.path}: "
                                "only the frames of database motions are.") from None
 
-    def frame(self, sequence, frame):
-        """``(positions (N,3) float32, colours (N,3) uint8, faces (M,3) uint32)``, memory-mapped."""
-        positions, colours, faces, _ = self.frame_mesh((sequence, frame))
-        return positions, colours, faces
-
     def frame_mesh(self, key):
-        """``(positions, colours, faces, normals)`` of frame ``key = (sequence, frame)``."""
+        """``(positions, colours, faces, normals)`` of frame ``key = (sequence, frame)``.
+
+        (N, 3) float32, (N, 3) uint8, (M, 3) uint32 and (N, 3) float32, memory-mapped; only
+        the frames of database motions are stored (:meth:`stored_frames`).
+        """
         sequence, frame = key
         v0, nv, f0, nf = self._offsets[self._row(sequence, frame)].tolist()
         a = self._arrays
