@@ -60,7 +60,7 @@ def main(argv=None):
         message = as_flags(str(error), parser) if parser is not None else str(error)
         if isinstance(error, UnknownMotion) and getattr(args, "library", None):
             message = f"{message.rstrip('.')}; `tvmedit info {args.library}` lists them."
-        print(f"error: {message}", file=sys.stderr)
+        print(f"error: {_sentence(message)}", file=sys.stderr)
         return error.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
@@ -114,6 +114,12 @@ def as_flags(message, parser):
 
     message = re.sub(r"\bbuild\((inputs|\[.*?\]), '(.+?)'(, force=True)?\)", _build_command, message)
     return re.sub(r"\b([a-z][a-z_]*)=(\(\d+, \d+\)|\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
+
+
+def _sentence(message):
+    """One line that ends as a sentence does."""
+    message = " ".join(message.split())
+    return message if message.endswith((".", "!", "?")) else message + "."
 
 
 def _build_command(match):
