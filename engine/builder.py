@@ -59,7 +59,7 @@ def _feature_code_version():
     # The cache depends on how frames are read and histograms computed; hashing the modules
     # that do it invalidates every cached feature when that code changes, with nothing to bump.
     digest = hashlib.sha1()
-    for module in ("load.py", "plyfast.py", "features.py"):
+    for module in ("load.py", "plyfast.py", "readers.py", "orientation.py", "features.py"):
         digest.update(Path(__file__).with_name(module).read_bytes())
     return digest.hexdigest()[:12]
 
@@ -102,17 +102,18 @@ def _stat_list(paths):
     return rows
 
 
-def _feature_key(stats, bins, skip_bad_frames):
-    blob = json.dumps([stats, bins.to_json(), _feature_code_version(), bool(skip_bad_frames)])
+def _feature_key(stats, bins, skip_bad_frames, orientation=None):
+    frame = [] if orientation is None or orientation.is_identity else [orientation.matrix, orientation.scale]
+    blob = json.dumps([stats, bins.to_json(), _feature_code_version(), bool(skip_bad_frames)] + frame)
     return hashlib.sha1(blob.encode()).hexdigest()[:20]
 
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
 
-def _read(path, skip_bad_frames):
+def _read(path, skip_bad_frames, orientation=None, detail="full"):
     """``(frame, None)``, or ``(None, reason)`` for a bad frame when skipping; raises otherwise."""
     try:
-        return read_frame(path), None
+        return read_frame(path, orientation, detail), None
     except InputError as error:
         if not skip_bad_frames:
             raise
@@ -125,11 +126,11 @@ def _feature_task(task):
     A row is ``(h_r, h_theta, h_phi)`` as float32 (what :class:`Features` stores), or the
     reason the frame was skipped.
     """
-    paths, origin, bins, skip_bad_frames = task
+    paths, origin, bins, skip_bad_frames, orientation = task
     rows, read_s, compute_s = [], 0.0, 0.0
     for path in paths:
         t0 = time.perf_counter()
-        frame, reason = _read(path, skip_bad_frames)
+        frame, reason = _read(path, skip_bad_frames, orientation, "geometry")
         if frame is None:
             rows.append(reason)
             continue
@@ -141,11 +142,11 @@ def _feature_task(task):
 
 
 def _mesh_task(paths):
-    """Meshes of a chunk of frames with their normals: ``(meshes, read_s, compute_s)``."""
+    """Meshes of a chunk of ``(path, orientation)`` with their normals: ``(meshes, read_s, compute_s)``."""
     meshes, read_s, compute_s = [], 0.0, 0.0
-    for path in paths:
+    for path, orientation in paths:
         t0 = time.perf_counter()
-        frame = read_frame(path)
+        frame = read_frame(path, orientation)
         t1 = time.perf_counter()
         normals = vertex_normals(frame.positions, frame.faces)
         meshes.append((frame.positions, frame.colours, frame.faces, normals))
@@ -197,7 +198,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
     # The origin is the centroid of the first usable frame; everything else waits on it.
     for k, path in enumerate(paths):
         t0 = time.perf_counter()
-        frame, reason = _read(path, skip_bad_frames)
+        frame, reason = _read(path, skip_bad_frames, sequence.orientation, "geometry")
         if frame is None:
             skipped.append((str(path), reason))
             bar.update()
@@ -215,7 +216,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
     kept = [str(Path(paths[first]).resolve())]
     rest = paths[first + 1:]
     chunks = [rest[i:i + FEATURE_CHUNK] for i in range(0, len(rest), FEATURE_CHUNK)]
-    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames) for chunk in chunks)
+    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation) for chunk in chunks)
     for chunk, (rows, read_s, compute_s) in zip(chunks, pool.map(_feature_task, tasks)):
         for path, row in zip(chunk, rows):
             if isinstance(row, str):
@@ -322,9 +323,9 @@ def _write_meshes(tmp, needed, pool, bar, timing):
         low, high = np.zeros(3), np.zeros(3)
     try:
         chunks = [needed[i:i + MESH_CHUNK] for i in range(0, len(needed), MESH_CHUNK)]
-        tasks = ([path for _, _, path in chunk] for chunk in chunks)
+        tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
         for chunk, (meshes, read_s, compute_s) in zip(chunks, pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)):
-            for (seq_index, frame, _), (positions, colours, faces, normals) in zip(chunk, meshes):
+            for (seq_index, frame, _, _), (positions, colours, faces, normals) in zip(chunk, meshes):
                 streams["positions"].append(positions)
                 streams["colours"].append(colours)
                 streams["normals"].append(normals)
@@ -447,7 +448,8 @@ def _swap_in(tmp, out):
 
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
-          progress=False, workers=None, dask=None, force=False, cache=True, log=None):
+          progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
+          units=None, mirror=None):
     """Build a library from TVM sequences and return it opened.
 
     Parameters
@@ -480,6 +482,9 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         always consulted).
     log : callable or None
         Called with one-line messages (features reused, stages).
+    up, units, mirror : str, str, bool or None
+        The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
+        given is detected per sequence (:func:`engine.orientation.detect`).
 
     Returns
     -------
@@ -499,7 +504,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         raise InputError("no input sequences given; name at least one sequence folder.")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        sequences = [open_sequence(source, name=name, fps=fps) for name, source in expanded]
+        sequences = [open_sequence(source, name=name, fps=fps, up=up, units=units, mirror=mirror)
+                     for name, source in expanded]
     _pass_on(caught, log)
     seen = {}
     for (_, source), sequence in zip(expanded, sequences):
@@ -523,7 +529,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
             computed = []
             for sequence in sequences:
                 stats = _stat_list(sequence.paths)
-                key = _feature_key(stats, bins, skip_bad_frames)
+                key = _feature_key(stats, bins, skip_bad_frames, sequence.orientation)
                 entry = _from_library(old, key, bins) or (_from_cache(key, bins) if cache else None)
                 if entry is None:
                     bar = progress_bars.bar(len(sequence.paths), f"features {sequence.name}")
@@ -574,7 +580,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
             index = {seq.name: k for k, seq in enumerate(sequences)}
             needed = sorted({(index[node.sequence], frame)
                              for node in nodes for frame in range(node.start, node.end + 1)})
-            needed = [(s, frame, computed[s].paths[frame]) for s, frame in needed]
+            needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
             bar = progress_bars.bar(len(needed), "meshes")
             try:
                 bounds, max_counts = _write_meshes(tmp, needed, pool, bar, timing)
@@ -699,6 +705,8 @@ def _manifest(sequences, computed, padded, bins, params, mu, skip_bad_frames, no
             "feature_key": entry.key,
             "files": [entry.stats.get(path, [path, None, None]) for path in entry.paths],
             "skipped": [list(s) for s in entry.skipped],
+            "format": seq.format,
+            "orientation": seq.orientation.to_json(),
         })
         row += n
     width = padded[0].r.shape[1] if padded else 0

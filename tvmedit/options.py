@@ -68,3 +68,23 @@ def cycles(text):
     if value < 1:
         raise argparse.ArgumentTypeError(f"should be a whole number of cycles, 1 or more, not {text!r}")
     return value
+
+
+def up_axis(text):
+    """``+x`` ... ``-z`` (a bare ``y`` means ``+y``), for --up."""
+    key = text.strip().lower()
+    key = key if key[:1] in "+-" else "+" + key
+    if key not in ("+x", "-x", "+y", "-y", "+z", "-z"):
+        raise argparse.ArgumentTypeError(f"should be one of +x, -x, +y, -y, +z, -z, not {text!r}")
+    return key
+
+
+def add_frame_of_reference(parser):
+    """--up, --units and --mirror/--no-mirror: the capture's frame, where detection is not wanted."""
+    group = parser.add_argument_group("frame of reference (default: detected; tvmedit check says how)")
+    group.add_argument("--up", type=up_axis, default=None, metavar="AXIS",
+                       help="the capture's up axis: +x, -x, +y, -y, +z or -z")
+    group.add_argument("--units", choices=("m", "cm", "mm"), default=None,
+                       help="the capture's length unit")
+    group.add_argument("--mirror", action=argparse.BooleanOptionalAction, default=None,
+                       help="swap left and right (a front camera's mirror image); default: for scvv captures")
