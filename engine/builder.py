@@ -572,9 +572,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
                 nodes = graph_module.nodes_of(G)
                 stages["graph"] = time.perf_counter() - t0
             _pass_on(caught, log)
-            if not nodes:
-                say("warning: the database is empty (no motion texton was found), so the library "
-                    "has nothing to edit; try other structure parameters")
+            from .database import advice
+
+            if advice(nodes):
+                say(f"warning: {advice(nodes)}")
 
             t0 = time.perf_counter()
             index = {seq.name: k for k, seq in enumerate(sequences)}

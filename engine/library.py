@@ -109,7 +109,10 @@ INFO_SCHEMA = {
                 "required": ["id", "name", "sequence", "start", "end", "texton_distance", "intensity"],
                 "properties": {"id": _INT, "name": {"type": "string"}, "sequence": {"type": "string"},
                                **_RANGE, "cluster": _INT, "texton_distance": _NUM,
-                               "intensity": {"type": ["number", "null"]}},
+                               "intensity": {"type": ["number", "null"]},
+                               "kind": {"enum": ["cycle", "once"],
+                                        "description": "cycle: a texton played cyclically; once: a "
+                                                       "one-shot motion played through once"}},
             },
         },
         "edges": {
@@ -489,7 +492,8 @@ class Library:
                              "distance": float(t.distance)} for t in s.textons],
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,
-                  "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity}
+                  "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity,
+                  "kind": n.kind}
                  for n in self._nodes]
         edges = [{"from": int(i), "to": int(j), "weight": float(d["weight"]),
                   "exit_frame": int(d["exit_frame"]), "entry_frame": int(d["entry_frame"])}

@@ -118,7 +118,7 @@ def run(args):
     def say(message):
         # -q silences progress and the summary, never a warning (skipped frames, no motions).
         if not args.quiet or message.startswith("warning") or "skipped" in message:
-            print(message, file=sys.stderr)
+            print(options.as_flags(message), file=sys.stderr)
 
     bins = BinSizes(r=args.bin_r, theta=math.radians(args.bin_theta), phi=math.radians(args.bin_phi))
     cls, fields = _structure_fields()

@@ -88,3 +88,13 @@ def add_frame_of_reference(parser):
                        help="the capture's length unit")
     group.add_argument("--mirror", action=argparse.BooleanOptionalAction, default=None,
                        help="swap left and right (a front camera's mirror image); default: for scvv captures")
+
+
+def as_flags(text):
+    """An engine message with the structure parameters it names written as build flags
+    (``min_cluster`` -> ``--min-cluster``)."""
+    if not text:
+        return text
+    for name in ("min_cluster", "novelty_threshold"):
+        text = text.replace(name, "--" + name.replace("_", "-"))
+    return text
