@@ -1,67 +1,51 @@
 """The offline builder: TVM sequences in, a library directory out (sections 3-6 in one pass).
 
-The pipeline, per library:
+:func:`build` is one pass, stage by stage:
 
 1. **Features** (section 3). Every frame file is read once and summarised by its three
    histograms about its sequence's origin (the centroid of the first frame). This is the
-   build's cost, so it runs on worker processes or a dask cluster in chunks of frames, and
-   its result is cached per sequence, keyed by the frame files (paths, sizes, mtimes), the
-   bin sizes and the feature code: a rebuild with other parsing or pruning parameters
-   reuses it, from the library being replaced or from ``$XDG_CACHE_HOME/tvmedit``.
+   build's cost, so it runs on worker processes or a dask cluster in chunks of frames
+   (:mod:`engine.parallel`), and its result is kept in the feature cache
+   (:mod:`engine.featcache`) and in the library: a rebuild with other parsing or pruning
+   parameters reuses it, from the library being replaced or from the cache.
 2. **Structure** (section 4), **database** (section 5, eq. (9)) and **graph** (section 6):
    cheap, on the feature vectors of all sequences padded to one r width (eq. (4)).
 3. **Meshes.** Only the frames of database textons can ever be played, so only they are
    stored; which ones is known only now, and those files are read a second time and
    streamed to flat arrays on disk with their vertex normals, never all held in memory.
+4. **Write** the rest of the library; its format is owned by :mod:`engine.libformat`.
 
-Everything is written into ``.LIB.tmp-<pid>`` beside the target and renamed into place at the
-end: an interrupted build leaves the previous library (or none), never half of one. The
-on-disk format is described in :mod:`engine.library`.
+Everything is written into a temporary folder beside the target and renamed into place at
+the end (:mod:`engine.atomic`): an interrupted build leaves the previous library (or none),
+never half of one.
 """
 
 import dataclasses
 import glob as _glob
-import hashlib
-import json
 import math
 import os
-import shutil
 import sys
 import time
 import warnings
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from . import library as _library
-from .errors import InputError, LibraryError, TvmError
+from . import atomic, featcache, libformat
+from .errors import InputError, TvmError
 from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
 from .load import open_sequence, read_frame
 from .normals import vertex_normals
 from .parallel import Workers
 
-__all__ = ["build", "cache_dir", "expand_inputs"]
+__all__ = ["build", "expand_inputs"]
 
 #: Frames per feature task: large enough to amortise a task's overhead, small enough to
 #: keep every worker busy on short sequences.
 FEATURE_CHUNK = 32
 #: Frames per mesh task; each frame is about 1 MB on its way back, so chunks stay small.
 MESH_CHUNK = 4
-
-
-def cache_dir():
-    """Where features are cached between builds: ``$XDG_CACHE_HOME/tvmedit`` (``~/.cache/tvmedit``)."""
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "tvmedit"
-
-
-def _feature_code_version():
-    # The cache depends on how frames are read and histograms computed; hashing the modules
-    # that do it invalidates every cached feature when that code changes, with nothing to bump.
-    digest = hashlib.sha1()
-    for module in ("load.py", "plyfast.py", "readers.py", "orientation.py", "features.py"):
-        digest.update(Path(__file__).with_name(module).read_bytes())
-    return digest.hexdigest()[:12]
 
 
 def expand_inputs(inputs):
@@ -89,23 +73,6 @@ def expand_inputs(inputs):
                 continue
         expanded.append((name, source))
     return expanded
-
-
-def _stat_list(paths):
-    rows = []
-    for path in paths:
-        try:
-            stat = os.stat(path)
-        except OSError as error:
-            raise InputError(f"frame {path} cannot be read ({error.strerror}); check the input.") from None
-        rows.append([str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns])
-    return rows
-
-
-def _feature_key(stats, bins, skip_bad_frames, orientation=None):
-    frame = [] if orientation is None or orientation.is_identity else [orientation.matrix, orientation.scale]
-    blob = json.dumps([stats, bins.to_json(), _feature_code_version(), bool(skip_bad_frames)] + frame)
-    return hashlib.sha1(blob.encode()).hexdigest()[:20]
 
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
@@ -142,34 +109,50 @@ def _feature_task(task):
 
 
 def _mesh_task(paths):
-    """Meshes of a chunk of ``(path, orientation)`` with their normals: ``(meshes, read_s, compute_s)``."""
+    """Meshes of a chunk of ``(path, orientation)`` with their normals and textures:
+    ``(meshes, read_s, compute_s)``."""
     meshes, read_s, compute_s = [], 0.0, 0.0
     for path, orientation in paths:
         t0 = time.perf_counter()
         frame = read_frame(path, orientation)
         t1 = time.perf_counter()
         normals = vertex_normals(frame.positions, frame.faces)
-        meshes.append((frame.positions, frame.colours, frame.faces, normals))
+        meshes.append((frame.positions, frame.colours, frame.faces, normals, frame.uv, frame.texture))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return meshes, read_s, compute_s
 
 
-# --- features, with their cache ----------------------------------------------------------
+class _Run:
+    """What a build keeps track of as it goes: messages, progress bars and timings."""
 
-class _Progress:
-    """tqdm bars on stderr, or nothing."""
+    def __init__(self, progress, log):
+        self.log = log
+        self.say = log or (lambda message: None)
+        self.progress = progress
+        self.timing = {"read": 0.0, "compute": 0.0}
+        self.stages = {}
+        self.started = time.perf_counter()
 
-    def __init__(self, enabled):
-        self.enabled = enabled
+    def stage(self, name, fn, *args):
+        """Run one stage and record how long it took."""
+        t0 = time.perf_counter()
+        result = fn(*args)
+        self.stages[name] = time.perf_counter() - t0
+        return result
 
     def bar(self, total, desc, unit="frame"):
-        if not self.enabled:
+        """A tqdm bar on stderr, or one that shows nothing."""
+        if not self.progress:
             return _NoBar()
         from tqdm import tqdm
 
         return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False,
                     dynamic_ncols=True)
+
+    def add_times(self, read_s, compute_s):
+        self.timing["read"] += read_s
+        self.timing["compute"] += compute_s
 
 
 class _NoBar:
@@ -192,7 +175,7 @@ class _SequenceFeatures:
     stats: dict = dataclasses.field(default_factory=dict)   # resolved path -> [path, size, mtime_ns]
 
 
-def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
+def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     paths = list(sequence.paths)
     skipped, first = [], None
     # The origin is the centroid of the first usable frame; everything else waits on it.
@@ -203,7 +186,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
             skipped.append((str(path), reason))
             bar.update()
             continue
-        timing["read"] += time.perf_counter() - t0
+        run.add_times(time.perf_counter() - t0, 0.0)
         first = k
         break
     if first is None:
@@ -211,7 +194,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
     t0 = time.perf_counter()
     accumulator = FeatureAccumulator(bins)
     accumulator.add(frame.positions)
-    timing["compute"] += time.perf_counter() - t0
+    run.add_times(0.0, time.perf_counter() - t0)
     bar.update()
     kept = [str(Path(paths[first]).resolve())]
     rest = paths[first + 1:]
@@ -224,39 +207,41 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, timing):
             else:
                 accumulator.add_histograms(*row)
                 kept.append(str(Path(path).resolve()))
-        timing["read"] += read_s
-        timing["compute"] += compute_s
+        run.add_times(read_s, compute_s)
         bar.update(len(chunk))
     return accumulator.result(), kept, skipped
 
 
-def _cache_file(key):
-    return cache_dir() / "features" / f"{key}.npz"
+def _sequence_features(sequence, bins, skip_bad_frames, pool, old, cache, run):
+    """The features of one sequence: from the library being replaced, the cache, or computed."""
+    stats = featcache.stat_list(sequence.paths)
+    key = featcache.key(stats, bins, skip_bad_frames, sequence.orientation)
+    entry = _from_library(old, key, bins) or (_from_cache(key, bins) if cache else None)
+    if entry is None:
+        bar = run.bar(len(sequence.paths), f"features {sequence.name}")
+        try:
+            features, kept, skipped = _compute_features(sequence, bins, skip_bad_frames, pool, bar, run)
+        finally:
+            bar.close()
+        entry = _SequenceFeatures(features, kept, skipped, key)
+        if cache:
+            featcache.write(key, features, {"paths": kept, "skipped": skipped})
+    else:
+        where = "the library being replaced" if entry.source == "library" else "the cache"
+        run.say(f"features of {sequence.name}: reused from {where} ({len(entry.features)} frames)")
+    if entry.skipped:
+        run.say(f"{sequence.name}: skipped {len(entry.skipped)} bad frame(s): "
+                + "; ".join(f"{Path(p).name}" for p, _ in entry.skipped))
+    entry.stats = {row[0]: row for row in stats}
+    return entry
 
 
 def _from_cache(key, bins):
-    path = _cache_file(key)
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-            features = Features(data["r"], data["theta"], data["phi"], data["origin"], bins)
-    except (OSError, ValueError, KeyError):
+    found = featcache.read(key, bins)
+    if found is None:
         return None
+    features, meta = found
     return _SequenceFeatures(features, meta["paths"], [tuple(s) for s in meta["skipped"]], key, "cache")
-
-
-def _to_cache(entry):
-    path = _cache_file(entry.key)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-        meta = json.dumps({"paths": entry.paths, "skipped": entry.skipped})
-        with open(tmp, "wb") as handle:
-            f = entry.features
-            np.savez(handle, r=f.r, theta=f.theta, phi=f.phi, origin=f.origin, meta=np.array(meta))
-        os.replace(tmp, path)
-    except OSError:
-        pass  # a cache that cannot be written only costs time on the next build
 
 
 def _from_library(old, key, bins):
@@ -275,176 +260,124 @@ def _from_library(old, key, bins):
     return None
 
 
-# --- mesh arrays, streamed ----------------------------------------------------------------
+# --- structure, database, graph -----------------------------------------------------------
 
-class _NpyStream:
-    """An ``.npy`` file of rows appended in pieces, whose length is known only at the end.
+def _motion_graph(sequences, padded, params, mu, run):
+    """Parse every sequence (section 4), then build the database (section 5) and graph (section 6)."""
+    from . import structure as structure_module
+    from .database import advice, build_database
+    from .graph import build_graph, nodes_of
 
-    The header is written last, into a fixed 128 bytes reserved at the start (numpy's own
-    header for a 2-D array is that long), so the rows go straight to disk and are never
-    copied.
-    """
-
-    HEADER = 128
-
-    def __init__(self, path, dtype, width):
-        self.path, self.dtype, self.width, self.rows = path, np.dtype(dtype), width, 0
-        self.handle = open(path, "wb")
-        self.handle.write(b"\0" * self.HEADER)
-
-    def append(self, array):
-        array = np.ascontiguousarray(array, dtype=self.dtype)
-        self.handle.write(memoryview(array).cast("B"))
-        self.rows += len(array)
-
-    def close(self):
-        header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
-                  "shape": (self.rows, self.width)}
-        text = repr(header).encode("latin1")
-        length = self.HEADER - 10
-        if len(text) + 1 > length:
-            raise ValueError(f"npy header too long for {self.path}")
-        self.handle.seek(0)
-        self.handle.write(b"\x93NUMPY\x01\x00" + length.to_bytes(2, "little")
-                          + text + b" " * (length - len(text) - 1) + b"\n")
-        self.handle.close()
+    vectors = {seq.name: f.vectors for seq, f in zip(sequences, padded)}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        # The theta columns tell a one-leg-then-the-other cycle from its half (see
+        # engine.structure): left and right poses share their r and phi histograms.
+        structures = run.stage("structure", lambda: {
+            seq.name: structure_module.parse(vectors[seq.name], seq.fps, params, theta=f.theta_columns)
+            for seq, f in zip(sequences, padded)})
+        t0 = time.perf_counter()
+        graph = build_graph(build_database(structures), vectors, mu=mu)
+        run.stages["graph"] = time.perf_counter() - t0
+    _pass_on(caught, run.log)
+    nodes = nodes_of(graph)
+    if advice(nodes):
+        run.say(f"warning: {advice(nodes)}")
+    return structures, nodes, graph
 
 
-def _write_meshes(tmp, needed, pool, bar, timing):
-    """Stream the needed frames to the flat mesh arrays; returns (keys, bounds, max_counts)."""
-    streams = {name: _NpyStream(tmp / f"{name}.npy", dtype, 3) for name, dtype in
-               (("positions", np.float32), ("colours", np.uint8), ("normals", np.float32),
-                ("faces", np.uint32))}
-    offsets = _NpyStream(tmp / "frames.npy", np.int64, 4)
-    keys = _NpyStream(tmp / "frame_keys.npy", np.int64, 2)
-    low, high = np.full(3, np.inf), np.full(3, -np.inf)
-    max_v = max_f = vertex_start = face_start = 0
-    if not needed:
-        low, high = np.zeros(3), np.zeros(3)
+# --- meshes and the rest of the library ---------------------------------------------------
+
+def _write_meshes(tmp, needed, pool, run):
+    """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh arrays."""
+    bar = run.bar(len(needed), "meshes")
+    chunks = [needed[i:i + MESH_CHUNK] for i in range(0, len(needed), MESH_CHUNK)]
+    tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
     try:
-        chunks = [needed[i:i + MESH_CHUNK] for i in range(0, len(needed), MESH_CHUNK)]
-        tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
-        for chunk, (meshes, read_s, compute_s) in zip(chunks, pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)):
-            for (seq_index, frame, _, _), (positions, colours, faces, normals) in zip(chunk, meshes):
-                streams["positions"].append(positions)
-                streams["colours"].append(colours)
-                streams["normals"].append(normals)
-                streams["faces"].append(faces)
-                offsets.append(np.array([[vertex_start, len(positions), face_start, len(faces)]]))
-                keys.append(np.array([[seq_index, frame]]))
-                vertex_start += len(positions)
-                face_start += len(faces)
-                max_v, max_f = max(max_v, len(positions)), max(max_f, len(faces))
-                np.minimum(low, positions.min(axis=0), out=low)
-                np.maximum(high, positions.max(axis=0), out=high)
-            timing["read"] += read_s
-            timing["compute"] += compute_s
-            bar.update(len(chunk))
+        with libformat.MeshWriter(tmp) as writer:
+            for chunk, (meshes, read_s, compute_s) in zip(
+                    chunks, pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)):
+                for (seq_index, frame, _, _), mesh in zip(chunk, meshes):
+                    writer.add(seq_index, frame, *mesh)
+                run.add_times(read_s, compute_s)
+                bar.update(len(chunk))
     finally:
-        for stream in (*streams.values(), offsets, keys):
-            stream.close()
-    return (low.tolist(), high.tolist()), (max_v, max_f)
+        bar.close()
+    return writer
+
+
+def _write_library(tmp, old, sequences, computed, padded, settings, structures, nodes, graph, meshes, run):
+    """Everything but the meshes: features, structure, database, graph, names, manifest last."""
+    bins = settings.bins
+    features_all = (np.concatenate([f.vectors for f in padded]) if padded
+                    else np.zeros((0, 0), np.float32))
+    np.save(tmp / "features.npy", np.ascontiguousarray(features_all, dtype=np.float32))
+    libformat.write_json(tmp / "structure.json", {name: s.to_json() for name, s in structures.items()})
+    libformat.write_json(tmp / "database.json", nodes)
+    libformat.write_json(tmp / "graph.json", libformat.graph_to_json(graph))
+    kept = _carry_names(old, nodes, tmp)
+    if kept:
+        run.say(f"kept {len(kept)} motion name(s) given in the library being replaced")
+        for i, name in kept.items():
+            graph.nodes[int(i)]["name"] = name
+    libformat.write_graphml(graph, tmp / "graph.graphml")
+    records, row = [], 0
+    for seq, entry in zip(sequences, computed):
+        n = len(entry.features)
+        files = [entry.stats.get(path, [path, None, None]) for path in entry.paths]
+        records.append(libformat.sequence_record(seq.name, seq.fps, (row, row + n), entry.features,
+                                                 entry.key, files, entry.skipped, seq.format,
+                                                 seq.orientation.to_json()))
+        row += n
+    width = padded[0].r.shape[1] if padded else 0
+    libformat.write_manifest(tmp, libformat.manifest(
+        records,
+        params={"bins": bins.to_json(), "structure": settings.params, "mu": settings.mu,
+                "skip_bad_frames": settings.skip_bad_frames},
+        feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
+        counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
+                "stored_frames": meshes.frames},
+        bounds=meshes.bounds, max_counts=meshes.max_counts))
 
 
 # --- the build ----------------------------------------------------------------------------
 
-def _structure_module():
-    from . import structure
-
-    return structure
-
-
-def _graph_module():
-    from . import graph
-
-    return graph
-
-
-def _json_default(value):
-    if isinstance(value, (np.integer,)):
-        return int(value)
-    if isinstance(value, (np.floating,)):
-        return float(value)
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, tuple):
-        return list(value)
-    raise TypeError(f"cannot store {type(value).__name__} in JSON")
+def _open_inputs(inputs, fps, log, frame=None):
+    """Open every input sequence (no mesh read yet, but a few to detect its frame of
+    reference, unless ``frame``, a dict of ``up``, ``units`` and ``mirror``, fixes it); names
+    must be unique."""
+    expanded = expand_inputs(inputs)
+    if not expanded:
+        raise InputError("no input sequences given; name at least one sequence folder.")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sequences = [open_sequence(source, name=name, fps=fps, **(frame or {})) for name, source in expanded]
+    _pass_on(caught, log)
+    seen = {}
+    for (_, source), sequence in zip(expanded, sequences):
+        if sequence.name in seen:
+            raise InputError(f"{seen[sequence.name]} and {source} are both named {sequence.name!r}; "
+                             "name them apart with NAME=PATH.")
+        seen[sequence.name] = source
+    return sequences
 
 
-def _write_json(path, data):
-    Path(path).write_text(json.dumps(data, default=_json_default, separators=(",", ":")))
-
-
-def _sibling(out, tag):
-    return out.parent / f".{out.name}.{tag}-{os.getpid()}"
-
-
-def _clean_stale(out):
-    """Remove what killed builds left beside ``out``; put back a library caught mid-swap."""
-    for path in out.parent.glob(f".{_glob.escape(out.name)}.*-*"):
-        tag, _, pid = path.name.rpartition("-")
-        if not pid.isdigit() or not tag.endswith((".tmp", ".old")) or _alive(int(pid)):
-            continue
-        if tag.endswith(".old") and not out.exists():
-            os.replace(path, out)  # killed between the two renames: the old library is whole
-        else:
-            shutil.rmtree(path, ignore_errors=True)
-
-
-def _alive(pid):
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
-
-
-def _is_library(out):
-    """Whether ``out`` holds a tvmedit library's manifest (what ``--force`` may replace)."""
-    try:
-        manifest = json.loads((out / "manifest.json").read_text())
-    except (OSError, ValueError):
-        return False
-    return isinstance(manifest, dict) and "format" in manifest and "tvmedit" in manifest
-
-
-def _check_target(out, force):
-    if out.is_file():
-        raise LibraryError(f"{out} is a file; give a directory name for the library.")
-    if out.exists():
-        is_library = _is_library(out)
-        if not is_library and any(out.iterdir()):
-            raise LibraryError(f"{out} exists and is not a tvmedit library (no tvmedit manifest.json), "
-                               "so it is not replaced; choose another -o or remove it yourself.")
-        if is_library and not force:
-            raise LibraryError(f"library {out} already exists; add --force to replace it.")
-        here = Path.cwd().resolve()
-        if is_library and (out.resolve() == here or out.resolve() in here.parents):
-            raise LibraryError(f"library {out} is the current folder or holds it, so it is not "
-                               "replaced; run the build from outside it.")
+def _check_target(out, force, sequences):
+    """Refuse an ``out`` that is not a library of ours, holds user files or lies in an input."""
+    inputs = {str(Path(path).parent) for seq in sequences for path in seq.paths}
+    atomic.check_target(out, "library", force, inputs=sorted(inputs), legacy=libformat.legacy_foreign)
 
 
 def _open_old(out):
     """The library being replaced, to reuse its features; None if it cannot be read."""
     if not (out / "manifest.json").exists():
         return None
+    from .library import Library
+
     try:
-        return _library.Library.open(out)
+        return Library.open(out)
     except TvmError:
         return None
-
-
-def _swap_in(tmp, out):
-    if out.exists():
-        old = _sibling(out, "old")
-        os.replace(out, old)
-        os.replace(tmp, out)
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        os.replace(tmp, out)
 
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
@@ -478,8 +411,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     force : bool
         Replace an existing library.
     cache : bool
-        Look up and store features in :func:`cache_dir` (the library being replaced is
-        always consulted).
+        Look up and store features in the feature cache (:mod:`engine.featcache`); the
+        library being replaced is always consulted.
     log : callable or None
         Called with one-line messages (features reused, stages).
     up, units, mirror : str, str, bool or None
@@ -491,145 +424,66 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     Library
         With ``report``: a dict of counts, reused sequences and timings.
     """
-    started = time.perf_counter()
-    say = log or (lambda message: None)
+    run = _Run(progress, log)
     out = Path(out).absolute()
-    graph_module, structure_module = _graph_module(), _structure_module()
-    bins = bins if bins is not None else BinSizes()
-    params = _structure_params(structure_module, structure)
-    mu = graph_module.MU if mu is None else _check_mu(mu)
-
-    expanded = expand_inputs(inputs)
-    if not expanded:
-        raise InputError("no input sequences given; name at least one sequence folder.")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        sequences = [open_sequence(source, name=name, fps=fps, up=up, units=units, mirror=mirror)
-                     for name, source in expanded]
-    _pass_on(caught, log)
-    seen = {}
-    for (_, source), sequence in zip(expanded, sequences):
-        if sequence.name in seen:
-            raise InputError(f"{seen[sequence.name]} and {source} are both named {sequence.name!r}; "
-                             "name them apart with NAME=PATH.")
-        seen[sequence.name] = source
-
+    settings = _Settings.of(bins, structure, mu, skip_bad_frames)
+    sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
-    _clean_stale(out)
-    _check_target(out, force)
+    atomic.clean_stale(out)
+    _check_target(out, force, sequences)
     old = _open_old(out)
-    tmp = _sibling(out, "tmp")
-    progress_bars = _Progress(progress)
-    timing = {"read": 0.0, "compute": 0.0}
-    stages = {}
-    try:
-        tmp.mkdir()
+    recheck = lambda target: _check_target(target, force, sequences)  # noqa: E731
+    with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
-            t0 = time.perf_counter()
-            computed = []
-            for sequence in sequences:
-                stats = _stat_list(sequence.paths)
-                key = _feature_key(stats, bins, skip_bad_frames, sequence.orientation)
-                entry = _from_library(old, key, bins) or (_from_cache(key, bins) if cache else None)
-                if entry is None:
-                    bar = progress_bars.bar(len(sequence.paths), f"features {sequence.name}")
-                    try:
-                        features, kept, skipped = _compute_features(
-                            sequence, bins, skip_bad_frames, pool, bar, timing)
-                    finally:
-                        bar.close()
-                    entry = _SequenceFeatures(features, kept, skipped, key)
-                    if cache:
-                        _to_cache(entry)
-                else:
-                    where = "the library being replaced" if entry.source == "library" else "the cache"
-                    say(f"features of {sequence.name}: reused from {where} ({len(entry.features)} frames)")
-                if entry.skipped:
-                    say(f"{sequence.name}: skipped {len(entry.skipped)} bad frame(s): "
-                        + "; ".join(f"{Path(p).name}" for p, _ in entry.skipped))
-                entry.stats = {row[0]: row for row in stats}
-                computed.append(entry)
-            stages["features"] = time.perf_counter() - t0
-
-            t0 = time.perf_counter()
+            computed = run.stage("features", lambda: [
+                _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)
+                for seq in sequences])
             width = max(entry.features.r.shape[1] for entry in computed)
             padded = [entry.features.pad_r(width) for entry in computed]
-            vectors = {seq.name: f.vectors for seq, f in zip(sequences, padded)}
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                # The theta columns tell a one-leg-then-the-other cycle from its half (see
-                # engine.structure): left and right poses share their r and phi histograms.
-                structures = {seq.name: structure_module.parse(vectors[seq.name], seq.fps, params,
-                                                               theta=f.theta_columns)
-                              for seq, f in zip(sequences, padded)}
-                stages["structure"] = time.perf_counter() - t0
-
-                t0 = time.perf_counter()
-                from .database import build_database
-
-                nodes = build_database(structures)
-                G = graph_module.build_graph(nodes, vectors, mu=mu)
-                nodes = graph_module.nodes_of(G)
-                stages["graph"] = time.perf_counter() - t0
-            _pass_on(caught, log)
-            from .database import advice
-
-            if advice(nodes):
-                say(f"warning: {advice(nodes)}")
-
-            t0 = time.perf_counter()
+            structures, nodes, graph = _motion_graph(sequences, padded, settings.params, settings.mu, run)
             index = {seq.name: k for k, seq in enumerate(sequences)}
             needed = sorted({(index[node.sequence], frame)
                              for node in nodes for frame in range(node.start, node.end + 1)})
             needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
-            bar = progress_bars.bar(len(needed), "meshes")
-            try:
-                bounds, max_counts = _write_meshes(tmp, needed, pool, bar, timing)
-            finally:
-                bar.close()
-            stages["meshes"] = time.perf_counter() - t0
+            meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run)
+        run.stage("write", _write_library, tmp, old, sequences, computed, padded,
+                  settings, structures, nodes, graph, meshes, run)
+    from .library import Library
 
-        t0 = time.perf_counter()
-        features_all = np.concatenate([f.vectors for f in padded]) if padded else np.zeros((0, 0), np.float32)
-        np.save(tmp / "features.npy", np.ascontiguousarray(features_all, dtype=np.float32))
-        _write_json(tmp / "structure.json", {name: s.to_json() for name, s in structures.items()})
-        _write_json(tmp / "database.json", [dataclasses.asdict(node) for node in nodes])
-        _write_json(tmp / "graph.json", _library.graph_to_json(G))
-        kept = _carry_names(old, nodes, tmp)
-        if kept:
-            say(f"kept {len(kept)} motion name(s) given in the library being replaced")
-            for i, name in kept.items():
-                G.nodes[int(i)]["name"] = name
-        _library.write_graphml(G, tmp / "graph.graphml")
-        manifest = _manifest(sequences, computed, padded, bins, params, mu, skip_bad_frames,
-                             nodes, G, bounds, max_counts, len(needed))
-        manifest["files"] = {path.name: path.stat().st_size for path in sorted(tmp.iterdir())
-                             if path.name in _library.CHECKED_FILES}
-        _write_json(tmp / "manifest.json", manifest)
-        stages["write"] = time.perf_counter() - t0
-        if out.exists():
-            _check_target(out, force)
-        _swap_in(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    library = _library.Library.open(out)
+    library = Library.open(out)
     library.report = {
         "sequences": len(sequences),
         "frames": sum(len(f) for f in padded),
         "clusters": sum(len(s.clusters) for s in structures.values()),
         "nodes": len(nodes),
-        "edges": G.number_of_edges(),
+        "edges": graph.number_of_edges(),
         "stored_frames": len(needed),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)
                    if entry.source != "computed"},
-        "seconds": time.perf_counter() - started,
-        "stages": stages,
-        "read_seconds": timing["read"],
-        "compute_seconds": timing["compute"],
+        "seconds": time.perf_counter() - run.started,
+        "stages": run.stages,
+        "read_seconds": run.timing["read"],
+        "compute_seconds": run.timing["compute"],
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
     return library
+
+
+class _Settings(NamedTuple):
+    """The build parameters that shape the library, with defaults filled in and checked."""
+
+    bins: BinSizes
+    params: object
+    mu: float
+    skip_bad_frames: bool
+
+    @classmethod
+    def of(cls, bins, structure, mu, skip_bad_frames):
+        from . import structure as structure_module
+        from .graph import MU
+
+        return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
+                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames))
 
 
 def _pass_on(caught, log):
@@ -674,7 +528,7 @@ def _carry_names(old, nodes, tmp):
             names[str(node.id)] = name
             taken.add(name)
     if names:
-        _write_json(tmp / "names.json", names)
+        libformat.write_json(tmp / "names.json", names)
     return names
 
 
@@ -687,52 +541,3 @@ def _structure_params(module, structure):
         except (TypeError, ValueError) as error:
             raise InputError(f"bad structure parameters: {error}.") from None
     return structure
-
-
-def _manifest(sequences, computed, padded, bins, params, mu, skip_bad_frames, nodes, G,
-              bounds, max_counts, stored):
-    from tvmedit import __version__
-
-    records, row = [], 0
-    for seq, entry, features in zip(sequences, computed, padded):
-        n = len(features)
-        records.append({
-            "name": seq.name,
-            "fps": seq.fps,
-            "frames": n,
-            "rows": [row, row + n],
-            "r_bins": int(entry.features.r.shape[1]),
-            "origin": [float(x) for x in entry.features.origin],
-            "feature_key": entry.key,
-            "files": [entry.stats.get(path, [path, None, None]) for path in entry.paths],
-            "skipped": [list(s) for s in entry.skipped],
-            "format": seq.format,
-            "orientation": seq.orientation.to_json(),
-        })
-        row += n
-    width = padded[0].r.shape[1] if padded else 0
-    return {
-        "format": _library.FORMAT,
-        "tvmedit": __version__,
-        "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-        "params": {
-            "bins": bins.to_json(),
-            "structure": _params_json(params),
-            "mu": mu,
-            "skip_bad_frames": bool(skip_bad_frames),
-        },
-        "feature_columns": {"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
-        "sequences": records,
-        "counts": {"frames": row, "nodes": len(nodes), "edges": G.number_of_edges(),
-                   "stored_frames": stored},
-        "bounds": [list(bounds[0]), list(bounds[1])],
-        "max_counts": list(max_counts),
-    }
-
-
-def _params_json(params):
-    if dataclasses.is_dataclass(params):
-        return json.loads(json.dumps(dataclasses.asdict(params), default=_json_default))
-    if hasattr(params, "to_json"):
-        return params.to_json()
-    return dict(vars(params))

@@ -32,3 +32,7 @@ class NoPath(TvmError):
         self.source = source
         self.target = target
         self.mu = mu
+
+
+class OutputError(TvmError):
+    """An output would replace or land inside something tvmedit did not write."""

@@ -19,7 +19,6 @@ periods are known:
 
 from __future__ import annotations
 
-import hashlib
 import json
 from pathlib import Path
 
@@ -157,35 +156,28 @@ def load_truth(folder):
 
 
 def sequence_features(folder, bins=None, cache_dir=None):
-    """Features of a sequence folder, cached as ``.npz`` keyed by its files, bins and code.
+    """Features of a sequence folder, kept in the feature cache (:mod:`engine.featcache`).
 
     Loading about 17,000-vertex PLY frames costs far more than the histograms; tests and
     benchmarks that score many parameter settings on the same takes read them once. The
-    cache lives in ``cache_dir``, by default the builder's feature cache
-    (``$XDG_CACHE_HOME/tvmedit/features``); the key includes a hash of the code that reads
-    frames and computes histograms, so a change there recomputes.
+    cache lives in ``cache_dir``, by default the builder's (``$XDG_CACHE_HOME/tvmedit/features``),
+    under the builder's key: a folder regenerated in place, other bins or a change to the
+    code that reads frames and computes histograms all recompute.
     """
-    from .builder import _feature_code_version, _stat_list, cache_dir as default_cache
-    from .features import BinSizes, FeatureAccumulator, Features
+    from . import featcache
+    from .features import BinSizes, FeatureAccumulator
     from .load import frame_paths, iter_frames
 
     bins = bins or BinSizes()
     paths = frame_paths(str(folder))
-    # Every frame file's size and mtime, as the builder's cache: a folder regenerated in
-    # place is recomputed.
-    key = hashlib.sha1(json.dumps([_stat_list(paths), bins.to_json(),
-                                   _feature_code_version()]).encode()).hexdigest()[:16]
-    cache = Path(cache_dir) if cache_dir else default_cache() / "features"
-    target = cache / f"{Path(folder).name}-{key}.npz"
-    if target.exists():
-        z = np.load(target)
-        return Features(z["r"], z["theta"], z["phi"], z["origin"], bins)
+    stats = featcache.stat_list(paths)
+    key = featcache.key(stats, bins)
+    found = featcache.read(key, bins, cache_dir)
+    if found is not None:
+        return found[0]
     acc = FeatureAccumulator(bins)
     for _, frame in iter_frames(paths):
         acc.add(frame.positions)
     features = acc.result()
-    cache.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_suffix(".tmp.npz")
-    np.savez(tmp, r=features.r, theta=features.theta, phi=features.phi, origin=features.origin)
-    tmp.replace(target)
+    featcache.write(key, features, {"paths": [row[0] for row in stats], "skipped": []}, cache_dir)
     return features

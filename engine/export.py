@@ -7,19 +7,17 @@ so frames skipped at build time do not shift it), and for each transition the ed
 its weight, so the edit can be traced back to the capture. The folder is written under a
 temporary name and renamed into place, so a failure never leaves a half-written export.
 
-Replacing an existing folder (``overwrite``) is allowed only where that folder is a previous
-export: it holds ``edit.json`` and nothing but ``frame_*.ply``, ``edit.json`` and
-``sequence.json``. Any other folder, and the current folder or one that holds it, is refused,
-so a mistyped ``-o`` never deletes a capture.
+Replacing an existing folder (``force``) is allowed only where that folder is a previous
+export holding nothing else (:func:`engine.atomic.check_target`); any other folder, the
+current folder or one that holds it, and a folder inside the library or one of its
+sequences are refused, so a mistyped ``-o`` never deletes a capture.
 """
 
 import json
-import os
 import re
-import shutil
 from pathlib import Path
 
-from .errors import TvmError
+from . import atomic
 from .plyfast import write_ply
 
 __all__ = ["export_edit"]
@@ -27,27 +25,19 @@ __all__ = ["export_edit"]
 _EXPORT_FILE = re.compile(r"frame_\d+\.ply|edit\.json|sequence\.json")
 
 
-def _check_target(out, overwrite):
-    """Refuse to write over anything but a previous export (with ``overwrite``)."""
-    if not out.exists() and not out.is_symlink():
-        return
-    if out.is_symlink() or not out.is_dir():
-        raise TvmError(f"{out} exists and is not a folder; choose another -o.")
-    if not overwrite:
-        raise TvmError(f"{out} already exists; choose another folder or pass --force to replace it.")
-    here = Path.cwd().resolve()
-    target = out.resolve()
-    if target == here or target in here.parents:
-        raise TvmError(f"{out} is the current folder or holds it, so --force will not replace it; "
-                       "choose a new folder for -o.")
-    names = [p.name for p in out.iterdir()]
-    if names and ("edit.json" not in names or not all(_EXPORT_FILE.fullmatch(n) for n in names)):
-        raise TvmError(f"{out} exists and is not a previous tvmedit export (only a folder holding "
-                       "edit.json and nothing but frame_*.ply and sequence.json is replaced); "
-                       "choose another -o or remove it yourself.")
+def _legacy(folder):
+    """An export written before the ownership marker: edit.json and nothing but its frames."""
+    names = [p.name for p in Path(folder).iterdir()]
+    if "edit.json" not in names:
+        return None
+    return [n for n in names if not _EXPORT_FILE.fullmatch(n)]
 
 
-def export_edit(edit, out, overwrite=False, progress=False):
+def _check_target(out, force, library):
+    atomic.check_target(out, "export", force, inputs=library.sources(), legacy=_legacy)
+
+
+def export_edit(edit, out, force=False, progress=False):
     """Write ``edit`` (a composition of ``library.edit``) as PLY frames into folder ``out``.
 
     Parameters
@@ -56,7 +46,7 @@ def export_edit(edit, out, overwrite=False, progress=False):
         With ``edit.library`` set (``Library.edit`` does that); a forever-looping edit exports
         its schedule as composed (one cycle of the last key motion).
     out : path of the folder to create
-    overwrite : replace an existing folder
+    force : replace a previous export at ``out`` (see :func:`engine.atomic.check_target`)
     progress : show a progress bar on stderr
 
     Returns
@@ -65,11 +55,10 @@ def export_edit(edit, out, overwrite=False, progress=False):
     """
     library = edit.library
     out = Path(out)
-    _check_target(out, overwrite)
-    tmp = out.parent / f".{out.name}.tmp-{os.getpid()}"
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir(parents=True)
-    try:
+    _check_target(out, force, library)
+    # Checked again before the swap: the folder may have changed meanwhile.
+    recheck = lambda target: _check_target(target, force, library)  # noqa: E731
+    with atomic.replacing_folder(out, recheck=recheck, kind="export") as tmp:
         frames = []
         schedule = edit.schedule
         iterator = schedule
@@ -93,18 +82,6 @@ def export_edit(edit, out, overwrite=False, progress=False):
         }
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
         (tmp / "sequence.json").write_text(json.dumps({"fps": record["fps"], "name": out.name}))
-        _check_target(out, overwrite)  # checked again: the folder may have changed meanwhile
-        if out.exists():
-            # The previous export goes aside first, so no moment leaves neither of the two.
-            old = out.parent / f".{out.name}.old-{os.getpid()}"
-            os.replace(out, old)
-            os.replace(tmp, out)
-            shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, out)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     return record
 
 

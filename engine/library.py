@@ -1,61 +1,22 @@
 """A built library on disk, and :class:`Library`, its reader: what edits and the player use.
 
-A library is a directory written by :func:`engine.build` (:mod:`engine.builder`); nothing in it is parsed
-while playing. Its files:
-
-``manifest.json``
-    format version, tvmedit version, build parameters, and per sequence its name, fps,
-    frame count, rows in ``features.npy``, r width, origin, feature cache key, frame files
-    (resolved path, size, mtime_ns) and skipped frames; the size of every file below (checked
-    on open), the bounds of the stored meshes and their largest vertex and face counts.
-``features.npy``
-    (T, D) float32: one feature vector per frame of every sequence in order (eq. (1)-(4)),
-    r histograms zero-padded to the library's widest, then theta, then phi.
-``structure.json``
-    per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
-``database.json``
-    the motion database (section 5): nodes with id, default name, sequence, inclusive frame
-    range, cluster, texton distance and intensity.
-``graph.json``
-    the complete graph's weights ``[[i, j, w], ...]`` (eq. (12)), transition frames
-    ``[[i, j, exit, entry], ...]`` (eq. (10), frames within each node's sequence) and mu; the
-    pruned graph (eq. (14)) is rebuilt from them on open.
-``graph.graphml``
-    the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
-``positions.npy``, ``colours.npy``, ``normals.npy``
-    (V, 3) float32, uint8, float32: vertices of every stored frame, one after another.
-``faces.npy``
-    (F, 3) uint32, indices local to each frame.
-``frames.npy``
-    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
-``frame_keys.npy``
-    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
-``names.json``
-    optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
-
-Only the frames of database textons are stored. Every array opens with
-``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
+A library is a directory written by :func:`engine.build` (:mod:`engine.builder`); its files
+and their checks are described and handled in :mod:`engine.libformat`. Every array opens
+memory-mapped, so opening reads only the small JSON files.
 """
 
-import json
-import os
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
+from . import libformat
 from .database import Node
 from .errors import LibraryError
+from .libformat import FORMAT
 
 __all__ = ["Library", "LibrarySequence", "FORMAT", "INFO_SCHEMA"]
-
-#: On-disk format version; a library of another version must be rebuilt.
-FORMAT = 1
-
-#: Files whose sizes the manifest records and :meth:`Library.open` checks.
-CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
-                 "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy")
 
 _INT = {"type": "integer", "minimum": 0}
 _NUM = {"type": "number"}
@@ -158,87 +119,12 @@ class LibrarySequence:
         return self._library.structure(self.name)
 
 
-def graph_to_json(graph):
-    """What ``graph.json`` holds: the complete graph's weights, transition frames and mu."""
-    unpruned = graph.graph["unpruned"]
-    transitions = graph.graph["transitions"]
-    return {
-        "mu": graph.graph["mu"],
-        "unpruned": [[int(i), int(j), float(w)] for (i, j), w in sorted(unpruned.items())],
-        "transitions": [[int(i), int(j), int(a), int(b)] for (i, j), (a, b) in sorted(transitions.items())],
-    }
-
-
-def write_graphml(graph, path):
-    """Export the pruned graph as GraphML (only mu among the graph attributes), atomically."""
-    import networkx as nx
-
-    plain = nx.DiGraph(mu=float(graph.graph["mu"]))
-    for i, data in graph.nodes(data=True):
-        plain.add_node(i, **{k: v for k, v in data.items() if v is not None})
-    plain.add_edges_from(graph.edges(data=True))
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    nx.write_graphml(plain, tmp)
-    os.replace(tmp, path)
-
-
-def _rebuild_hint(path):
-    return f"rebuild it with `tvmedit build INPUT... -o {path} --force`"
-
-
-def _not_a_library(path):
-    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
-    from .load import MESH_SUFFIXES
-
-    try:
-        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
-    except OSError:
-        frames = False
-    if frames:
-        plain = path if path.name not in ("", ".", "..") else path.resolve()
-        target = plain.with_name(f"{plain.name}.tvmlib")
-        return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
-                f"build a library from it with `tvmedit build {path} -o {target}`.")
-    return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
-            "or build one with `tvmedit build INPUT... -o LIB`.")
-
-
-def _check_names(names_path, names):
-    """``names.json`` is edited by hand at times: it must map ids to names, as rename writes it."""
-    if not isinstance(names, dict):
-        shown = json.dumps(names)
-        shown = shown if len(shown) <= 40 else shown[:37] + "..."
-        raise LibraryError(f"{names_path} must hold a JSON object of motion names such as "
-                           f"{{\"3\": \"squats\"}}, not {shown}; fix it or delete it "
-                           "to go back to the default names.")
-    for key, name in names.items():
-        if not key.strip().isdigit() or not isinstance(name, str) or not name.strip() or name.strip().isdigit():
-            raise LibraryError(f"{names_path} maps {key!r} to {name!r}, but it must map motion ids to "
-                               "names with at least one non-digit, such as {\"3\": \"squats\"}; "
-                               "fix it or delete it to go back to the default names.")
-
-
-def _check_unique(names_path, nodes):
-    seen = {}
-    for node in nodes:
-        if node.name in seen:
-            raise LibraryError(f"{names_path} gives motions {seen[node.name]} and {node.id} the same "
-                               f"name {node.name!r}; fix it or delete it to go back to the default names.")
-        seen[node.name] = node.id
-
-
-def _write_atomic(path, text):
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    tmp.write_text(text)
-    os.replace(tmp, path)
-
-
 class Library:
     """A library opened for editing and playing; use :meth:`open`.
 
     Implements the player's ``MeshSource`` protocol (:meth:`frame_mesh`, :meth:`bounds`,
-    :meth:`max_counts`) over the stored texton frames, keyed ``(sequence_name, frame)``.
+    :meth:`max_counts`, and :meth:`frame_texture` for textured captures) over the stored texton
+    frames, keyed ``(sequence_name, frame)``.
     """
 
     def __init__(self, path, manifest):
@@ -255,45 +141,15 @@ class Library:
     def open(cls, path):
         """Open the library at ``path``, checking its format and files (no array is read).
 
-        Raises
-        ------
-        LibraryError
-            When ``path`` is not a library, is of another format version, or misses or
-            has a truncated file; the message says how to rebuild it.
+        Raises ``LibraryError`` as :func:`engine.libformat.read_manifest` does, or when a
+        file does not hold what the format says.
         """
         path = Path(path)
-        manifest_path = path / "manifest.json"
-        if not manifest_path.is_file():
-            leftovers = sorted(path.parent.glob(f".{path.name}.old-*"))
-            if leftovers and not path.exists():
-                raise LibraryError(f"no library at {path}, but an interrupted build left the previous "
-                                   f"one at {leftovers[0]}; rename it back to {path.name}.")
-            if path.is_dir():
-                raise LibraryError(_not_a_library(path))
-            raise LibraryError(f"no library at {path}; build one with `tvmedit build INPUT... -o {path}`.")
-        try:
-            manifest = json.loads(manifest_path.read_text())
-        except (OSError, ValueError) as error:
-            raise LibraryError(f"library {path} has an unreadable manifest.json ({error}); "
-                               f"{_rebuild_hint(path)}.") from None
-        version = manifest.get("format") if isinstance(manifest, dict) else None
-        if version != FORMAT:
-            raise LibraryError(f"library {path} has format version {version} but this tvmedit "
-                               f"reads version {FORMAT}; {_rebuild_hint(path)}.")
-        for name, size in manifest.get("files", {}).items():
-            try:
-                actual = (path / name).stat().st_size
-            except OSError:
-                raise LibraryError(f"library {path} is incomplete: {name} is missing; "
-                                   f"{_rebuild_hint(path)}.") from None
-            if actual != size:
-                raise LibraryError(f"library {path} is damaged: {name} has {actual} bytes where "
-                                   f"{size} were written (truncated or changed); {_rebuild_hint(path)}.")
+        manifest = libformat.read_manifest(path)
         try:
             return cls(path, manifest)
         except (OSError, ValueError, KeyError, TypeError) as error:
-            raise LibraryError(f"library {path} cannot be read ({type(error).__name__}: {error}); "
-                               f"{_rebuild_hint(path)}.") from None
+            raise libformat.damaged(path, error) from None
 
     def __repr__(self):
         return (f"Library({str(self.path)!r}: {len(self.sequences)} sequences, "
@@ -322,7 +178,7 @@ class Library:
     def _structures(self):
         from .structure import Structure
 
-        data = json.loads((self.path / "structure.json").read_text())
+        data = libformat.read_json(self.path, "structure.json")
         return {name: Structure.from_json(value) for name, value in data.items()}
 
     def structure(self, name):
@@ -352,17 +208,11 @@ class Library:
     # --- the database and the graph ------------------------------------------------------
 
     def _read_nodes(self, renamed=True):
-        nodes = [Node(**row) for row in json.loads((self.path / "database.json").read_text())]
-        names_path = self.path / "names.json"
-        if renamed and names_path.exists():
-            try:
-                names = json.loads(names_path.read_text())
-            except ValueError as error:
-                raise LibraryError(f"{names_path} is not valid JSON ({error}); fix it or delete it "
-                                   "to go back to the default names.") from None
-            _check_names(names_path, names)
+        nodes = [Node(**row) for row in libformat.read_json(self.path, "database.json")]
+        names = libformat.read_names(self.path) if renamed else {}
+        if names:
             nodes = [replace(node, name=names.get(str(node.id), node.name)) for node in nodes]
-            _check_unique(names_path, nodes)
+            libformat.check_unique(self.path, nodes)
         return nodes
 
     @property
@@ -378,10 +228,7 @@ class Library:
 
     @cached_property
     def _graph_data(self):
-        data = json.loads((self.path / "graph.json").read_text())
-        unpruned = {(i, j): w for i, j, w in data["unpruned"]}
-        transitions = {(i, j): (a, b) for i, j, a, b in data["transitions"]}
-        return unpruned, transitions, float(data["mu"])
+        return libformat.read_graph(self.path)
 
     @cached_property
     def graph(self):
@@ -403,16 +250,12 @@ class Library:
         i = rename_node(nodes, node, name)
         defaults = {n.id: n.name for n in self._read_nodes(renamed=False)}
         names = {str(n.id): n.name for n in nodes if n.name != defaults.get(n.id)}
-        try:
-            _write_atomic(self.path / "names.json", json.dumps(names, indent=1, sort_keys=True))
-        except OSError as error:
-            raise LibraryError(f"cannot write {self.path / 'names.json'} ({error.strerror}); "
-                               "check that the library is writable.") from None
+        libformat.write_names(self.path, names)
         self._nodes = nodes
         if "graph" in self.__dict__:
             self.graph.nodes[i]["name"] = nodes[i].name
         try:
-            write_graphml(self.graph, self.path / "graph.graphml")
+            libformat.write_graphml(self.graph, self.path / "graph.graphml")
         except OSError:
             pass  # the export is a convenience; names.json is what tvmedit reads
         return nodes[i]
@@ -420,11 +263,7 @@ class Library:
     # --- meshes: the MeshSource protocol -------------------------------------------------
 
     def _load(self, name):
-        try:
-            return np.load(self.path / name, mmap_mode="r")
-        except (OSError, ValueError) as error:
-            raise LibraryError(f"library {self.path} has an unreadable {name} ({error}); "
-                               f"{_rebuild_hint(self.path)}.") from None
+        return libformat.load_array(self.path, name)
 
     @cached_property
     def _arrays(self):
@@ -439,6 +278,11 @@ class Library:
         keys = np.asarray(self._load("frame_keys.npy"))
         names = [s.name for s in self.sequences]
         return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist())}
+
+    def sources(self):
+        """The library's folder and its sequences' folders: no output may go inside them."""
+        folders = {str(Path(path).parent) for seq in self.sequences for path in seq.paths[:1]}
+        return [self.path, *sorted(folders)]
 
     def stored_frames(self):
         """Keys ``(sequence, frame)`` of every stored frame, in storage order."""
@@ -468,6 +312,31 @@ class Library:
         a = self._arrays
         return (a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], a["faces"][f0:f0 + nf],
                 a["normals"][v0:v0 + nv])
+
+    @cached_property
+    def _textures(self):
+        if "uvs.npy" not in self.manifest.get("files", {}):
+            return None
+        return self._load("uvs.npy"), self._load("textures.npy"), np.asarray(self._load("texture_frames.npy"))
+
+    @property
+    def textured(self):
+        """Whether any stored frame has a texture (then :meth:`frame_texture` gives it)."""
+        return self._textures is not None
+
+    def frame_texture(self, key):
+        """``(uv (N, 2) float32, image (H, W, 3) uint8)`` of frame ``key``, memory-mapped, or None
+        when the frame has no texture (the player then draws its vertex colours)."""
+        if self._textures is None:
+            return None
+        sequence, frame = key
+        row = self._row(sequence, frame)
+        uvs, texels, rows = self._textures
+        start, height, width = rows[row].tolist()
+        if not height:
+            return None
+        v0, nv = self._offsets[row, :2].tolist()
+        return uvs[v0:v0 + nv], texels[start:start + height * width].reshape(height, width, 3)
 
     def bounds(self):
         """``((xmin, ymin, zmin), (xmax, ymax, zmax))`` over every stored frame."""

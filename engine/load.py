@@ -193,26 +193,26 @@ def read_frame(path, orientation=None, detail="full"):
     if not path.exists():
         raise InputError(f"frame {path} does not exist.")
     if path.stat().st_size == 0:
-        raise InputError(f"frame {path} is an empty file; re-export it or remove it (or use --skip-bad-frames).")
+        raise InputError(f"frame {path} is an empty file; re-export it or remove it (or pass skip_bad_frames=True).")
     try:
         mesh = read_mesh(path, detail)
     except Exception as error:  # trimesh, DracoPy and Pillow raise many types for broken files
         reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         raise InputError(f"frame {path} is not a readable mesh (truncated or corrupt: {reason}); "
-                         "re-export it or use --skip-bad-frames.") from None
+                         "re-export it or pass skip_bad_frames=True.") from None
     vertices, faces, colours = mesh.vertices, np.asarray(mesh.faces), mesh.colours
     if len(vertices) == 0:
-        raise InputError(f"frame {path} has no vertices; re-export it or use --skip-bad-frames.")
+        raise InputError(f"frame {path} has no vertices; re-export it or pass skip_bad_frames=True.")
     if not np.isfinite(vertices).all():
         bad = int((~np.isfinite(vertices)).any(axis=1).sum())
         raise InputError(f"frame {path} has {bad} vertices with NaN or infinite coordinates; "
-                         "repair the reconstruction or use --skip-bad-frames.")
+                         "repair the reconstruction or pass skip_bad_frames=True.")
     if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
         raise InputError(f"frame {path} has no triangles (a point cloud or polygon soup); "
                          "tvmedit needs triangle meshes.")
     if faces.min() < 0 or faces.max() >= len(vertices):
         raise InputError(f"frame {path} has faces that index missing vertices (the file is probably "
-                         "truncated); re-export it or use --skip-bad-frames.")
+                         "truncated); re-export it or pass skip_bad_frames=True.")
     if colours is None or len(colours) != len(vertices):
         colours = np.broadcast_to(np.array(NEUTRAL_COLOUR, np.uint8), (len(vertices), 3))
     if orientation is not None:
@@ -315,7 +315,7 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None)
     rate = _positive(given)
     if rate is None:
         raise InputError(f"the frame rate of {source} must be a positive number, not {given!r}; "
-                         "set it with --fps or in sequence.json.")
+                         "set it with fps=FPS or in sequence.json.")
     if name is None and "name" in meta:
         name = meta["name"]
         if not isinstance(name, str) or not name.strip():

@@ -72,7 +72,7 @@ class Workers:
 
     def __init__(self, workers=None, dask=None):
         if workers is not None and int(workers) < 1:
-            raise TvmError(f"--workers must be at least 1, not {workers}.")
+            raise TvmError(f"workers={workers} is too few: give 1 or more worker processes.")
         self.workers = default_workers() if workers is None else int(workers)
         self.dask = dask
         self._executor = None
@@ -97,7 +97,7 @@ class Workers:
             try:
                 from distributed import Client, LocalCluster
             except ImportError:
-                raise TvmError("--dask needs dask.distributed, which is not installed; "
+                raise TvmError(f"dask={self.dask} needs dask.distributed, which is not installed; "
                                "install it with: pip install 'tvmedit[dask]'") from None
             try:
                 if self.dask == "local":
@@ -109,11 +109,11 @@ class Workers:
                     self._client = Client(self.dask, timeout=10)
             except ValueError as error:
                 # "missing port number", "unknown address scheme", a port that is not a number.
-                raise TvmError(f"--dask {self.dask} is not a scheduler address ({error}); give one "
+                raise TvmError(f"dask={self.dask} is not a scheduler address ({error}); give one "
                                "such as tcp://host:8786, or local to start one here.") from None
             except (OSError, TimeoutError) as error:
                 raise TvmError(f"cannot reach the dask scheduler at {self.dask} ({error}); "
-                               "start one with `dask scheduler` or use --dask local.") from None
+                               "start one with `dask scheduler` or use dask=local.") from None
         elif not self.dask and self.workers > 1 and self._executor is None:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor

@@ -343,14 +343,14 @@ def _no_path(graph, source, target, forbidden):
     mu = minimum_mu(graph, source, target, forbidden)
     if mu is None:
         message = (f"No path leads from motion {a} to {b} in the motion graph{at}; "
-                   f"rebuild with a larger --mu or choose another key motion.")
+                   f"rebuild with a larger mu or choose another key motion.")
     elif mu == math.inf:
         reason = " because the forbidden motions block every route" if forbidden else ""
         message = (f"No path leads from motion {a} to {b} at any mu{reason}; "
                    f"choose another key motion{' or allow more motions' if forbidden else ''}.")
     else:
         message = (f"No path leads from motion {a} to {b} in the motion graph{at}, but a path "
-                   f"exists from mu = {mu:g}: rebuild with --mu {mu:g} or choose another key motion.")
+                   f"exists from mu = {mu:g}: rebuild with mu={mu:g} or choose another key motion.")
     return NoPath(message, source=source, target=target, mu=mu)
 
 

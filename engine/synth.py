@@ -25,16 +25,15 @@ number of workers writes byte-identical files.
 """
 
 import json
-import multiprocessing
-import os
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from . import atomic
 from .errors import InputError
-from .parallel import _watch_parent
+from .parallel import Workers, default_workers
 from .plyfast import write_ply
 
 VERSION = 2                 # bump when the output for given options changes
@@ -397,6 +396,19 @@ def _frame_job(job):
     return index, len(verts)
 
 
+def _write_frames(jobs, workers, progress, name):
+    """Run the frame jobs on worker processes (:class:`engine.parallel.Workers`); vertex counts."""
+    from tqdm import tqdm
+
+    counts = [0] * len(jobs)
+    with Workers(min(workers or default_workers(), len(jobs))) as pool, \
+            tqdm(total=len(jobs), unit="frame", desc=f"synth {name}", disable=not progress) as bar:
+        for index, count in pool.map(_frame_job, jobs):
+            counts[index] = count
+            bar.update()
+    return counts
+
+
 def _segments(labels):
     segments, start = [], 0
     for i in range(1, len(labels) + 1):
@@ -456,17 +468,39 @@ def voxel_size(vertices):
 
 
 def _prepare(out, overwrite):
+    """Make ``out`` ready for a take: new, empty, or (with ``overwrite``) a take of ours.
+
+    Only the files a previous ``generate`` wrote (listed in its marker, or for a take made
+    before the marker: ``truth.json`` by ``tvmedit synth`` and its frames) are removed;
+    anything else in the folder stays, and frames nobody can vouch for are refused.
+    """
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"Output path {out} is a file, not a folder.")
     if out.exists() and any(out.iterdir()):
         if not overwrite:
-            raise InputError(f"Output folder {out} is not empty; pass --overwrite to replace it.")
+            raise InputError(f"Output folder {out} is not empty; pass overwrite=True to replace it.")
+        ours = _ours(out)
+        theirs = sorted(p.name for p in out.glob("frame_*.ply") if p.name not in ours)
+        if theirs:
+            raise InputError(f"Output folder {out} holds frames tvmedit did not write "
+                             f"({theirs[0]}...), so they are not replaced; choose another folder.")
         # truth.json goes first, so an interrupted run leaves a folder marked incomplete.
-        for name in ["truth.json", *sorted(p.name for p in out.glob("frame_*.ply"))]:
+        for name in sorted(ours, key=lambda n: n != "truth.json"):
             (out / name).unlink(missing_ok=True)
     out.mkdir(parents=True, exist_ok=True)
     return out
+
+
+def _ours(out):
+    """Names of the files a previous take wrote into ``out``."""
+    if atomic.owner(out) == "take":
+        return set(atomic.marked_files(out)) | {atomic.MARKER}
+    try:
+        tool = json.loads((out / "truth.json").read_text())["generator"]["tool"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return set()
+    return {"truth.json", *(p.name for p in out.glob("frame_*.ply"))} if tool == "tvmedit synth" else set()
 
 
 def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=16000, seed=0,
@@ -487,27 +521,7 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
     out = _prepare(out, overwrite)
     voxel = float(voxel_size(vertices))
     jobs = [(str(out), k, pose, voxel, seed) for k, pose in enumerate(poses)]
-    workers = min(workers or os.cpu_count() or 1, len(jobs))
-    counts = [0] * len(jobs)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=len(jobs), unit="frame", desc=f"synth {out.name}")
-    # Workers leave Ctrl-C to this process (which says "interrupted" once and terminates them)
-    # and exit if it is killed.
-    pool = (multiprocessing.get_context("fork").Pool(workers, initializer=_watch_parent,
-                                                     initargs=(os.getpid(),))
-            if workers > 1 else None)
-    try:
-        for index, count in (pool.imap_unordered(_frame_job, jobs) if pool else map(_frame_job, jobs)):
-            counts[index] = count
-            if bar is not None:
-                bar.update()
-    finally:
-        if pool is not None:
-            pool.terminate()
-        if bar is not None:
-            bar.close()
+    counts = _write_frames(jobs, workers, progress, out.name)
     segments = _segments(labels)
     hints = []
     for seg in segments:
@@ -537,7 +551,6 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
                       "transition_s": TRANSITION_S, "cycle_periods_s": [
                           [round(p, 4) for p in per] for per in periods]},
     }
-    part = out / "truth.json.part"
-    part.write_text(json.dumps(truth, indent=1))
-    os.replace(part, out / "truth.json")
+    atomic.write_text(out / "truth.json", json.dumps(truth, indent=1))
+    atomic.mark(out, "take", files=["truth.json", *(f"frame_{k:05d}.ply" for k in range(len(jobs)))])
     return truth

@@ -42,5 +42,5 @@ print("tour:", " -> ".join(graph.nodes[n]["name"] for n in tour))
 missing = sorted(set(graph.nodes) - set(tour))
 if missing:
     print("not reachable on this tour:", ", ".join(graph.nodes[n]["name"] for n in missing))
-record = export_edit(edit, "tour", overwrite=True)
+record = export_edit(edit, "tour", force=True)
 print(f"exported {len(record['frames'])} frames with {len(record['transitions'])} transitions to tour/")

@@ -8,8 +8,6 @@ the target and renamed at the end, so a failure never leaves a half-written file
 
 import contextlib
 import math
-import os
-import shutil
 from pathlib import Path
 
 import imageio.v3 as iio
@@ -17,6 +15,7 @@ import imageio_ffmpeg
 import numpy as np
 from tqdm import tqdm
 
+from engine import atomic
 from player.camera import Camera
 from player.context import shared_headless_context
 from player.font import draw_text
@@ -43,13 +42,14 @@ def render_frame(source, key, camera=None, size=(640, 480), grid=False, backgrou
 
 
 def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit_deg_per_s=0.0,
-                  progress=True, grid=False, background=BACKGROUND, samples=4):
+                  progress=True, grid=False, background=BACKGROUND, samples=4, force=False):
     """Render ``keys`` in order into ``out`` and return its path.
 
     The kind of output follows ``out``'s suffix: ``.mp4`` (H.264, yuv420p; an odd width or
     height is rounded down to even, as yuv420p requires), ``.gif`` (looping), or no suffix for a
-    folder of ``frame_00000.png``, ``frame_00001.png``, ... An existing output is replaced; an
-    existing folder only if it holds nothing but such frames.
+    folder of ``frame_00000.png``, ``frame_00001.png``, ... An existing output is replaced only
+    with ``force``, and only a file of that kind or a folder of frames rendered before (see
+    :func:`engine.atomic.check_target`); nothing goes inside the source's own folders.
 
     Parameters
     ----------
@@ -60,6 +60,7 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     camera : ``Camera``; default frames ``source.bounds()`` so that no orbit angle cuts it
     orbit_deg_per_s : the camera turns this many degrees of azimuth per second of output
     progress : show a progress bar
+    force : replace an existing output of the same kind
     """
     keys = list(keys)
     if not keys:
@@ -73,27 +74,19 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     width, height = (int(v) for v in size)
     if kind == "mp4":
         width, height = width - width % 2, height - height % 2
-    if kind == "folder" and out.exists() and not _is_frame_folder(out):
-        raise FileExistsError(f"{out} exists and holds other files than rendered frames; choose another output")
+    _check_output(out, kind, force, source)
     out.parent.mkdir(parents=True, exist_ok=True)
-    temporary = out.with_name(f".{out.stem}.partial-{os.getpid()}{out.suffix}")
-
     base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
     bar = tqdm(keys, desc=f"render {out.name}", unit="frame", disable=not progress)
+    # A folder is swapped in whole; a file is written under a temporary name with its suffix.
+    target = atomic.replacing_folder(out, kind="frames") if kind == "folder" else atomic.replacing_file(out)
     try:
-        with _renderer(source, (width, height), grid, background, samples) as renderer:
+        with target as temporary, _renderer(source, (width, height), grid, background, samples) as renderer:
             frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps))
                       for i, key in enumerate(bar))
             _WRITERS[kind](frames, temporary, (width, height), fps)
-        if kind == "folder" and out.exists():
-            shutil.rmtree(out)
-        os.replace(temporary, out)
     finally:
         bar.close()
-        if temporary.is_dir():
-            shutil.rmtree(temporary)
-        elif temporary.exists():
-            temporary.unlink()
     return out
 
 
@@ -108,7 +101,7 @@ def render(edit, out, size=(640, 480), **options):
 
 
 def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True, camera=None,
-                  grid=False, background=BACKGROUND, samples=4):
+                  grid=False, background=BACKGROUND, samples=4, force=False):
     """Render ``keys`` as tiles of one PNG grid, row by row, and return the image (H, W, 3) uint8.
 
     All tiles share one camera, framed on the union of these frames only (not the whole source),
@@ -120,8 +113,10 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
     tile : (width, height) of each tile in pixels
     labels : True to label each tile "sequence frame", a list of strings (one per key), or
         False for none
+    force : replace an existing PNG at ``out_png``
     """
     keys = list(keys)
+    _check_output(Path(out_png), "png", force, source)
     if not keys:
         raise ValueError("nothing to render: the list of frames is empty")
     if labels is True:
@@ -147,12 +142,8 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
             sheet[r * th:(r + 1) * th, c * tw:(c + 1) * tw] = image
     out_png = Path(out_png)
     out_png.parent.mkdir(parents=True, exist_ok=True)
-    temporary = out_png.with_name(f".{out_png.stem}.partial-{os.getpid()}.png")
-    try:
-        iio.imwrite(temporary, sheet)
-        os.replace(temporary, out_png)
-    finally:
-        temporary.unlink(missing_ok=True)
+    with atomic.replacing_file(out_png) as temporary:
+        iio.imwrite(temporary, sheet, extension=".png")
     return sheet
 
 
@@ -178,8 +169,20 @@ def _camera(camera, bounds, size, all_azimuths=False):
     return camera.with_aspect(aspect)
 
 
-def _is_frame_folder(path):
-    return path.is_dir() and all(p.suffix == ".png" and p.name.startswith("frame_") for p in path.iterdir())
+def _legacy_frames(path):
+    """A folder of frames rendered before the ownership marker: frame_*.png and nothing else."""
+    names = [p.name for p in path.iterdir()]
+    if not any(n.startswith("frame_") and n.endswith(".png") for n in names):
+        return None
+    return [n for n in names if not (n.startswith("frame_") and n.endswith(".png"))]
+
+
+def _check_output(out, kind, force, source):
+    inputs = source.sources() if hasattr(source, "sources") else ()
+    if kind == "folder":
+        atomic.check_target(out, "frames", force, inputs=inputs, legacy=_legacy_frames)
+    else:
+        atomic.check_file_target(out, force, inputs=inputs)
 
 
 def _write_mp4(frames, path, size, fps):
@@ -200,7 +203,6 @@ def _write_gif(frames, path, size, fps):
 
 
 def _write_folder(frames, path, size, fps):
-    path.mkdir()
     for i, image in enumerate(frames):
         iio.imwrite(path / FRAME_PATTERN.format(i), image)
 

@@ -30,13 +30,12 @@ only when a figure is drawn; figures draw with Agg, so no display is needed.
 import html
 import json
 import math
-import os
-import shutil
 import sys
 from pathlib import Path
 
 import numpy as np
 
+from engine import atomic
 from engine.errors import TvmError
 
 #: Largest |detected - true| cluster start that counts as a hit, in seconds (rounded to
@@ -269,7 +268,7 @@ def _start_end(item):
     return item[0], item[1]
 
 
-def write_report(library, out, show_pruned=False, progress=True, source=None):
+def write_report(library, out, show_pruned=False, progress=True, source=None, force=False):
     """Write the report of ``library`` into folder ``out`` and return the path of its index.html.
 
     Parameters
@@ -277,41 +276,37 @@ def write_report(library, out, show_pruned=False, progress=True, source=None):
     library : engine.Library
         An opened library (``sequences``, ``structure(name)``, ``nodes``, ``graph``).
     out : str or Path
-        Folder to create; an existing report there is replaced, any other existing folder
-        is refused.
+        Folder to create; an existing report there is replaced only with ``force`` and only
+        if it holds nothing but what tvmedit wrote; any other existing folder is refused.
     show_pruned : bool
         Draw the pruned edges faintly in the motion graph.
     progress : bool
         Print one line per step on stderr.
     source : MeshSource, optional
         Where rendered frames come from; the library itself by default.
+    force : bool
+        Replace a previous report at ``out``.
     """
     require_matplotlib()
     out = Path(out)
-    if out.exists() and not _is_report(out):
-        raise TvmError(f"{out} exists and is not a report folder; choose another output folder")
-    out.parent.mkdir(parents=True, exist_ok=True)
-    temporary = out.with_name(f".{out.name}.partial-{os.getpid()}")
-    if temporary.exists():
-        shutil.rmtree(temporary)
-    temporary.mkdir()
+    inputs = library.sources() if hasattr(library, "sources") else ()
+    atomic.check_target(out, "report", force, inputs=inputs, legacy=_legacy_report)
     say = _say if progress else (lambda *a: None)
-    try:
+    recheck = lambda target: atomic.check_target(target, "report", force, legacy=_legacy_report)  # noqa: E731
+    with atomic.replacing_folder(out, recheck=recheck, kind="report") as temporary:
         page = _Report(library, source if source is not None else library, temporary, say)
         html_text, summary = page.build(show_pruned)
         (temporary / "index.html").write_text(html_text, encoding="utf-8")
         (temporary / "report.json").write_text(json.dumps(summary, indent=1, allow_nan=False), encoding="utf-8")
-        if out.exists():
-            shutil.rmtree(out)
-        os.replace(temporary, out)
-    finally:
-        if temporary.exists():
-            shutil.rmtree(temporary)
     return out / "index.html"
 
 
-def _is_report(path):
-    return path.is_dir() and (not any(path.iterdir()) or (path / "report.json").exists())
+def _legacy_report(path):
+    """A report written before the ownership marker: report.json, index.html and PNG figures."""
+    if not (path / "report.json").is_file():
+        return None
+    return [p.name for p in path.iterdir()
+            if p.name not in ("report.json", "index.html") and p.suffix != ".png"]
 
 
 def _say(message):

@@ -41,7 +41,7 @@ def run_signalled(args, *, at, signum, after=1, env=None):
     """Run ``tvmedit ARGS``, sending ``signum`` to itself after ``after`` calls of ``at``.
 
     ``at`` is ``"module:attribute"``, e.g. ``"engine.export:write_ply"`` or
-    ``"engine.builder:_NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
+    ``"engine.libformat:NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
     """
     module, attribute = at.split(":")
     command = [sys.executable, "-c", _CHILD, module, attribute, str(after), str(int(signum)),

@@ -155,12 +155,16 @@ def test_export_force_replaces_only_a_previous_export(small_library, tmp_path):
     a, b, edit = _reachable_pair(library)
     out = tmp_path / "edited"
     assert tvmedit("export", small_library, a.name, b.name, "-o", out, "-q").returncode == 0
-    (out / "frame_99999.ply").write_bytes((out / "frame_00000.ply").read_bytes())
     again = tvmedit("export", small_library, a.name, b.name, "-o", out, "-q", "--force")
     assert again.returncode == 0, again.stderr
-    assert not (out / "frame_99999.ply").exists()
     assert len(list(out.glob("frame_*.ply"))) == len(edit.schedule)
     assert not list(tmp_path.glob(".edited.*"))
+    # A file the user put into the export is theirs: --force refuses rather than delete it.
+    (out / "frame_99999.ply").write_bytes((out / "frame_00000.ply").read_bytes())
+    refused = tvmedit("export", small_library, a.name, b.name, "-o", out, "-q", "--force")
+    assert refused.returncode == 2 and "frame_99999.ply, which tvmedit did not write" in refused.stderr
+    assert (out / "frame_99999.ply").exists()
+    (out / "frame_99999.ply").unlink()
 
     capture = tmp_path / "capture"
     capture.mkdir()

@@ -4,6 +4,7 @@ Inputs are the first frames of the real mocap take 13_30 (selected by glob), so 
 takes seconds; the feature cache always lives in a temporary ``XDG_CACHE_HOME``.
 """
 
+import argparse
 import json
 import os
 import shutil
@@ -14,14 +15,16 @@ import numpy as np
 import pytest
 
 from engine import Library, LibraryError, UnknownMotion, build
-from engine.builder import cache_dir, expand_inputs
+from engine.builder import expand_inputs
+from engine.featcache import cache_dir
 from engine.normals import vertex_normals
 from engine.database import build_database
-from engine.errors import InputError, TvmError
+from engine.errors import InputError, OutputError, TvmError
 from engine.features import BinSizes, FeatureAccumulator
 from engine.graph import build_graph, nodes_of
 from engine.load import open_sequence, read_frame
 from engine.parallel import Workers
+from tvmedit.cli import as_flags
 
 
 def _inputs(take):
@@ -149,7 +152,7 @@ def test_truncated_missing_or_foreign_files_name_the_problem_and_the_rebuild(bui
     shutil.copytree(built, copy)
     with open(copy / "positions.npy", "r+b") as handle:
         handle.truncate(1000)
-    with pytest.raises(LibraryError, match=r"positions.npy has 1000 bytes .*\(truncated .* --force"):
+    with pytest.raises(LibraryError, match=r"positions.npy has 1000 bytes .*\(truncated .* force=True"):
         Library.open(copy)
     with pytest.raises(ValueError):  # what a reader without the size check would meet
         np.load(copy / "positions.npy", mmap_mode="r")
@@ -165,8 +168,8 @@ def test_truncated_missing_or_foreign_files_name_the_problem_and_the_rebuild(bui
     manifest = json.loads((copy / "manifest.json").read_text())
     manifest["format"] = 0
     (copy / "manifest.json").write_text(json.dumps(manifest))
-    with pytest.raises(LibraryError, match="format version 0 but this tvmedit reads version 1; "
-                                           "rebuild it with `tvmedit build INPUT... -o .* --force`"):
+    with pytest.raises(LibraryError, match=r"format version 0 but this tvmedit reads version 1; "
+                                           r"rebuild it with build\(inputs, '.*', force=True\)"):
         Library.open(copy)
 
     with pytest.raises(LibraryError, match="no library at"):
@@ -243,12 +246,12 @@ def test_rebuild_with_other_parameters_reuses_cached_features(take_13_30, tmp_pa
 
 
 def test_existing_libraries_and_other_folders_are_not_overwritten(built, tmp_path, take_13_30):
-    with pytest.raises(LibraryError, match="already exists; add --force to replace it"):
+    with pytest.raises(OutputError, match="already exists; pass force=True to replace it"):
         build(_inputs(take_13_30), built, workers=1)
     folder = tmp_path / "photos"
     folder.mkdir()
     (folder / "holiday.jpg").write_bytes(b"...")
-    with pytest.raises(LibraryError, match="exists and is not a tvmedit library"):
+    with pytest.raises(OutputError, match="exists and is not a tvmedit library"):
         build(_inputs(take_13_30), folder, workers=1, force=True)
     assert (folder / "holiday.jpg").exists()
 
@@ -300,7 +303,7 @@ def test_dask_missing_is_one_sentence(monkeypatch):
 @pytest.mark.parametrize("address", ["nonsense", "tcp://host:port", "ftp://host:8786"])
 def test_a_malformed_dask_address_is_one_sentence(address):
     pytest.importorskip("distributed")
-    with pytest.raises(TvmError, match=f"--dask {address} is not a scheduler address .*; give one "
+    with pytest.raises(TvmError, match=f"dask={address} is not a scheduler address .*; give one "
                                        r"such as tcp://host:8786, or local to start one here\.$"):
         with Workers(2, dask=address) as pool:
             list(pool.map(abs, [1]))
@@ -326,18 +329,18 @@ def test_force_replaces_only_a_tvmedit_library(built, tmp_path, take_13_30, monk
     folder.mkdir()
     (folder / "manifest.json").write_text(json.dumps({"name": "my web app", "icons": []}))
     (folder / "index.html").write_text("<p>hello</p>")
-    with pytest.raises(LibraryError, match="exists and is not a tvmedit library"):
+    with pytest.raises(OutputError, match="exists and is not a tvmedit library"):
         build(_inputs(take_13_30), folder, workers=1, force=True)
     assert (folder / "index.html").exists() and json.loads((folder / "manifest.json").read_text())["icons"] == []
 
     copy = tmp_path / "copy.lib"
     shutil.copytree(built, copy)
     monkeypatch.chdir(copy)
-    with pytest.raises(LibraryError, match="is the current folder or holds it"):
+    with pytest.raises(OutputError, match="is the current folder or holds it"):
         build(_inputs(take_13_30), ".", workers=1, force=True)
     (copy / "sub").mkdir()
     monkeypatch.chdir(copy / "sub")
-    with pytest.raises(LibraryError, match="is the current folder or holds it"):
+    with pytest.raises(OutputError, match="is the current folder or holds it"):
         build(_inputs(take_13_30), copy, workers=1, force=True)
     assert Library.open(copy).manifest == Library.open(built).manifest
 
@@ -374,7 +377,8 @@ def test_a_sequence_folder_is_told_how_to_become_a_library(take_13_30, tmp_path,
     monkeypatch.chdir(tmp_path)
     with pytest.raises(LibraryError) as caught:
         Library.open("walk")
-    message = str(caught.value)
+    assert str(caught.value).endswith("build a library from it with build(['walk'], 'walk.tvmlib').")
+    message = as_flags(str(caught.value), argparse.ArgumentParser())  # what the command line says
     assert message.startswith("walk is a sequence folder (frame files, no manifest.json), not a library")
     assert message.endswith("build a library from it with `tvmedit build walk -o walk.tvmlib`.")
     suggested = message.split("`")[1].split()[1:]

@@ -76,7 +76,7 @@ def _images(page):
 def test_the_cli_prints_the_page_it_wrote_and_draws_pruned_edges_on_request(ctx, library, tmp_path, capsys):
     page, summary = _report(library, tmp_path / "out", capsys, "--show-pruned")
     assert all(f">{title}</h2>" in page for title in SECTIONS)
-    assert not list(tmp_path.glob(".out.partial-*"))
+    assert not list(tmp_path.glob(".out.*"))
     G = library.graph
     pruned = sorted(set(G.graph["unpruned"]) - set(G.edges))
     assert pruned and [tuple(e) for e in summary["graph"]["pruned_drawn"]] == pruned
@@ -204,7 +204,7 @@ def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(ctx, 
     other = tmp_path / "photos"
     other.mkdir()
     (other / "a.jpg").write_bytes(b"x")
-    with pytest.raises(TvmError, match="not a report folder"):
+    with pytest.raises(TvmError, match="is not a tvmedit report"):
         write_report(library, other, progress=False)
     assert [p.name for p in other.iterdir()] == ["a.jpg"]
 

@@ -138,7 +138,7 @@ def test_one_seed_gives_identical_files_for_any_number_of_workers(tmp_path):
 
 def test_a_non_empty_folder_needs_overwrite(tmp_path):
     (tmp_path / "notes.txt").write_text("mine")
-    with pytest.raises(InputError, match=r"not empty; pass --overwrite") as error:
+    with pytest.raises(InputError, match=r"not empty; pass overwrite=True") as error:
         synth.generate(tmp_path, motions=["squats"], cycles=1, fps=2, vertices=2000, progress=False)
     assert str(error.value).count(". ") == 0 and "\n" not in str(error.value)
     cli = subprocess.run([sys.executable, "-m", "tvmedit", "synth", "--motions", "squats", "--cycles", "1",

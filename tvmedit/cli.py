@@ -7,6 +7,7 @@ that draw, so ``tvmedit --help`` and the analysis commands start fast and run wi
 
 import argparse
 import importlib
+import re
 import signal
 import sys
 import warnings
@@ -36,7 +37,7 @@ def _parser(argv):
                            formatter_class=argparse.RawDescriptionHelpFormatter)
         if name == wanted:
             module.add_arguments(p)
-        p.set_defaults(_run=module.run)
+        p.set_defaults(_run=module.run, _parser=p)
     return parser
 
 
@@ -53,7 +54,7 @@ def main(argv=None):
     try:
         return args._run(args) or 0
     except TvmError as error:
-        print(f"error: {error}", file=sys.stderr)
+        print(f"error: {as_flags(str(error), args._parser)}", file=sys.stderr)
         return error.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
@@ -67,6 +68,48 @@ def main(argv=None):
         print(f"error: cannot use{where} ({error.strerror or error}); check the path, its "
               "permissions and the free disk space.", file=sys.stderr)
         return 2
+
+
+#: Options of other commands that engine advice may name (``rebuild with mu=2``).
+_OTHER = {"mu": "--mu", "skip_bad_frames": "--skip-bad-frames", "fps": "--fps", "force": "--force",
+          "workers": "--workers", "dask": "--dask"}
+
+
+def as_flags(message, parser):
+    """An engine message with its Python advice (``force=True``, ``mu=2``) as this command's options.
+
+    The engine names parameters as ``name=value``; where the command has an option of that
+    name (``--force``, ``--mu``), the advice is given as the option.
+
+    >>> p = argparse.ArgumentParser()
+    >>> _ = p.add_argument("--force", action="store_true"); _ = p.add_argument("--mu", type=float)
+    >>> as_flags("library x already exists; pass force=True to replace it, or mu=2.5.", p)
+    'library x already exists; pass --force to replace it, or --mu 2.5.'
+    >>> as_flags("x is damaged; rebuild it with build(inputs, 'x', force=True).", p)
+    'x is damaged; rebuild it with `tvmedit build INPUT... -o x --force`.'
+    """
+    options = {name: (option, name in ("force", "skip_bad_frames")) for name, option in _OTHER.items()}
+    for action in parser._actions:
+        if action.option_strings:
+            options[action.dest] = (action.option_strings[-1], action.nargs == 0)
+
+    def flag(match):
+        name, value = match.group(1), match.group(2)
+        found = options.get(name)
+        if found is None:
+            return match.group(0)
+        option, switch = found
+        return option if switch and value == "True" else f"{option} {value}"
+
+    message = re.sub(r"\bbuild\((inputs|\[.*?\]), '(.+?)'(, force=True)?\)", _build_command, message)
+    return re.sub(r"\b([a-z][a-z_]*)=(\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
+
+
+def _build_command(match):
+    """``build(['a'], 'lib', force=True)`` (see ``engine.libformat.build_call``) as a command."""
+    sources = "INPUT..." if match.group(1) == "inputs" else " ".join(re.findall(r"'(.*?)'", match.group(1)))
+    force = " --force" if match.group(3) else ""
+    return f"`tvmedit build {sources} -o {match.group(2)}{force}`"
 
 
 def _terminate(signum, frame):

@@ -24,7 +24,7 @@ def run(args):
     from .cmd_path import open_edit
 
     _, edit = open_edit(args)
-    record = export_edit(edit, args.out, overwrite=args.force, progress=not args.quiet)
+    record = export_edit(edit, args.out, force=args.force, progress=not args.quiet)
     transitions = len(record["transitions"])
     print(f"wrote {len(record['frames'])} frames and edit.json to {args.out.rstrip('/')}/ "
           f"({transitions} transition{'s' * (transitions != 1)})")

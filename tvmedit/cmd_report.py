@@ -14,7 +14,8 @@ and no network):
   transitions        every kept transition by weight, with exit and entry frames side by
                      side for the cheapest and the costliest
 
-An existing report in DIR is replaced; the new one appears only once it is complete.
+An existing report in DIR is replaced only with --force, and only if DIR holds nothing
+but what tvmedit wrote there; the new one appears only once it is complete.
 Rendering needs EGL; plotting needs matplotlib (pip install 'tvmedit[report]').
 
 example:
@@ -27,6 +28,7 @@ HELP = "write an HTML report of a library: structure, database, graph and transi
 def add_arguments(parser):
     parser.add_argument("library", metavar="LIB", help="library directory made by tvmedit build")
     parser.add_argument("-o", "--out", metavar="DIR", required=True, help="folder to write the report into")
+    parser.add_argument("--force", action="store_true", help="replace a previous report in DIR")
     parser.add_argument("--show-pruned", action="store_true",
                         help="draw the edges pruned by eq. (14) faintly in the motion graph")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress output")
@@ -38,6 +40,7 @@ def run(args):
 
     require_matplotlib()  # says how to install matplotlib before any work is done
     library = Library.open(args.library)
-    index = write_report(library, args.out, show_pruned=args.show_pruned, progress=not args.quiet)
+    index = write_report(library, args.out, show_pruned=args.show_pruned, progress=not args.quiet,
+                         force=args.force)
     print(index)
     return 0

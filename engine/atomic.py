@@ -1,0 +1,309 @@
+"""Writing output so that nothing is ever half-written or lost: one helper for every command.
+
+Every file and folder tvmedit writes is first written under a temporary name in the same
+folder (``.NAME.tmp-PID``; a file keeps its suffix, ``.STEM.tmp-PID.SUFFIX``, so writers that
+choose a format by suffix still can) and then renamed over the target with ``os.replace``,
+which is atomic within one file system. A folder being replaced is first moved aside
+(``.NAME.old-PID``), so no moment leaves neither the old nor the new one; what a killed
+process left behind is tidied by :func:`clean_stale` on the next write to the same target,
+and an old folder caught between the two renames is put back.
+
+Nothing of the user's is ever replaced (:func:`check_target`): every folder tvmedit writes
+carries a marker, ``.tvmedit``, naming its kind and every file written into it. An existing
+output is replaced only when asked (``force``), only when it is tvmedit's own of the same kind
+and only when it holds nothing it did not write; a file is replaced only when its content is
+of the kind its suffix says. No output goes inside another tvmedit output (a library, an
+export, a report) or inside one of the inputs, nor replaces the current folder.
+
+>>> import tempfile
+>>> folder = Path(tempfile.mkdtemp())
+>>> write_text(folder / "a.txt", "one")
+>>> with replacing_folder(folder / "out") as tmp:
+...     write_text(tmp / "b.txt", "two")
+>>> sorted(p.name for p in folder.iterdir()), (folder / "out" / "b.txt").read_text()
+(['a.txt', 'out'], 'two')
+"""
+
+import contextlib
+import glob
+import json
+import os
+import shutil
+from pathlib import Path
+
+from .errors import OutputError
+
+__all__ = ["MARKER", "temporary", "replacing_file", "write_text", "write_bytes", "replacing_folder",
+           "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target"]
+
+#: The file in every folder tvmedit writes: ``{"kind": ..., "files": [...]}``.
+MARKER = ".tvmedit"
+
+#: The first bytes of each kind of file tvmedit writes, by suffix.
+MAGIC = {".png": (b"\x89PNG",), ".gif": (b"GIF8",), ".mp4": (b"ftyp",), ".json": (b"{",)}
+
+
+def temporary(path, tag="tmp", keep_suffix=None):
+    """The temporary name beside ``path``: ``.NAME.TAG-PID`` (``.STEM.TAG-PID.SUFFIX`` for files).
+
+    >>> temporary(Path("out/edit.mp4")).name == f".edit.tmp-{os.getpid()}.mp4"
+    True
+    """
+    path = Path(path)
+    keep = bool(path.suffix) if keep_suffix is None else keep_suffix
+    if keep:
+        return path.with_name(f".{path.stem}.{tag}-{os.getpid()}{path.suffix}")
+    return path.with_name(f".{path.name}.{tag}-{os.getpid()}")
+
+
+def _remove(path):
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        with contextlib.suppress(OSError):
+            path.unlink()
+
+
+@contextlib.contextmanager
+def replacing_file(path, keep_suffix=None):
+    """Yield a temporary path to write; when the block ends without error it becomes ``path``.
+
+    On an error (or Ctrl-C) the temporary file is removed and ``path`` is left as it was.
+    """
+    path = Path(path)
+    tmp = temporary(path, keep_suffix=keep_suffix)
+    _remove(tmp)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists() or tmp.is_symlink():
+            _remove(tmp)
+
+
+def write_text(path, text, encoding="utf-8"):
+    """Write ``text`` to ``path`` atomically."""
+    with replacing_file(path, keep_suffix=False) as tmp:
+        tmp.write_text(text, encoding=encoding)
+
+
+def write_bytes(path, data):
+    """Write ``data`` to ``path`` atomically."""
+    with replacing_file(path, keep_suffix=False) as tmp:
+        tmp.write_bytes(data)
+
+
+@contextlib.contextmanager
+def replacing_folder(out, recheck=None, kind=None):
+    """Yield a fresh temporary folder beside ``out``; when the block ends it becomes ``out``.
+
+    With ``kind``, the folder gets its :data:`MARKER` listing what was written into it.
+    ``recheck(out)``, if given, runs just before the swap (the target may have changed while
+    the folder was being written) and may raise to refuse it. On any error the temporary
+    folder is removed and ``out`` is left as it was.
+    """
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    clean_stale(out)
+    tmp = temporary(out, keep_suffix=False)
+    tmp.mkdir()
+    try:
+        yield tmp
+        if kind is not None:
+            mark(tmp, kind)
+        if recheck is not None:
+            recheck(out)
+        swap_in(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def swap_in(tmp, out):
+    """Rename folder ``tmp`` to ``out``, moving an existing ``out`` aside first, then deleting it."""
+    out = Path(out)
+    if out.exists():
+        old = temporary(out, "old", keep_suffix=False)
+        os.replace(out, old)
+        os.replace(tmp, out)
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.replace(tmp, out)
+
+
+def clean_stale(out):
+    """Remove what killed writers left beside ``out``; put back a folder caught mid-swap."""
+    out = Path(out)
+    for path in out.parent.glob(f".{glob.escape(out.name)}.*-*"):
+        tag, _, pid = path.name.rpartition("-")
+        if not pid.isdigit() or not tag.endswith((".tmp", ".old")) or _alive(int(pid)):
+            continue
+        if tag.endswith(".old") and not out.exists():
+            os.replace(path, out)  # killed between the two renames: the old folder is whole
+        else:
+            _remove(path)
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def holds_cwd(path):
+    """Whether ``path`` is the current folder or one of its parents (never to be replaced)."""
+    here = Path.cwd().resolve()
+    target = Path(path).resolve()
+    return target == here or target in here.parents
+
+
+# --- what is ours -------------------------------------------------------------------------
+
+def _files(folder):
+    return sorted(str(p.relative_to(folder)) for p in Path(folder).rglob("*")
+                  if not p.is_dir() or p.is_symlink())
+
+
+def mark(folder, kind, files=None):
+    """Write the :data:`MARKER` of ``folder``: its kind and the files tvmedit wrote (default: all)."""
+    files = sorted(files) if files is not None else [name for name in _files(folder) if name != MARKER]
+    write_text(Path(folder) / MARKER, json.dumps({"kind": kind, "files": files}))
+
+
+def marked_files(folder):
+    """The files the marker of ``folder`` says tvmedit wrote (none without a marker)."""
+    marker = _marker(folder)
+    return list(marker["files"]) if marker is not None else []
+
+
+def note_written(folder, *names):
+    """Add ``names`` to the marker of ``folder`` (a file tvmedit wrote there later)."""
+    marker = _marker(folder)
+    if marker is not None:
+        marker["files"] = sorted(set(marker["files"]) | set(names))
+        write_text(Path(folder) / MARKER, json.dumps(marker))
+
+
+def _marker(folder):
+    try:
+        data = json.loads((Path(folder) / MARKER).read_text())
+    except (OSError, ValueError):
+        return None
+    ok = isinstance(data, dict) and isinstance(data.get("kind"), str) and isinstance(data.get("files"), list)
+    return data if ok else None
+
+
+def _legacy_library(folder):
+    # Libraries built before the marker existed are known by their manifest.
+    try:
+        data = json.loads((Path(folder) / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(data, dict) and "format" in data and "tvmedit" in data
+
+
+def owner(folder):
+    """The kind of tvmedit output ``folder`` is (``"library"``, ``"export"``...), or None."""
+    marker = _marker(folder)
+    if marker is not None:
+        return marker["kind"]
+    return "library" if _legacy_library(folder) else None
+
+
+def _foreign(folder):
+    """Files in ``folder`` that its marker does not list (all of them without a marker)."""
+    marker = _marker(folder)
+    written = set(marker["files"]) if marker is not None else set()
+    return [name for name in _files(folder) if name != MARKER and name not in written]
+
+
+def _summary(names, limit=3):
+    """``a, b`` or ``412 files, e.g. a, b, c``.
+
+    >>> _summary(["a", "b"]), _summary([str(i) for i in range(5)])
+    ('a, b', '5 files, e.g. 0, 1, 2')
+    """
+    if len(names) <= limit:
+        return ", ".join(names)
+    return f"{len(names)} files, e.g. {', '.join(names[:limit])}"
+
+
+def _refuse_inside(out, inputs):
+    resolved = Path(os.path.abspath(out))
+    for parent in resolved.parents:
+        kind = owner(parent)
+        if kind is not None:
+            raise OutputError(f"{out} is inside the tvmedit {kind} {parent}, which would lose it "
+                              "when replaced; choose an output outside it.")
+    for source in inputs:
+        source = Path(os.path.abspath(source))
+        if resolved == source or source in resolved.parents:
+            raise OutputError(f"{out} is inside the input {source}; choose an output outside it.")
+
+
+def check_target(out, kind, force=False, inputs=(), legacy=None):
+    """Refuse folder ``out`` unless writing a ``kind`` there loses nothing of the user's.
+
+    Parameters
+    ----------
+    out : path of the folder to write
+    kind : str
+        What is written (``"library"``, ``"export"``, ``"report"``, ``"frames"``, ``"take"``).
+    force : bool
+        Replace an existing output of the same kind (else any existing, non-empty folder is refused).
+    inputs : paths the output must not be inside of (sequence folders, the library read).
+    legacy : callable or None
+        For outputs written before the marker existed: ``legacy(folder)`` is None when an
+        unmarked folder is not such an output, else the files in it tvmedit did not write.
+
+    Raises
+    ------
+    OutputError
+        One sentence naming the folder and what is in the way.
+    """
+    out = Path(out)
+    _refuse_inside(out, inputs)
+    if out.is_symlink() or (out.exists() and not out.is_dir()):
+        raise OutputError(f"{out} exists and is not a folder; choose another output for the {kind}.")
+    if not out.exists() or not any(out.iterdir()):
+        return
+    foreign = legacy(out) if legacy is not None and _marker(out) is None else None
+    found = kind if foreign is not None else owner(out)
+    if found != kind:
+        what = f"a tvmedit {found}, not a {kind}" if found else f"not a tvmedit {kind}"
+        raise OutputError(f"{out} exists and is {what}, so it is not replaced; choose another "
+                          "output or remove it yourself.")
+    if not force:
+        raise OutputError(f"{kind} {out} already exists; pass force=True to replace it.")
+    if holds_cwd(out):
+        raise OutputError(f"{out} is the current folder or holds it, so it is not replaced; "
+                          "work from outside it.")
+    foreign = _foreign(out) if foreign is None else foreign
+    if foreign:
+        raise OutputError(f"{out} holds {_summary(foreign)}, which tvmedit did not write, so it is "
+                          "not replaced; move them out first or choose another output.")
+
+
+def check_file_target(out, force=False, inputs=()):
+    """Refuse file ``out`` unless it is new, or ``force`` and its content is of its suffix's kind."""
+    out = Path(out)
+    _refuse_inside(out, inputs)
+    if not out.exists() and not out.is_symlink():
+        return
+    if out.is_symlink() or not out.is_file():
+        raise OutputError(f"{out} exists and is not a file; choose another output.")
+    if not force:
+        raise OutputError(f"{out} already exists; pass force=True to replace it.")
+    try:
+        with open(out, "rb") as handle:
+            head = handle.read(12)
+    except OSError:
+        head = b""
+    magic = MAGIC.get(out.suffix.lower(), ())
+    if not any(head.startswith(m) or head[4:8] == m for m in magic):
+        raise OutputError(f"{out} exists and is not a {out.suffix.lstrip('.').upper()} file, so it is "
+                          "not replaced; choose another output or remove it yourself.")

@@ -1,0 +1,437 @@
+"""The library's on-disk format, written and read in this one place.
+
+A library is a directory written by :func:`engine.build` and opened by
+:class:`engine.library.Library`; nothing in it is parsed while playing. Its files:
+
+``manifest.json``
+    format version, tvmedit version, build parameters, and per sequence its name, fps,
+    frame count, rows in ``features.npy``, r width, origin, feature cache key, frame files
+    (resolved path, size, mtime_ns) and skipped frames; the size of every file below (checked
+    on open), the bounds of the stored meshes and their largest vertex and face counts.
+``features.npy``
+    (T, D) float32: one feature vector per frame of every sequence in order (eq. (1)-(4)),
+    r histograms zero-padded to the library's widest, then theta, then phi.
+``structure.json``
+    per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
+``database.json``
+    the motion database (section 5): nodes with id, default name, sequence, inclusive frame
+    range, cluster, texton distance and intensity.
+``graph.json``
+    the complete graph's weights ``[[i, j, w], ...]`` (eq. (12)), transition frames
+    ``[[i, j, exit, entry], ...]`` (eq. (10), frames within each node's sequence) and mu; the
+    pruned graph (eq. (14)) is rebuilt from them on open.
+``graph.graphml``
+    the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
+``positions.npy``, ``colours.npy``, ``normals.npy``
+    (V, 3) float32, uint8, float32: vertices of every stored frame, one after another.
+``faces.npy``
+    (F, 3) uint32, indices local to each frame.
+``frames.npy``
+    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
+``frame_keys.npy``
+    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
+``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
+    only where some stored frame is textured: (V, 2) float32 texture coordinates beside
+    ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
+    after another, (P, 3) uint8, each image's rows top first; (n, 3) int64 per stored frame:
+    first texel, height, width (0, 0, 0 for an untextured frame).
+``names.json``
+    optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
+
+Only the frames of database textons are stored. Every array opens with
+``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
+"""
+
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import atomic
+from .errors import LibraryError
+
+__all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", "write_json",
+           "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
+           "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
+           "read_names", "write_names", "tvmedit_version"]
+
+#: On-disk format version; a library of another version must be rebuilt.
+FORMAT = 1
+
+#: Files whose sizes the manifest records and :func:`read_manifest` checks.
+CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
+                 "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
+                 "uvs.npy", "textures.npy", "texture_frames.npy")
+
+#: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
+MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
+               ("faces", np.uint32, 3))
+
+
+def tvmedit_version():
+    """The installed tvmedit's version, recorded in every manifest."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("tvmedit")
+    except PackageNotFoundError:  # running from a source tree that was never installed
+        return "0.0.0+unknown"
+
+
+# --- writing ------------------------------------------------------------------------------
+
+def _json_default(value):
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, tuple):
+        return list(value)
+    if dataclasses.is_dataclass(value):
+        return dataclasses.asdict(value)
+    raise TypeError(f"cannot store {type(value).__name__} in JSON")
+
+
+def write_json(path, data):
+    """Write ``data`` compactly (numpy scalars and arrays, tuples and dataclasses allowed)."""
+    Path(path).write_text(json.dumps(data, default=_json_default, separators=(",", ":")))
+
+
+class NpyStream:
+    """An ``.npy`` file of rows appended in pieces, whose length is known only at the end.
+
+    The header is written last, into a fixed 128 bytes reserved at the start (numpy's own
+    header for a 2-D array is that long), so the rows go straight to disk and are never
+    copied.
+    """
+
+    HEADER = 128
+
+    def __init__(self, path, dtype, width):
+        self.path, self.dtype, self.width, self.rows = path, np.dtype(dtype), width, 0
+        self.handle = open(path, "wb")
+        self.handle.write(b"\0" * self.HEADER)
+
+    def append(self, array):
+        array = np.ascontiguousarray(array, dtype=self.dtype)
+        self.handle.write(memoryview(array).cast("B"))
+        self.rows += len(array)
+
+    def close(self):
+        header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
+                  "shape": (self.rows, self.width)}
+        text = repr(header).encode("latin1")
+        length = self.HEADER - 10
+        if len(text) + 1 > length:
+            raise ValueError(f"npy header too long for {self.path}")
+        self.handle.seek(0)
+        self.handle.write(b"\x93NUMPY\x01\x00" + length.to_bytes(2, "little")
+                          + text + b" " * (length - len(text) - 1) + b"\n")
+        self.handle.close()
+
+
+class MeshWriter:
+    """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
+
+    ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
+    """
+
+    def __init__(self, folder):
+        folder = Path(folder)
+        self._folder = folder
+        self._arrays = {name: NpyStream(folder / f"{name}.npy", dtype, width)
+                        for name, dtype, width in MESH_ARRAYS}
+        # Texture arrays are opened at the first textured frame: untextured libraries have none.
+        self._uvs = self._texels = None
+        self._texture_rows = []
+        self._offsets = NpyStream(folder / "frames.npy", np.int64, 4)
+        self._keys = NpyStream(folder / "frame_keys.npy", np.int64, 2)
+        self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
+        self._starts = [0, 0]
+        self.frames = 0
+        self.max_counts = (0, 0)
+
+    def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None):
+        """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
+        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured."""
+        for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
+                            ("faces", faces)):
+            self._arrays[name].append(array)
+        v0, f0 = self._starts
+        if uv is not None and texture is not None:
+            if self._uvs is None:
+                self._uvs = NpyStream(self._folder / "uvs.npy", np.float32, 2)
+                self._texels = NpyStream(self._folder / "textures.npy", np.uint8, 3)
+                for start in range(0, v0, 1 << 20):
+                    self._uvs.append(np.zeros((min(1 << 20, v0 - start), 2), np.float32))
+            self._uvs.append(uv)
+            self._texture_rows.append([self._texels.rows, texture.shape[0], texture.shape[1]])
+            self._texels.append(np.asarray(texture).reshape(-1, 3))
+        else:
+            if self._uvs is not None:
+                self._uvs.append(np.zeros((len(positions), 2), np.float32))
+            self._texture_rows.append([0, 0, 0])
+        self._offsets.append(np.array([[v0, len(positions), f0, len(faces)]]))
+        self._keys.append(np.array([[sequence_index, frame]]))
+        self._starts = [v0 + len(positions), f0 + len(faces)]
+        self.max_counts = (max(self.max_counts[0], len(positions)), max(self.max_counts[1], len(faces)))
+        np.minimum(self._low, positions.min(axis=0), out=self._low)
+        np.maximum(self._high, positions.max(axis=0), out=self._high)
+        self.frames += 1
+
+    @property
+    def bounds(self):
+        """``(low, high)`` corners over every frame added (zeros when none)."""
+        if not self.frames:
+            return [0.0] * 3, [0.0] * 3
+        return self._low.tolist(), self._high.tolist()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        for stream in (*self._arrays.values(), self._offsets, self._keys):
+            stream.close()
+        if self._uvs is not None:
+            self._uvs.close()
+            self._texels.close()
+            np.save(self._folder / "texture_frames.npy", np.array(self._texture_rows, np.int64).reshape(-1, 3))
+
+
+def graph_to_json(graph):
+    """What ``graph.json`` holds: the complete graph's weights, transition frames and mu."""
+    unpruned = graph.graph["unpruned"]
+    transitions = graph.graph["transitions"]
+    return {
+        "mu": graph.graph["mu"],
+        "unpruned": [[int(i), int(j), float(w)] for (i, j), w in sorted(unpruned.items())],
+        "transitions": [[int(i), int(j), int(a), int(b)] for (i, j), (a, b) in sorted(transitions.items())],
+    }
+
+
+def write_graphml(graph, path):
+    """Export the pruned graph as GraphML (only mu among the graph attributes), atomically."""
+    import networkx as nx
+
+    plain = nx.DiGraph(mu=float(graph.graph["mu"]))
+    for i, data in graph.nodes(data=True):
+        plain.add_node(i, **{k: v for k, v in data.items() if v is not None})
+    plain.add_edges_from(graph.edges(data=True))
+    with atomic.replacing_file(path) as tmp:
+        nx.write_graphml(plain, tmp)
+
+
+def sequence_record(name, fps, rows, features, feature_key, files, skipped, format=None,
+                    orientation=None):
+    """One sequence's entry in the manifest; ``features`` are its own (unpadded) ones; ``format``
+    names its reader, ``orientation`` (JSON) the map into tvmedit's frame it was read with."""
+    extra = {} if format is None else {"format": format}
+    if orientation is not None:
+        extra["orientation"] = orientation
+    return {
+        "name": name,
+        "fps": fps,
+        "frames": rows[1] - rows[0],
+        "rows": list(rows),
+        "r_bins": int(features.r.shape[1]),
+        "origin": [float(x) for x in features.origin],
+        "feature_key": feature_key,
+        "files": files,
+        "skipped": [list(s) for s in skipped],
+        **extra,
+    }
+
+
+def manifest(records, params, feature_columns, counts, bounds, max_counts):
+    """The manifest's contents but for the file sizes (added by :func:`write_manifest`)."""
+    return {
+        "format": FORMAT,
+        "tvmedit": tvmedit_version(),
+        "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "params": json.loads(json.dumps(params, default=_json_default)),
+        "feature_columns": feature_columns,
+        "sequences": records,
+        "counts": counts,
+        "bounds": [list(bounds[0]), list(bounds[1])],
+        "max_counts": list(max_counts),
+    }
+
+
+def write_manifest(folder, data):
+    """Record the sizes of the :data:`CHECKED_FILES` in ``folder`` and write ``manifest.json`` last."""
+    folder = Path(folder)
+    data = dict(data, files={path.name: path.stat().st_size for path in sorted(folder.iterdir())
+                             if path.name in CHECKED_FILES})
+    write_json(folder / "manifest.json", data)
+
+
+# --- reading ------------------------------------------------------------------------------
+
+def build_call(inputs, out, force=False):
+    """How to (re)build a library, said in Python; the command line says it as a command.
+
+    >>> build_call(None, "lib", force=True)
+    "build(inputs, 'lib', force=True)"
+    """
+    sources = "inputs" if inputs is None else repr([str(i) for i in inputs])
+    return f"build({sources}, {str(out)!r}{', force=True' if force else ''})"
+
+
+def _rebuild_hint(path):
+    return f"rebuild it with {build_call(None, path, force=True)}"
+
+
+def _not_a_library(path):
+    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
+    from .load import MESH_SUFFIXES
+
+    try:
+        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
+    except OSError:
+        frames = False
+    if frames:
+        plain = path if path.name not in ("", ".", "..") else path.resolve()
+        target = plain.with_name(f"{plain.name}.tvmlib")
+        return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
+                f"build a library from it with {build_call([path], target)}.")
+    return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
+            f"or build one with {build_call(None, path)}.")
+
+
+#: Every file a library may hold besides the marker.
+LIBRARY_FILES = (*CHECKED_FILES, "manifest.json", "graph.graphml", "names.json")
+
+
+def legacy_foreign(path):
+    """For a library built before the ownership marker: the files in it that a build did not write.
+
+    None when ``path`` is not such a library (see :func:`engine.atomic.check_target`).
+    """
+    if atomic.owner(path) != "library":
+        return None
+    return sorted(str(p.relative_to(path)) for p in Path(path).rglob("*")
+                  if str(p.relative_to(path)) not in LIBRARY_FILES)
+
+
+def read_manifest(path):
+    """The manifest of the library at ``path``, its format and file sizes checked.
+
+    Raises
+    ------
+    LibraryError
+        When ``path`` is not a library, is of another format version, or misses or
+        has a truncated file; the message says how to rebuild it.
+    """
+    path = Path(path)
+    manifest_path = path / "manifest.json"
+    if not manifest_path.is_file():
+        leftovers = sorted(path.parent.glob(f".{path.name}.old-*"))
+        if leftovers and not path.exists():
+            raise LibraryError(f"no library at {path}, but an interrupted build left the previous "
+                               f"one at {leftovers[0]}; rename it back to {path.name}.")
+        if path.is_dir():
+            raise LibraryError(_not_a_library(path))
+        raise LibraryError(f"no library at {path}; build one with {build_call(None, path)}.")
+    try:
+        data = json.loads(manifest_path.read_text())
+    except (OSError, ValueError) as error:
+        raise LibraryError(f"library {path} has an unreadable manifest.json ({error}); "
+                           f"{_rebuild_hint(path)}.") from None
+    version = data.get("format") if isinstance(data, dict) else None
+    if version != FORMAT:
+        shown = "no format version" if version is None else f"format version {version!r}"
+        raise LibraryError(f"library {path} has {shown} but this tvmedit reads version "
+                           f"{FORMAT!r}; {_rebuild_hint(path)}.")
+    for name, size in data.get("files", {}).items():
+        try:
+            actual = (path / name).stat().st_size
+        except OSError:
+            raise LibraryError(f"library {path} is incomplete: {name} is missing; "
+                               f"{_rebuild_hint(path)}.") from None
+        if actual != size:
+            raise LibraryError(f"library {path} is damaged: {name} has {actual} bytes where "
+                               f"{size} were written (truncated or changed); {_rebuild_hint(path)}.")
+    return data
+
+
+def damaged(path, error):
+    """The LibraryError for a library whose files cannot be read as the format says."""
+    return LibraryError(f"library {path} cannot be read ({type(error).__name__}: {error}); "
+                        f"{_rebuild_hint(path)}.")
+
+
+def read_json(path, name):
+    """The JSON file ``name`` of the library at ``path``."""
+    return json.loads((Path(path) / name).read_text())
+
+
+def load_array(path, name):
+    """Array file ``name`` of the library at ``path``, memory-mapped."""
+    try:
+        return np.load(Path(path) / name, mmap_mode="r")
+    except (OSError, ValueError) as error:
+        raise LibraryError(f"library {path} has an unreadable {name} ({error}); "
+                           f"{_rebuild_hint(path)}.") from None
+
+
+def read_graph(path):
+    """``(unpruned, transitions, mu)`` from ``graph.json``: ``{(i, j): w}``, ``{(i, j): (exit, entry)}``."""
+    data = read_json(path, "graph.json")
+    unpruned = {(i, j): w for i, j, w in data["unpruned"]}
+    transitions = {(i, j): (a, b) for i, j, a, b in data["transitions"]}
+    return unpruned, transitions, float(data["mu"])
+
+
+def read_names(path):
+    """The names given with ``rename`` (``{"id": "name"}``), checked; ``{}`` when none."""
+    names_path = Path(path) / "names.json"
+    if not names_path.exists():
+        return {}
+    try:
+        names = json.loads(names_path.read_text())
+    except ValueError as error:
+        raise LibraryError(f"{names_path} is not valid JSON ({error}); fix it or delete it "
+                           "to go back to the default names.") from None
+    _check_names(names_path, names)
+    return names
+
+
+def write_names(path, names):
+    """Store ``names`` (``{"id": "name"}``) in ``names.json`` atomically."""
+    target = Path(path) / "names.json"
+    try:
+        atomic.write_text(target, json.dumps(names, indent=1, sort_keys=True))
+        atomic.note_written(path, "names.json")
+    except OSError as error:
+        raise LibraryError(f"cannot write {target} ({error.strerror}); "
+                           "check that the library is writable.") from None
+
+
+def _check_names(names_path, names):
+    """``names.json`` is edited by hand at times: it must map ids to names, as rename writes it."""
+    if not isinstance(names, dict):
+        shown = json.dumps(names)
+        shown = shown if len(shown) <= 40 else shown[:37] + "..."
+        raise LibraryError(f"{names_path} must hold a JSON object of motion names such as "
+                           f"{{\"3\": \"squats\"}}, not {shown}; fix it or delete it "
+                           "to go back to the default names.")
+    for key, name in names.items():
+        if not key.strip().isdigit() or not isinstance(name, str) or not name.strip() or name.strip().isdigit():
+            raise LibraryError(f"{names_path} maps {key!r} to {name!r}, but it must map motion ids to "
+                               "names with at least one non-digit, such as {\"3\": \"squats\"}; "
+                               "fix it or delete it to go back to the default names.")
+
+
+def check_unique(path, nodes):
+    """Names applied from ``names.json`` must not give two motions one name."""
+    seen = {}
+    for node in nodes:
+        if node.name in seen:
+            raise LibraryError(f"{Path(path) / 'names.json'} gives motions {seen[node.name]} and "
+                               f"{node.id} the same name {node.name!r}; fix it or delete it to go "
+                               "back to the default names.")
+        seen[node.name] = node.id
