@@ -30,10 +30,11 @@ than 300 units is millimetres,
 more than 3 centimetres, else metres (a person or a bust, in any of the three, falls in one
 class only). ``units`` overrides.
 
-Mirror: a depth camera facing its user (the front, "selfie" camera of a phone, which the
-scvv format comes from) records a mirror image: text held up to it reads backwards in its
-textures. Such sequences are mirrored back (left and right swapped) by default; ``mirror``
-overrides.
+Mirror: some capture apps store a mirror image of the scene (what a front "selfie" camera
+shows its user), so text held up to the camera reads backwards. Nothing in the coordinates
+tells, and the scvv capture shared with tvmedit is not mirrored (its card reads correctly
+once upright, though the preview image of the app and the raw camera images it textures
+with are mirrored), so ``mirror`` is off unless given.
 """
 
 import math
@@ -223,7 +224,7 @@ def detect(frames, format=None, up=None, units=None, mirror=None):
     units : str or None
         ``"m"``, ``"cm"`` or ``"mm"``: likewise.
     mirror : bool or None
-        Mirror the capture back (left-right); default: for depth-camera formats.
+        Mirror the capture back (left-right); default: no.
 
     Returns
     -------
@@ -265,10 +266,7 @@ def detect(frames, format=None, up=None, units=None, mirror=None):
     else:
         reasons["units"] = "given"
     if mirror is None:
-        mirror = depth_camera
-        if depth_camera:
-            reasons["mirror"] = ("a depth camera facing its user (scvv) records a mirror image; "
-                                 "mirrored back (--no-mirror keeps it)")
+        mirror = False
     else:
         reasons["mirror"] = "given"
     return Orientation.make(direction, front=front, units=units, mirrored=mirror, reasons=reasons)

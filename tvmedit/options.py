@@ -87,7 +87,7 @@ def add_frame_of_reference(parser):
     group.add_argument("--units", choices=("m", "cm", "mm"), default=None,
                        help="the capture's length unit")
     group.add_argument("--mirror", action=argparse.BooleanOptionalAction, default=None,
-                       help="swap left and right (a front camera's mirror image); default: for scvv captures")
+                       help="swap left and right, for a capture stored as a mirror image (text reads backwards); default: no")
 
 
 def as_flags(text):
@@ -98,3 +98,10 @@ def as_flags(text):
     for name in ("min_cluster", "novelty_threshold"):
         text = text.replace(name, "--" + name.replace("_", "-"))
     return text
+
+
+def add_shading(parser):
+    """--shading auto|texture|colour, for render and play."""
+    parser.add_argument("--shading", choices=("auto", "texture", "colour"), default="auto",
+                        help="draw each frame's texture (texture) or its vertex colours (colour); "
+                             "default auto: the texture where the capture has one")
