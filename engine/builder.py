@@ -76,10 +76,10 @@ def expand_inputs(inputs):
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
 
-def _read(path, skip_bad_frames):
+def _read(path, skip_bad_frames, orientation=None, detail="full"):
     """``(frame, None)``, or ``(None, reason)`` for a bad frame when skipping; raises otherwise."""
     try:
-        return read_frame(path), None
+        return read_frame(path, orientation, detail), None
     except InputError as error:
         if not skip_bad_frames:
             raise
@@ -92,11 +92,11 @@ def _feature_task(task):
     A row is ``(h_r, h_theta, h_phi)`` as float32 (what :class:`Features` stores), or the
     reason the frame was skipped.
     """
-    paths, origin, bins, skip_bad_frames = task
+    paths, origin, bins, skip_bad_frames, orientation = task
     rows, read_s, compute_s = [], 0.0, 0.0
     for path in paths:
         t0 = time.perf_counter()
-        frame, reason = _read(path, skip_bad_frames)
+        frame, reason = _read(path, skip_bad_frames, orientation, "geometry")
         if frame is None:
             rows.append(reason)
             continue
@@ -108,14 +108,15 @@ def _feature_task(task):
 
 
 def _mesh_task(paths):
-    """Meshes of a chunk of frames with their normals: ``(meshes, read_s, compute_s)``."""
+    """Meshes of a chunk of ``(path, orientation)`` with their normals and textures:
+    ``(meshes, read_s, compute_s)``."""
     meshes, read_s, compute_s = [], 0.0, 0.0
-    for path in paths:
+    for path, orientation in paths:
         t0 = time.perf_counter()
-        frame = read_frame(path)
+        frame = read_frame(path, orientation)
         t1 = time.perf_counter()
         normals = vertex_normals(frame.positions, frame.faces)
-        meshes.append((frame.positions, frame.colours, frame.faces, normals))
+        meshes.append((frame.positions, frame.colours, frame.faces, normals, frame.uv, frame.texture))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return meshes, read_s, compute_s
@@ -179,7 +180,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     # The origin is the centroid of the first usable frame; everything else waits on it.
     for k, path in enumerate(paths):
         t0 = time.perf_counter()
-        frame, reason = _read(path, skip_bad_frames)
+        frame, reason = _read(path, skip_bad_frames, sequence.orientation, "geometry")
         if frame is None:
             skipped.append((str(path), reason))
             bar.update()
@@ -197,7 +198,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     kept = [str(Path(paths[first]).resolve())]
     rest = paths[first + 1:]
     chunks = [rest[i:i + FEATURE_CHUNK] for i in range(0, len(rest), FEATURE_CHUNK)]
-    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames) for chunk in chunks)
+    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation) for chunk in chunks)
     for chunk, (rows, read_s, compute_s) in zip(chunks, pool.map(_feature_task, tasks)):
         for path, row in zip(chunk, rows):
             if isinstance(row, str):
@@ -213,7 +214,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
 def _sequence_features(sequence, bins, skip_bad_frames, pool, old, cache, run):
     """The features of one sequence: from the library being replaced, the cache, or computed."""
     stats = featcache.stat_list(sequence.paths)
-    key = featcache.key(stats, bins, skip_bad_frames)
+    key = featcache.key(stats, bins, skip_bad_frames, sequence.orientation)
     entry = _from_library(old, key, bins) or (_from_cache(key, bins) if cache else None)
     if entry is None:
         bar = run.bar(len(sequence.paths), f"features {sequence.name}")
@@ -263,7 +264,7 @@ def _from_library(old, key, bins):
 def _motion_graph(sequences, padded, params, mu, run):
     """Parse every sequence (section 4), then build the database (section 5) and graph (section 6)."""
     from . import structure as structure_module
-    from .database import build_database
+    from .database import advice, build_database
     from .graph import build_graph, nodes_of
 
     vectors = {seq.name: f.vectors for seq, f in zip(sequences, padded)}
@@ -279,24 +280,23 @@ def _motion_graph(sequences, padded, params, mu, run):
         run.stages["graph"] = time.perf_counter() - t0
     _pass_on(caught, run.log)
     nodes = nodes_of(graph)
-    if not nodes:
-        run.say("warning: the database is empty (no motion texton was found), so the library "
-                "has nothing to edit; try other structure parameters")
+    if advice(nodes):
+        run.say(f"warning: {advice(nodes)}")
     return structures, nodes, graph
 
 
 # --- meshes and the rest of the library ---------------------------------------------------
 
 def _write_meshes(tmp, needed, pool, run):
-    """Stream the ``needed`` frames ``(sequence index, frame, path)`` to the flat mesh arrays."""
+    """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh arrays."""
     bar = run.bar(len(needed), "meshes")
     chunks = [needed[i:i + MESH_CHUNK] for i in range(0, len(needed), MESH_CHUNK)]
-    tasks = ([path for _, _, path in chunk] for chunk in chunks)
+    tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
     try:
         with libformat.MeshWriter(tmp) as writer:
             for chunk, (meshes, read_s, compute_s) in zip(
                     chunks, pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)):
-                for (seq_index, frame, _), mesh in zip(chunk, meshes):
+                for (seq_index, frame, _, _), mesh in zip(chunk, meshes):
                     writer.add(seq_index, frame, *mesh)
                 run.add_times(read_s, compute_s)
                 bar.update(len(chunk))
@@ -325,7 +325,8 @@ def _write_library(tmp, old, sequences, computed, padded, settings, structures, 
         n = len(entry.features)
         files = [entry.stats.get(path, [path, None, None]) for path in entry.paths]
         records.append(libformat.sequence_record(seq.name, seq.fps, (row, row + n), entry.features,
-                                                 entry.key, files, entry.skipped))
+                                                 entry.key, files, entry.skipped, seq.format,
+                                                 seq.orientation.to_json()))
         row += n
     width = padded[0].r.shape[1] if padded else 0
     libformat.write_manifest(tmp, libformat.manifest(
@@ -340,14 +341,16 @@ def _write_library(tmp, old, sequences, computed, padded, settings, structures, 
 
 # --- the build ----------------------------------------------------------------------------
 
-def _open_inputs(inputs, fps, log):
-    """Open every input sequence (no mesh read yet); names must be unique."""
+def _open_inputs(inputs, fps, log, frame=None):
+    """Open every input sequence (no mesh read yet, but a few to detect its frame of
+    reference, unless ``frame``, a dict of ``up``, ``units`` and ``mirror``, fixes it); names
+    must be unique."""
     expanded = expand_inputs(inputs)
     if not expanded:
         raise InputError("no input sequences given; name at least one sequence folder.")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        sequences = [open_sequence(source, name=name, fps=fps) for name, source in expanded]
+        sequences = [open_sequence(source, name=name, fps=fps, **(frame or {})) for name, source in expanded]
     _pass_on(caught, log)
     seen = {}
     for (_, source), sequence in zip(expanded, sequences):
@@ -377,7 +380,8 @@ def _open_old(out):
 
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
-          progress=False, workers=None, dask=None, force=False, cache=True, log=None):
+          progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
+          units=None, mirror=None):
     """Build a library from TVM sequences and return it opened.
 
     Parameters
@@ -410,6 +414,9 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         library being replaced is always consulted.
     log : callable or None
         Called with one-line messages (features reused, stages).
+    up, units, mirror : str, str, bool or None
+        The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
+        given is detected per sequence (:func:`engine.orientation.detect`).
 
     Returns
     -------
@@ -419,7 +426,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     run = _Run(progress, log)
     out = Path(out).absolute()
     settings = _Settings.of(bins, structure, mu, skip_bad_frames)
-    sequences = _open_inputs(inputs, fps, log)
+    sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
     _check_target(out, force, sequences)
@@ -436,7 +443,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
             index = {seq.name: k for k, seq in enumerate(sequences)}
             needed = sorted({(index[node.sequence], frame)
                              for node in nodes for frame in range(node.start, node.end + 1)})
-            needed = [(s, frame, computed[s].paths[frame]) for s, frame in needed]
+            needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
             meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run)
         run.stage("write", _write_library, tmp, old, sequences, computed, padded,
                   settings, structures, nodes, graph, meshes, run)

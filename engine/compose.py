@@ -13,6 +13,12 @@ frames: the smallest n >= L whose last frame, e + n - 1 taken cyclically, is x. 
 key motion starts at its first frame; the last is played ``loops`` full cycles from where it
 is entered (forever with ``loops=None``).
 
+A one-shot motion (``kind="once"``, a stretch of a take that does not repeat, see
+:mod:`engine.database`) is not a cycle: it is entered at its first frame and played through
+once to its exit frame x, which lies in its last part (:func:`engine.graph.exit_range`), so
+it shows n = ((x - e) mod L) + 1 frames, the first arrival at x. As the last key motion, or
+while the player rests in it, it plays whole and starts again.
+
 A leg whose two key motions are the same motion is empty: path ``[key]``, cost 0, no edges,
 no frames. The motion simply continues, and the next leg starts where it would have.
 
@@ -118,11 +124,12 @@ class Composition:
                 "transitions": [t.to_json() for t in self.transitions]}
 
 
-def play_length(start, end, entry, exit):
+def play_length(start, end, entry, exit, once=False):
     """Frames a texton ``start..end`` shows when entered at ``entry`` and left at ``exit``.
 
     The smallest count >= L = end - start + 1 whose last frame is ``exit``, playing
-    cyclically from ``entry``: n(e, x) = L + ((x - e + 1) mod L).
+    cyclically from ``entry``: n(e, x) = L + ((x - e + 1) mod L). A one-shot (``once``)
+    is left on its first arrival at ``exit``: n = ((x - e) mod L) + 1.
 
     >>> play_length(10, 15, 14, 13)  # 14 15 10 11 12 13
     6
@@ -130,8 +137,12 @@ def play_length(start, end, entry, exit):
     7
     >>> play_length(10, 15, 14, 12)  # 14 15 10 11 12 13 14 15 10 11 12
     11
+    >>> play_length(10, 15, 10, 14, once=True)  # 10 11 12 13 14
+    5
     """
     length = end - start + 1
+    if once:
+        return (exit - entry) % length + 1
     return length + (exit - entry + 1) % length
 
 
@@ -153,6 +164,10 @@ def _entries(node, sequence, frames):
 def _texton(graph, node):
     data = graph.nodes[node]
     return data["sequence"], data["start"], data["end"]
+
+
+def _once(graph, node):
+    return graph.nodes[node].get("kind") == "once"
 
 
 def _check_frame(graph, node, frame, edge, role):
@@ -240,7 +255,7 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
             w, exit_frame, entry_frame = _edge(graph, u, v, weight)
             cost = max(cost, w)
             schedule += _entries(u, sequence, _cycle(start, end, entry,
-                                                     play_length(start, end, entry, exit_frame)))
+                                                     play_length(start, end, entry, exit_frame, _once(graph, u))))
             transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame))
             sequence, start, end = _texton(graph, v)
             entry = entry_frame
@@ -260,6 +275,7 @@ class _Visit:
     end: int
     entry: int
     exit: int | None = None
+    once: bool = False            # a one-shot: left on its first arrival at the exit frame
     shown: int = 0
     leg: int | None = None        # serial of the queued key motion whose path planned it
     key: bool = False             # this visit is that key motion
@@ -273,6 +289,11 @@ class _Visit:
         """Frames still to show before leaving: the play length rule, counted from now."""
         if self.exit is None:
             return None
+        if self.once:
+            target = self.exit - self.start
+            if self.shown and (self.entry - self.start + self.shown - 1) % self.length == target:
+                return 0
+            return (target - (self.entry - self.start + self.shown)) % self.length + 1
         least = max(self.length, self.shown)
         last = self.entry - self.start + least - 1
         return least + (self.exit - self.start - last) % self.length - self.shown
@@ -307,7 +328,7 @@ class Playhead:
         self.index = SearchIndex.of(graph, weight) if index is None else index
         node = node_by_key(graph, start_node)
         sequence, start, end = _texton(graph, node)
-        self._visit = _Visit(node, sequence, start, end, start)
+        self._visit = _Visit(node, sequence, start, end, start, once=_once(graph, node))
         self._plan = deque()
         self._queue = []            # (key node, leg serial), in play order
         self._serial = itertools.count()
@@ -346,8 +367,8 @@ class Playhead:
         for (u, v), (w, exit_frame, entry_frame) in zip(zip(path, path[1:]), edges):
             previous.exit = exit_frame
             sequence, start, end = _texton(self.graph, v)
-            previous = _Visit(v, sequence, start, end, entry_frame, leg=serial, key=v == node,
-                              arrival=Transition(-1, u, v, w, exit_frame, entry_frame))
+            previous = _Visit(v, sequence, start, end, entry_frame, once=_once(self.graph, v), leg=serial,
+                              key=v == node, arrival=Transition(-1, u, v, w, exit_frame, entry_frame))
             self._plan.append(previous)
         self._queue.append((node, serial))
         return path
@@ -376,7 +397,7 @@ class Playhead:
         for visit in self._plan:
             if visit.key:
                 return total
-            total += play_length(visit.start, visit.end, visit.entry, visit.exit)
+            total += play_length(visit.start, visit.end, visit.entry, visit.exit, visit.once)
         raise AssertionError("a queued key motion is missing from the plan")
 
     def advance(self):

@@ -33,7 +33,7 @@ def cache_dir():
 def code_version():
     """A hash of the modules that read frames and compute histograms."""
     digest = hashlib.sha1()
-    for module in ("load.py", "plyfast.py", "features.py"):
+    for module in ("load.py", "plyfast.py", "readers.py", "orientation.py", "features.py"):
         digest.update(Path(__file__).with_name(module).read_bytes())
     return digest.hexdigest()[:12]
 
@@ -50,9 +50,12 @@ def stat_list(paths):
     return rows
 
 
-def key(stats, bins, skip_bad_frames=False):
-    """The cache key of features computed from files ``stats`` (:func:`stat_list`) with ``bins``."""
-    blob = json.dumps([stats, bins.to_json(), code_version(), bool(skip_bad_frames)])
+def key(stats, bins, skip_bad_frames=False, orientation=None):
+    """The cache key of features computed from files ``stats`` (:func:`stat_list`) with ``bins``,
+    the frames mapped by ``orientation`` (an :class:`engine.orientation.Orientation`, None for as
+    they are)."""
+    frame = [] if orientation is None or orientation.is_identity else [orientation.matrix, orientation.scale]
+    blob = json.dumps([stats, bins.to_json(), code_version(), bool(skip_bad_frames)] + frame)
     return hashlib.sha1(blob.encode()).hexdigest()[:20]
 
 

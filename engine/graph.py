@@ -21,18 +21,25 @@ out of it still compare by their size, and huge, which is what eq. (12) says abo
 out of a motion with no movement to hide it. A one-frame texton has no neighbouring frames
 and counts as frozen.
 
+One-shot motions (``Node.kind == "once"``, see :mod:`engine.database`) are played through
+once, not cyclically, so eq. (10) is restricted for them: a one-shot is entered only at its
+first frame and left only from a frame of its last part (the last :data:`EXIT_SHARE` of its
+frames). Their d_V and transition frames therefore differ by direction; between two cycles
+they stay symmetric. They are otherwise ordinary nodes: weighted, pruned and searched alike.
+
 Pruning is applied exactly as eq. (14) says: an edge goes when w >= mu * mean. When all
 edges leaving a node weigh the same (always so in a two-node database) none of them is
 below mu * mean for mu <= 1, and that node has no way out; the unpruned weights kept in
 ``G.graph["unpruned"]`` let a caller explain such a dead end.
 """
 
+import math
 from dataclasses import asdict, replace
 
 import networkx as nx
 import numpy as np
 
-from .database import Node
+from .database import ONCE, Node
 from .errors import TvmError, UnknownMotion
 from .features import distance_matrix
 
@@ -41,6 +48,27 @@ MU = 0.9
 
 #: Intensity used in eq. (12) for textons whose measured intensity is below it.
 MIN_INTENSITY = 1e-9
+
+#: The last part of a one-shot motion it may be left from: this share of its frames (at least one).
+EXIT_SHARE = 0.25
+
+
+def exit_range(node):
+    """``(first, last)`` frames a node may be left from, eq. (10): any frame of a cycle, the
+    last :data:`EXIT_SHARE` of a one-shot.
+
+    >>> exit_range(Node(0, "a/01", "a", 10, 29, 0, 0.0, kind="once"))
+    (25, 29)
+    """
+    if node.kind == ONCE:
+        return node.end - max(1, int(math.ceil(EXIT_SHARE * node.n_frames))) + 1, node.end
+    return node.start, node.end
+
+
+def entry_range(node):
+    """``(first, last)`` frames a node may be entered at, eq. (10): any frame of a cycle, the
+    first frame of a one-shot."""
+    return (node.start, node.start) if node.kind == ONCE else (node.start, node.end)
 
 
 def motion_intensity(vectors):
@@ -109,11 +137,12 @@ def transitions(nodes, vectors_by_sequence):
     Returns
     -------
     distances : (N, N) float64
-        Symmetric d_V with a zero diagonal.
+        d_V with a zero diagonal; symmetric between cycles (one-shots restrict eq. (10) to
+        their exit and entry frames, :func:`exit_range`, :func:`entry_range`).
     frames : dict of (int, int) to (int, int)
         ``frames[i, j] = (exit, entry)`` for all i != j: ``exit`` is t_i*, a frame of
         node i's sequence, and ``entry`` is t_j*, a frame of node j's sequence, both
-        absolute indices. ``frames[j, i]`` is the same pair swapped.
+        absolute indices. Between two cycles ``frames[j, i]`` is the same pair swapped.
     intensities : (N,) float64
         Motion intensity of every node, eq. (11), as measured (not floored).
 
@@ -146,6 +175,10 @@ def transitions(nodes, vectors_by_sequence):
         # about 3e-8 of round-off near zero, which would hide a frozen texton.
         intensities[i] = motion_intensity(blocks[i])
         for j in range(i + 1, n):
+            if nodes[i].kind == ONCE or nodes[j].kind == ONCE:
+                for a, b in ((i, j), (j, i)):
+                    distances[a, b], frames[a, b] = _restricted(d_all, offsets, nodes[a], nodes[b], a, b)
+                continue
             block = d_all[rows, offsets[j]:offsets[j + 1]]
             t_i, t_j = np.unravel_index(np.argmin(block), block.shape)
             distances[i, j] = distances[j, i] = block[t_i, t_j]
@@ -153,6 +186,18 @@ def transitions(nodes, vectors_by_sequence):
             frames[i, j] = (exit_i, entry_j)
             frames[j, i] = (entry_j, exit_i)
     return distances, frames, intensities
+
+
+def _restricted(d_all, offsets, source, target, a, b):
+    """d_V and ``(exit, entry)`` from ``source`` (at position ``a``) to ``target`` (``b``) over
+    the frames each may be left from and entered at, eq. (10)."""
+    x0, x1 = exit_range(source)
+    e0, e1 = entry_range(target)
+    rows = slice(offsets[a] + x0 - source.start, offsets[a] + x1 - source.start + 1)
+    cols = slice(offsets[b] + e0 - target.start, offsets[b] + e1 - target.start + 1)
+    block = d_all[rows, cols]
+    t_x, t_e = np.unravel_index(np.argmin(block), block.shape)
+    return float(block[t_x, t_e]), (x0 + int(t_x), e0 + int(t_e))
 
 
 def prune(unpruned, mu=MU):
@@ -279,7 +324,7 @@ def nodes_of(graph):
     --------
     >>> G = graph_from([Node(0, "a/01", "a", 0, 1, 0, 0.1, 1.0)], {}, {})
     >>> nodes_of(G)
-    [Node(id=0, name='a/01', sequence='a', start=0, end=1, cluster=0, texton_distance=0.1, intensity=1.0)]
+    [Node(id=0, name='a/01', sequence='a', start=0, end=1, cluster=0, texton_distance=0.1, intensity=1.0, kind='cycle')]
     """
     return [Node(id=i, **graph.nodes[i]) for i in sorted(graph.nodes)]
 

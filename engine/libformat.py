@@ -30,6 +30,11 @@ A library is a directory written by :func:`engine.build` and opened by
     (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
 ``frame_keys.npy``
     (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
+``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
+    only where some stored frame is textured: (V, 2) float32 texture coordinates beside
+    ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
+    after another, (P, 3) uint8, each image's rows top first; (n, 3) int64 per stored frame:
+    first texel, height, width (0, 0, 0 for an untextured frame).
 ``names.json``
     optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
 
@@ -57,7 +62,8 @@ FORMAT = 1
 
 #: Files whose sizes the manifest records and :func:`read_manifest` checks.
 CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
-                 "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy")
+                 "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
+                 "uvs.npy", "textures.npy", "texture_frames.npy")
 
 #: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
 MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
@@ -136,8 +142,12 @@ class MeshWriter:
 
     def __init__(self, folder):
         folder = Path(folder)
+        self._folder = folder
         self._arrays = {name: NpyStream(folder / f"{name}.npy", dtype, width)
                         for name, dtype, width in MESH_ARRAYS}
+        # Texture arrays are opened at the first textured frame: untextured libraries have none.
+        self._uvs = self._texels = None
+        self._texture_rows = []
         self._offsets = NpyStream(folder / "frames.npy", np.int64, 4)
         self._keys = NpyStream(folder / "frame_keys.npy", np.int64, 2)
         self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
@@ -145,12 +155,26 @@ class MeshWriter:
         self.frames = 0
         self.max_counts = (0, 0)
 
-    def add(self, sequence_index, frame, positions, colours, faces, normals):
-        """Append frame ``frame`` of the ``sequence_index``-th sequence."""
+    def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None):
+        """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
+        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured."""
         for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
                             ("faces", faces)):
             self._arrays[name].append(array)
         v0, f0 = self._starts
+        if uv is not None and texture is not None:
+            if self._uvs is None:
+                self._uvs = NpyStream(self._folder / "uvs.npy", np.float32, 2)
+                self._texels = NpyStream(self._folder / "textures.npy", np.uint8, 3)
+                for start in range(0, v0, 1 << 20):
+                    self._uvs.append(np.zeros((min(1 << 20, v0 - start), 2), np.float32))
+            self._uvs.append(uv)
+            self._texture_rows.append([self._texels.rows, texture.shape[0], texture.shape[1]])
+            self._texels.append(np.asarray(texture).reshape(-1, 3))
+        else:
+            if self._uvs is not None:
+                self._uvs.append(np.zeros((len(positions), 2), np.float32))
+            self._texture_rows.append([0, 0, 0])
         self._offsets.append(np.array([[v0, len(positions), f0, len(faces)]]))
         self._keys.append(np.array([[sequence_index, frame]]))
         self._starts = [v0 + len(positions), f0 + len(faces)]
@@ -172,6 +196,10 @@ class MeshWriter:
     def __exit__(self, *exc):
         for stream in (*self._arrays.values(), self._offsets, self._keys):
             stream.close()
+        if self._uvs is not None:
+            self._uvs.close()
+            self._texels.close()
+            np.save(self._folder / "texture_frames.npy", np.array(self._texture_rows, np.int64).reshape(-1, 3))
 
 
 def graph_to_json(graph):
@@ -197,8 +225,13 @@ def write_graphml(graph, path):
         nx.write_graphml(plain, tmp)
 
 
-def sequence_record(name, fps, rows, features, feature_key, files, skipped):
-    """One sequence's entry in the manifest; ``features`` are its own (unpadded) ones."""
+def sequence_record(name, fps, rows, features, feature_key, files, skipped, format=None,
+                    orientation=None):
+    """One sequence's entry in the manifest; ``features`` are its own (unpadded) ones; ``format``
+    names its reader, ``orientation`` (JSON) the map into tvmedit's frame it was read with."""
+    extra = {} if format is None else {"format": format}
+    if orientation is not None:
+        extra["orientation"] = orientation
     return {
         "name": name,
         "fps": fps,
@@ -209,6 +242,7 @@ def sequence_record(name, fps, rows, features, feature_key, files, skipped):
         "feature_key": feature_key,
         "files": files,
         "skipped": [list(s) for s in skipped],
+        **extra,
     }
 
 
@@ -379,6 +413,20 @@ def frame_keys(path, frames, sequences):
     if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
         raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))
     return keys
+
+
+def texture_arrays(path, vertices, frames):
+    """``(uvs (V, 2), texels (T, 3), rows (n, 3))`` memory-mapped, every frame's texels inside."""
+    uvs, texels = load_array(path, "uvs.npy"), load_array(path, "textures.npy")
+    rows = np.asarray(load_array(path, "texture_frames.npy"))
+    ok = (uvs.shape == (vertices, 2) and texels.ndim == 2 and texels.shape[1] == 3
+          and rows.shape == (frames, 3) and rows.dtype == np.int64)
+    if ok and len(rows):
+        start, height, width = rows.T
+        ok = bool((rows >= 0).all() and (start + height * width <= len(texels)).all())
+    if not ok:
+        raise damaged(path, ValueError("the texture arrays do not match the meshes"))
+    return uvs, texels, rows
 
 
 def read_graph(path):

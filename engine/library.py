@@ -71,7 +71,10 @@ INFO_SCHEMA = {
                 "required": ["id", "name", "sequence", "start", "end", "texton_distance", "intensity"],
                 "properties": {"id": _INT, "name": {"type": "string"}, "sequence": {"type": "string"},
                                **_RANGE, "cluster": _INT, "texton_distance": _NUM,
-                               "intensity": {"type": ["number", "null"]}},
+                               "intensity": {"type": ["number", "null"]},
+                               "kind": {"enum": ["cycle", "once"],
+                                        "description": "cycle: a texton played cyclically; once: a "
+                                                       "one-shot motion played through once"}},
             },
         },
         "edges": {
@@ -135,7 +138,8 @@ class Library:
     """A library opened for editing and playing; use :meth:`open`.
 
     Implements the player's ``MeshSource`` protocol (:meth:`frame_mesh`, :meth:`bounds`,
-    :meth:`max_counts`) over the stored texton frames, keyed ``(sequence_name, frame)``.
+    :meth:`max_counts`, and :meth:`frame_texture` for textured captures) over the stored texton
+    frames, keyed ``(sequence_name, frame)``.
     """
 
     def __init__(self, path, manifest):
@@ -328,6 +332,33 @@ class Library:
                                                           "match its vertex and face counts"))
         return a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
 
+    @cached_property
+    @_reads_format
+    def _textures(self):
+        if "uvs.npy" not in self.manifest.get("files", {}):
+            return None
+        return libformat.texture_arrays(self.path, len(self._arrays["positions"]), len(self._offsets))
+
+    @property
+    def textured(self):
+        """Whether any stored frame has a texture (then :meth:`frame_texture` gives it)."""
+        return self._textures is not None
+
+    @_reads_format
+    def frame_texture(self, key):
+        """``(uv (N, 2) float32, image (H, W, 3) uint8)`` of frame ``key``, memory-mapped, or None
+        when the frame has no texture (the player then draws its vertex colours)."""
+        if self._textures is None:
+            return None
+        sequence, frame = key
+        row = self._row(sequence, frame)
+        uvs, texels, rows = self._textures
+        start, height, width = rows[row].tolist()
+        if not height:
+            return None
+        v0, nv = self._offsets[row, :2].tolist()
+        return uvs[v0:v0 + nv], texels[start:start + height * width].reshape(height, width, 3)
+
     @_reads_format
     def bounds(self):
         """``((xmin, ymin, zmin), (xmax, ymax, zmax))`` over every stored frame."""
@@ -356,7 +387,8 @@ class Library:
                              "distance": float(t.distance)} for t in s.textons],
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,
-                  "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity}
+                  "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity,
+                  "kind": n.kind}
                  for n in self._nodes]
         edges = [{"from": int(i), "to": int(j), "weight": float(d["weight"]),
                   "exit_frame": int(d["exit_frame"]), "entry_frame": int(d["entry_frame"])}

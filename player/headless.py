@@ -22,6 +22,7 @@ from player.camera import Camera
 from player.context import shared_headless_context
 from player.font import draw_text
 from player.renderer import BACKGROUND, Renderer
+from player.source import check_shading, texture_of
 
 FRAME_PATTERN = "frame_{:05d}.png"
 #: Largest image side a GL context is sure to allocate (GL_MAX_TEXTURE_SIZE is 16384 or more).
@@ -30,7 +31,8 @@ VIDEO_QUALITY = 7
 """imageio-ffmpeg's 1..10 scale; 7 is x264 CRF 15, visually clean for flat-shaded meshes."""
 
 
-def render_frame(source, key, camera=None, size=(640, 480), grid=False, background=BACKGROUND, samples=4):
+def render_frame(source, key, camera=None, size=(640, 480), grid=False, background=BACKGROUND, samples=4,
+                 shading="auto"):
     """One frame of ``source`` as an (H, W, 3) uint8 sRGB image, first row at the top.
 
     Parameters
@@ -39,15 +41,19 @@ def render_frame(source, key, camera=None, size=(640, 480), grid=False, backgrou
     key : (sequence_name, frame_index)
     camera : ``Camera``; default frames ``source.bounds()`` from the front
     size : (width, height) in pixels
+    shading : "auto" (the frame's texture where it has one), "texture" or "colour" (vertex
+        colours); see ``player.source.SHADINGS``
     """
     size = _check_size(size)
+    check_shading(source, shading)
     with _renderer(source, size, grid, background, samples) as renderer:
-        renderer.draw(source.frame_mesh(key), _camera(camera, source.bounds(), size))
+        renderer.draw(source.frame_mesh(key), _camera(camera, source.bounds(), size),
+                      texture=texture_of(source, key, shading))
         return renderer.read()
 
 
 def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit_deg_per_s=0.0,
-                  progress=True, grid=False, background=BACKGROUND, samples=4, force=False):
+                  progress=True, grid=False, background=BACKGROUND, samples=4, force=False, shading="auto"):
     """Render ``keys`` in order into ``out`` and return its path.
 
     The kind of output follows ``out``'s suffix: ``.mp4`` (H.264, yuv420p; an odd width or
@@ -66,8 +72,10 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     orbit_deg_per_s : the camera turns this many degrees of azimuth per second of output
     progress : show a progress bar
     force : replace an existing output of the same kind
+    shading : "auto", "texture" or "colour" (see :func:`render_frame`)
     """
     keys = list(keys)
+    check_shading(source, shading)
     if not keys:
         raise ValueError("nothing to render: the list of frames is empty")
     fps = number("fps", fps, above=0, at_most=MAX_FPS)
@@ -86,7 +94,7 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     target = atomic.replacing_folder(out, kind="frames") if kind == "folder" else atomic.replacing_file(out)
     try:
         with target as temporary, _renderer(source, (width, height), grid, background, samples) as renderer:
-            frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps))
+            frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps), shading)
                       for i, key in enumerate(bar))
             _WRITERS[kind](frames, temporary, (width, height), fps)
     finally:
@@ -105,7 +113,7 @@ def render(edit, out, size=(640, 480), **options):
 
 
 def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True, camera=None,
-                  grid=False, background=BACKGROUND, samples=4, force=False):
+                  grid=False, background=BACKGROUND, samples=4, force=False, shading="auto"):
     """Render ``keys`` as tiles of one PNG grid, row by row, and return the image (H, W, 3) uint8.
 
     All tiles share one camera, framed on the union of these frames only (not the whole source),
@@ -118,8 +126,10 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
     labels : True to label each tile "sequence frame", a list of strings (one per key), or
         False for none
     force : replace an existing PNG at ``out_png``
+    shading : "auto", "texture" or "colour" (see :func:`render_frame`)
     """
     keys = list(keys)
+    check_shading(source, shading)
     _check_output(Path(out_png), "png", force, source)
     if not keys:
         raise ValueError("nothing to render: the list of frames is empty")
@@ -137,8 +147,8 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
     sheet[:] = np.round(np.asarray(background) * 255).astype(np.uint8)
     with _renderer(source, (tw, th), grid, background, samples) as renderer:
         cam = _camera(camera, (low, high), (tw, th))
-        for i, mesh in enumerate(meshes):
-            renderer.draw(mesh, cam)
+        for i, (key, mesh) in enumerate(zip(keys, meshes)):
+            renderer.draw(mesh, cam, texture=texture_of(source, key, shading))
             image = renderer.read()
             if labels:
                 draw_text(image, str(labels[i]), (2, 2), scale=1 if th < 100 else 2)
@@ -161,8 +171,8 @@ def _renderer(source, size, grid, background, samples):
         renderer.release()
 
 
-def _draw(renderer, source, key, camera):
-    renderer.draw(source.frame_mesh(key), camera)
+def _draw(renderer, source, key, camera, shading="auto"):
+    renderer.draw(source.frame_mesh(key), camera, texture=texture_of(source, key, shading))
     return renderer.read()
 
 

@@ -37,7 +37,7 @@ sequences do not reallocate every frame."""
 
 
 class Renderer:
-    """Draw vertex-coloured meshes with a camera into an RGB framebuffer.
+    """Draw vertex-coloured or textured meshes with a camera into an RGB framebuffer.
 
     Parameters
     ----------
@@ -67,6 +67,8 @@ class Renderer:
         self._vertex_capacity = self._face_capacity = 0
         self._buffers = None
         self._uploaded = None  # the mesh tuple now in the buffers
+        self._texture = None  # the frame's texture image on the GPU, reused while its size holds
+        self._uploaded_texture = None  # the (uv, image) tuple now in the uv buffer and texture
         if antialias not in ANTIALIAS:
             raise ValueError(f"antialias should be one of {', '.join(ANTIALIAS)}, got {antialias!r}")
         self._reserve(*max_counts)
@@ -102,7 +104,7 @@ class Renderer:
         self._grid_corners = ctx.buffer(corners)
         self._grid_vao = ctx.vertex_array(self._grid_program, [(self._grid_corners, "2f", "in_corner")])
 
-    def draw(self, mesh, camera, framebuffer=None):
+    def draw(self, mesh, camera, framebuffer=None, texture=None):
         """Draw one frame.
 
         Parameters
@@ -111,6 +113,9 @@ class Renderer:
                 normals (N, 3) float32 or None), as ``MeshSource.frame_mesh`` returns
         camera : ``player.camera.Camera``; its aspect should match the target's
         framebuffer : draw there instead of the own framebuffer (e.g. ``ctx.screen``)
+        texture : (uv (N, 2) float32, image (H, W, 3) uint8) to draw the frame's texture
+            instead of its vertex colours, as ``MeshSource.frame_texture`` returns; None for
+            vertex colours
         """
         positions, colours, faces, normals = mesh
         n_faces = len(faces)
@@ -125,6 +130,9 @@ class Renderer:
                 self._buffers["in_normal"].write(_contiguous(normals, np.float32))
             self._buffers["index"].write(_contiguous(faces, np.uint32))
             self._uploaded = mesh
+        if texture is not None and texture is not self._uploaded_texture:
+            self._upload_texture(*texture, len(positions))
+            self._uploaded_texture = texture
 
         output = framebuffer or self.framebuffer
         if self.antialias == "fxaa":
@@ -140,7 +148,8 @@ class Renderer:
         target.clear(*self.background, 0.0 if target is self._scene else 1.0, depth=1.0)
 
         facets = normals is None
-        program = self._program(facets)
+        textured = texture is not None
+        program = self._program(facets, textured)
         projection = camera.projection_matrix()
         if framebuffer is None:
             # Draw the own framebuffer upside down: GL reads rows bottom-up, so ``read`` then
@@ -151,8 +160,11 @@ class Renderer:
         view, projection = camera.view_matrix().tobytes(), projection.tobytes()
         program["view"].write(view)
         program["projection"].write(projection)
+        if textured:
+            self._texture.use(0)
+            program["albedo_map"].value = 0
         if n_faces:
-            self._vao(facets).render(moderngl.TRIANGLES, vertices=3 * n_faces)
+            self._vao(facets, textured).render(moderngl.TRIANGLES, vertices=3 * n_faces)
         if self.grid:
             self._draw_grid(target, camera, view, projection)
 
@@ -191,6 +203,8 @@ class Renderer:
             buffer.release()
         for program in self._programs.values():
             program.release()
+        if self._texture is not None:
+            self._texture.release()
         self._grid_vao.release()
         self._grid_corners.release()
         self._grid_program.release()
@@ -217,6 +231,7 @@ class Renderer:
             "in_position": self._grown(old.get("in_position"), vertices * 12),
             "in_colour": self._grown(old.get("in_colour"), vertices * 3),
             "in_normal": self._grown(old.get("in_normal"), vertices * 12),
+            "in_uv": self._grown(old.get("in_uv"), vertices * 8),
             "index": self._grown(old.get("index"), faces * 12),
         }
         self._vertex_capacity, self._face_capacity = vertices, faces
@@ -228,19 +243,40 @@ class Renderer:
             buffer.release()
         return self.ctx.buffer(reserve=nbytes, dynamic=True)
 
-    def _program(self, facets):
-        if facets not in self._programs:
-            self._programs[facets] = load_program(self.ctx, "mesh", **({"FACET_NORMALS": 1} if facets else {}))
-        return self._programs[facets]
+    def _program(self, facets, textured=False):
+        key = (facets, textured)
+        if key not in self._programs:
+            defines = {**({"FACET_NORMALS": 1} if facets else {}), **({"TEXTURED": 1} if textured else {})}
+            self._programs[key] = load_program(self.ctx, "mesh", **defines)
+        return self._programs[key]
 
-    def _vao(self, facets):
-        if facets not in self._vaos:
-            b, program = self._buffers, self._program(facets)
-            formats = {"in_position": "3f", "in_colour": "3f1", "in_normal": "3f"}
+    def _vao(self, facets, textured=False):
+        key = (facets, textured)
+        if key not in self._vaos:
+            b, program = self._buffers, self._program(facets, textured)
+            formats = {"in_position": "3f", "in_colour": "3f1", "in_normal": "3f", "in_uv": "2f"}
             # Only attributes the compiled program kept: drivers drop unused ones.
             content = [(b[name], fmt, name) for name, fmt in formats.items() if name in program]
-            self._vaos[facets] = self.ctx.vertex_array(program, content, b["index"], index_element_size=4)
-        return self._vaos[facets]
+            self._vaos[key] = self.ctx.vertex_array(program, content, b["index"], index_element_size=4)
+        return self._vaos[key]
+
+    def _upload_texture(self, uv, image, n_vertices):
+        """Write a frame's texture coordinates and image; the GPU texture is remade only when
+        the image's size changes, and its mipmaps keep the texture readable when it is small
+        on screen (a contact sheet's tile)."""
+        if np.shape(uv) != (n_vertices, 2) or np.ndim(image) != 3 or np.shape(image)[2] != 3:
+            raise ValueError(f"texture should be uv ({n_vertices}, 2) and an (H, W, 3) image; got shapes "
+                             f"{np.shape(uv)} and {np.shape(image)}")
+        self._buffers["in_uv"].write(_contiguous(uv, np.float32))
+        height, width = np.shape(image)[:2]
+        if self._texture is None or self._texture.size != (width, height):
+            if self._texture is not None:
+                self._texture.release()
+            self._texture = self.ctx.texture((width, height), 3, alignment=1)
+            self._texture.filter = moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR
+            self._texture.repeat_x = self._texture.repeat_y = True
+        self._texture.write(_contiguous(image, np.uint8), alignment=1)
+        self._texture.build_mipmaps()
 
     def _scene_target(self, output):
         """FXAA's input for ``output``: a framebuffer of a colour texture and a depth buffer sized

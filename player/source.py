@@ -15,6 +15,11 @@ The protocol, which the library implements and ``ArraySource`` shows in miniatur
     over every stored frame, for framing the camera once for a whole video;
 ``max_counts() -> (max_vertices, max_faces)``
     over every stored frame, so the renderer sizes its GPU buffers once.
+``frame_texture(key) -> (uv, image) or None``, optional
+    uv : (N, 2) float32 texture coordinates of the frame's vertices (v = 0 at the bottom row)
+    image : (H, W, 3) uint8 sRGB, the frame's texture, first row at the top
+    for textured captures; the renderer draws it instead of the vertex colours
+    (:func:`texture_of` decides by the shading asked for).
 
 Normals are computed when frames are stored (here: at construction), never per displayed frame.
 """
@@ -35,6 +40,27 @@ class MeshSource(Protocol):
     def bounds(self): ...
 
     def max_counts(self): ...
+
+
+SHADINGS = ("auto", "texture", "colour")
+"""``auto``: a frame's texture where it has one, else its vertex colours; ``texture``: the
+textures (a source without any is refused); ``colour``: the vertex colours."""
+
+
+def check_shading(source, shading):
+    """Refuse a shading the source cannot give: ``texture`` on a source without textures."""
+    if shading not in SHADINGS:
+        raise ValueError(f"shading should be one of {', '.join(SHADINGS)}, not {shading!r}")
+    if shading == "texture" and not getattr(source, "textured", False):
+        raise ValueError("this library has no textures (its frames were vertex-coloured); "
+                         "draw its vertex colours (shading='colour')")
+
+
+def texture_of(source, key, shading="auto"):
+    """The ``(uv, image)`` to draw frame ``key`` with under ``shading``, or None for its vertex colours."""
+    if shading == "colour" or not getattr(source, "textured", False):
+        return None
+    return source.frame_texture(key)
 
 
 class ArraySource:

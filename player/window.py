@@ -26,6 +26,7 @@ from engine.compose import Playhead
 from engine.errors import NoPath, TvmError
 from player.camera import Camera
 from player.overlay import Label
+from player.source import check_shading, texture_of
 
 #: Letters that are commands, so they never queue a motion.
 COMMAND_LETTERS = "qrs"
@@ -77,9 +78,11 @@ class PlayerApp:
     """
 
     def __init__(self, graph, source, order, start, fps=10.0, forbidden=(), aspect=4 / 3, log=None,
-                 clock_zero=0.0, print_=None):
+                 clock_zero=0.0, print_=None, shading="auto"):
+        check_shading(source, shading)
         self.graph = graph
         self.source = source
+        self.shading = shading
         self.fps = float(fps)
         self.period = 1.0 / self.fps
         self.forbidden = tuple(forbidden)
@@ -98,6 +101,7 @@ class PlayerApp:
         self._restarted = False
         self._pause_left = 0.0
         self._mesh = None
+        self._texture = None
         self._bounds = source.bounds()
         self.camera = self.home_camera(aspect)
 
@@ -126,6 +130,7 @@ class PlayerApp:
         self._restarted = restart
         self.entry = self.playhead.advance()
         self._mesh = None
+        self._texture = None
         self.frames_shown += 1
         return True
 
@@ -145,8 +150,14 @@ class PlayerApp:
     def mesh(self):
         """The mesh of the frame on screen, fetched once per sequence frame."""
         if self._mesh is None and self.entry is not None:
-            self._mesh = self.source.frame_mesh((self.entry.sequence, self.entry.frame))
+            key = (self.entry.sequence, self.entry.frame)
+            self._mesh = self.source.frame_mesh(key)
+            self._texture = texture_of(self.source, key, self.shading)
         return self._mesh
+
+    def texture(self):
+        """The texture of the frame on screen (``(uv, image)``), None to draw vertex colours."""
+        return self._texture if self.mesh() is not None else None
 
     def seconds_to_next_key(self, now):
         """Seconds until the next queued motion begins, None when the queue is empty."""
@@ -479,7 +490,7 @@ class Window:
             self.ctx.screen.use()
             self.ctx.screen.clear(*self.renderer.background)
         else:
-            self.renderer.draw(mesh, self.app.camera, framebuffer=self.ctx.screen)
+            self.renderer.draw(mesh, self.app.camera, framebuffer=self.ctx.screen, texture=self.app.texture())
         if self._screenshot:
             self._screenshot = False
             self._save_screenshot()

@@ -48,38 +48,40 @@ def test_ids_follow_sequence_order_then_start_frame():
         (0, "b/01", 0), (1, "b/02", 20), (2, "a/01", 0)]
 
 
-def test_single_texton_cluster_is_left_out():
-    # Cluster 1 is a transition the parser saw once: no evidence it can be looped.
+def test_single_texton_cluster_becomes_a_one_shot_of_the_whole_cluster():
+    # Cluster 1 is a stretch the parser saw once: no evidence it can be looped, so it is
+    # played through once, all of it.
     textons = [texton(0, 9, 0, 0.3), texton(10, 19, 0, 0.2), texton(20, 24, 1, 0.0)]
-    nodes = build_database({"gym": (textons, [(0, 19), (20, 24)])})
-    assert [(n.start, n.cluster) for n in nodes] == [(10, 0)]
+    nodes = build_database({"gym": (textons, [(0, 19), (20, 26)])})
+    assert [(n.start, n.end, n.cluster, n.kind) for n in nodes] == [(10, 19, 0, "cycle"), (20, 26, 1, "once")]
+    assert not nodes[0].once and nodes[1].once
 
 
 def test_single_texton_of_a_cluster_that_runs_on_is_kept():
     # A slow exercise: one whole 10-frame cycle fits once aligned, but its cluster runs 16
-    # frames (1.6 cycles), so the motion is seen going on; a 14-frame cluster (1.4) is not.
+    # frames (1.6 cycles), so the motion is seen going on; a 14-frame cluster (1.4) is not,
+    # and is played once instead.
     textons = [texton(0, 9, 0, 0.3), texton(10, 19, 0, 0.2),
                texton(23, 32, 1, 0.1), texton(40, 49, 2, 0.1)]
     nodes = build_database({"gym": (textons, [(0, 19), (20, 35), (36, 49)])})
-    assert [(n.start, n.cluster) for n in nodes] == [(10, 0), (23, 1)]
+    assert [(n.start, n.cluster, n.kind) for n in nodes] == [(10, 0, "cycle"), (23, 1, "cycle"), (36, 2, "once")]
 
 
-def test_database_never_empty_when_only_single_textons_exist():
-    # No cluster anywhere repeats: rather than an empty database, every single texton is kept.
-    seq_a = [texton(0, 9, 0, 0.3), texton(10, 14, 1, 0.2)]
-    seq_b = [texton(0, 7, 0, 0.1)]
-    with pytest.warns(UserWarning, match="single textons"):
-        nodes = build_database({"a": (seq_a, [(0, 9), (10, 14)]), "b": (seq_b, [(0, 7)])})
-    assert [(n.name, n.start, n.end) for n in nodes] == [
-        ("a/01", 0, 9), ("a/02", 10, 14), ("b/01", 0, 7)]
+def test_a_take_that_is_not_an_exercise_gives_one_shots():
+    # A talking head: clusters without any texton. Each is a motion played once; its d_T is
+    # the parse's atom distance from its first frame to its last.
+    structure = SimpleNamespace(textons=[], clusters=[(0, 29), (30, 49)],
+                                curve=[0.01 * k for k in range(30)] + [0.02 * k for k in range(20)])
+    nodes = build_database({"talk": structure})
+    assert [(n.name, n.start, n.end, n.kind) for n in nodes] == [
+        ("talk/01", 0, 29, "once"), ("talk/02", 30, 49, "once")]
+    assert [round(n.texton_distance, 6) for n in nodes] == [0.29, 0.38]
 
 
-def test_no_fallback_when_another_sequence_repeats():
-    # One sequence repeating is enough: the single-texton sequence contributes nothing.
-    seq_a = [texton(0, 9, 0, 0.3)]
-    seq_b = [texton(0, 7, 0, 0.1), texton(8, 15, 0, 0.2)]
-    nodes = build_database({"a": (seq_a, [(0, 9)]), "b": (seq_b, [(0, 15)])})
-    assert [n.name for n in nodes] == ["b/01"]
+def test_motions_of_a_sequence_are_numbered_in_time_order_whatever_their_kind():
+    seq = [texton(20, 24, 1, 0.1), texton(25, 29, 1, 0.2)]
+    nodes = build_database({"a": (seq, [(0, 19), (20, 29)])})
+    assert [(n.name, n.kind) for n in nodes] == [("a/01", "once"), ("a/02", "cycle")]
 
 
 def test_no_textons_gives_an_empty_database():

@@ -98,7 +98,7 @@ def test_larger_mu_keeps_more_edges():
 
 def test_nodes_carry_database_attributes_and_measured_intensity(graph):
     assert graph.nodes[1] == {"name": "a/02", "sequence": "a", "start": 3, "end": 5, "cluster": 1,
-                              "texton_distance": 0.02, "intensity": pytest.approx(2.0)}
+                              "texton_distance": 0.02, "intensity": pytest.approx(2.0), "kind": "cycle"}
     assert [n.intensity for n in nodes_of(graph)] == pytest.approx([1.0, 2.0, 4.0])
 
 

@@ -19,6 +19,8 @@ import re
 import sys
 from pathlib import Path
 
+from . import options
+
 HELP = "analyse sequences into a library (features, structure, database, graph, meshes)"
 
 
@@ -65,6 +67,7 @@ def add_arguments(parser):
                         help="frame rate of every sequence (default: sequence.json beside the frames, else 10)")
     parser.add_argument("--skip-bad-frames", action="store_true",
                         help="leave out frames that cannot be loaded instead of stopping")
+    options.add_frame_of_reference(parser)
 
     bins = BinSizes()
     group = parser.add_argument_group("features (section 3)")
@@ -115,7 +118,7 @@ def run(args):
     def say(message):
         # -q silences progress and the summary, never a warning (skipped frames, no motions).
         if not args.quiet or message.startswith("warning") or "skipped" in message:
-            print(message, file=sys.stderr)
+            print(options.as_flags(message), file=sys.stderr)
 
     from engine.features import MAX_ANGLE_BINS
     from engine.params import number
@@ -135,7 +138,7 @@ def run(args):
     library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
                     skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
                     workers=args.workers, dask=args.dask, force=args.force,
-                    cache=not args.no_cache, log=say)
+                    cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror)
     if args.quiet:
         return 0
     report = library.report

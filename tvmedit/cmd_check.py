@@ -1,20 +1,47 @@
 """Load a TVM sequence and report what tvmedit sees in it, before you build.
 
-INPUT is a folder of PLY, OBJ or OFF frames (ordered by the last number in each file
-name) or a quoted glob such as 'capture/*.ply'. Every frame is loaded and checked: a frame
-that is not a mesh, is truncated, has no vertices, or has NaN/inf coordinates stops the
-check with one sentence naming the file, unless --skip-bad-frames is given.
+INPUT is a folder of frame files (PLY, OBJ, OFF, Draco, glTF/GLB; ordered by the last number
+in each file name), a folder with a sequence manifest (``scvv_animation.json`` or
+``scvv.json``), or a quoted glob such as 'capture/*.ply'. Every frame is loaded and checked:
+a frame that is not a mesh, is truncated, has no vertices, or has NaN/inf coordinates stops
+the check with one sentence naming the file, unless --skip-bad-frames is given.
+
+It prints the format, the frames and their timing, vertices and triangles, colours and
+textures, and the frame of reference: the up axis, the units and whether the capture is
+mirrored, each with the reason it was detected (--up, --units, --mirror override them).
 """
 
-HELP = "load a TVM sequence and report frames, vertices and colours"
+from . import options
+
+HELP = "load a TVM sequence and report format, frames, timing, vertices, textures, up axis and units"
 
 
 def add_arguments(parser):
-    parser.add_argument("input", metavar="INPUT", help="sequence folder or quoted glob of frame files")
+    parser.add_argument("input", metavar="INPUT", help="sequence folder, manifest, or quoted glob of frame files")
     parser.add_argument("--fps", type=float, default=None,
-                        help="frame rate (default: sequence.json beside the frames, else 10)")
+                        help="frame rate (default: sequence.json beside the frames, else the manifest's "
+                             "frame times, else 10); a capture with frame times is resampled to it")
     parser.add_argument("--skip-bad-frames", action="store_true",
                         help="leave out frames that cannot be loaded, with a warning that lists them")
+    options.add_frame_of_reference(parser)
+
+
+def _timing(sequence, usable):
+    """Lines about the frame rate and, for a capture with its own frame times, their spread."""
+    import numpy as np
+
+    if sequence.times is None:
+        return [f"{sequence.name}: {usable} frames at {sequence.fps:g} fps ({usable / sequence.fps:.1f} s)"]
+    steps = np.diff(sequence.times) * 1000
+    captured = len(sequence.captured)
+    shown = len(set(map(str, sequence.paths)))
+    held = len(sequence.paths) - shown
+    regular = steps.max() - steps.min() <= 0.1 * np.median(steps)
+    return [f"{sequence.name}: {captured} frames over {sequence.times[-1]:.2f} s, "
+            f"{steps.min():.1f}-{steps.max():.1f} ms apart (median {np.median(steps):.1f} ms: "
+            f"{1000 / np.median(steps):.1f} fps; {'regular' if regular else 'variable'})",
+            f"analysed at {sequence.fps:g} fps: {len(sequence.paths)} frames "
+            f"({held} held over a gap, {captured - shown} dropped)"]
 
 
 def run(args):
@@ -22,22 +49,44 @@ def run(args):
 
     from engine.load import iter_frames, open_sequence, warn_skipped
 
-    sequence = open_sequence(args.input, fps=args.fps)
-    counts, faces, coloured = [], [], 0
+    sequence = open_sequence(args.input, fps=args.fps, up=args.up, units=args.units, mirror=args.mirror)
+    counts, faces, coloured, textured, sizes = [], [], 0, 0, set()
     skipped = []
-    for _, frame in iter_frames(sequence.paths, args.skip_bad_frames, skipped):
+    paths = sequence.captured or sequence.paths
+    for _, frame in iter_frames(paths, args.skip_bad_frames, skipped, sequence.orientation):
         counts.append(len(frame.positions))
         faces.append(len(frame.faces))
         coloured += int(len(np.unique(frame.colours[:64], axis=0)) > 1)
+        if frame.texture is not None:
+            textured += 1
+            sizes.add(f"{frame.texture.shape[1]}x{frame.texture.shape[0]}")
     warn_skipped(skipped)
     if not counts:
         from engine.errors import InputError
-        raise InputError(f"no usable frames in {args.input}: all {len(sequence.paths)} were bad.")
+        raise InputError(f"no usable frames in {args.input}: all {len(paths)} were bad.")
     counts = np.array(counts)
-    print(f"{sequence.name}: {len(counts)} frames at {sequence.fps:g} fps "
-          f"({len(counts) / sequence.fps:.1f} s)")
+    if sequence.manifest is not None:
+        print(f"format: {sequence.format} sequence ({sequence.manifest.name}) of {_formats(paths)} frames")
+    else:
+        print(f"format: {_formats(paths)} frames")
+    for line in _timing(sequence, len(counts)):
+        print(line)
     print(f"vertices per frame: {counts.min()}..{counts.max()} (mean {counts.mean():.0f}); "
           f"triangles: {min(faces)}..{max(faces)}")
+    if textured:
+        print(f"textures: {textured} of {len(counts)} frames ({', '.join(sorted(sizes))}); "
+              "vertex colours sampled from them; render and play draw the textures")
+    else:
+        print("textures: none")
     print(f"vertex colours: {'yes' if coloured else 'none (neutral grey)'}; "
           f"topology varies: {'yes' if len(set(counts.tolist())) > 1 else 'no'}")
+    for line in sequence.orientation.describe():
+        print(line)
     return 0
+
+
+def _formats(paths):
+    from engine.readers import reader_for
+
+    names = sorted({(reader_for(p) or ("?",))[0] for p in paths})
+    return "/".join(names)

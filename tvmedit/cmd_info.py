@@ -9,6 +9,8 @@ intensity) and ``edges`` of the pruned graph (from, to, weight, exit_frame, entr
 import json
 import math
 
+from . import options
+
 HELP = "summarise a library (add --json for a machine-readable summary)"
 
 
@@ -22,6 +24,7 @@ def _frames(start, end):
 
 
 def run(args):
+    from engine.database import advice
     from engine.library import Library
 
     library = Library.open(args.library)
@@ -44,11 +47,17 @@ def run(args):
     names = {n["id"]: n["name"] for n in info["nodes"]}
     width = max([len(name) for name in names.values()] + [4])
     print(f"motions ({len(info['nodes'])}):")
-    print(f"  {'id':>3}  {'name':<{width}}  {'frames':<14} {'intensity':>9} {'d_T':>7}")
+    print(f"  {'id':>3}  {'name':<{width}}  {'frames':<18} {'kind':<5} {'intensity':>9} {'d_T':>7}")
     for n in info["nodes"]:
         where = f"{n['sequence']} {_frames(n['start'], n['end'])}"
         intensity = "-" if n["intensity"] is None else f"{n['intensity']:.4f}"
-        print(f"  {n['id']:>3}  {n['name']:<{width}}  {where:<14} {intensity:>9} {n['texton_distance']:7.4f}")
+        print(f"  {n['id']:>3}  {n['name']:<{width}}  {where:<18} {n.get('kind', 'cycle'):<5} {intensity:>9} "
+              f"{n['texton_distance']:7.4f}")
+    if any(n.get("kind") == "once" for n in info["nodes"]):
+        print("  (once: a stretch that does not repeat, played through once; cycle: a texton played cyclically)")
+    hint = options.as_flags(advice(library.nodes))
+    if hint:
+        print(f"note: {hint}")
     print(f"graph: {len(info['edges'])} edges after pruning at mu={params['mu']:g}")
     for e in info["edges"]:
         print(f"  {names[e['from']]:<{width}} -> {names[e['to']]:<{width}}  weight {e['weight']:.3f}  "

@@ -48,6 +48,7 @@ def add_arguments(parser):
                         help="write one JSON line per displayed sequence frame")
     parser.add_argument("--seconds", type=float, default=None, help="quit by itself after this many seconds")
     parser.add_argument("--stats", action="store_true", help="print frame and redraw rates on exit")
+    options.add_shading(parser)
 
 
 def run(args):
@@ -67,10 +68,13 @@ def run(args):
     order = [node.id for node in library.nodes]     # the order of `tvmedit info`
     allowed = [node for node in order if node not in forbidden]
     if not order:
-        raise TvmError(f"library {args.library} has no motions (no cluster repeats a texton); "
-                       "rebuild it with other structure parameters (tvmedit build --help).")
+        raise TvmError(f"library {args.library} has no motions; rebuild it from sequences with frames "
+                       "(tvmedit build --help).")
     if not allowed:
         raise TvmError("Every motion of the library is forbidden; forbid fewer.")
+    if args.shading == "texture" and not library.textured:
+        raise TvmError(f"library {args.library} has no textures (its frames were vertex-coloured); "
+                       "drop --shading texture.")
     start = keys[0] if keys else allowed[0]
     fps = args.fps or library.sequence(graph.nodes[start]["sequence"]).fps
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
@@ -85,7 +89,8 @@ def run(args):
                        "give a path in a folder that exists.") from None
     try:
         app = PlayerApp(graph, library, order, start, fps=fps, forbidden=forbidden,
-                        aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO)
+                        aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO,
+                        shading=args.shading)
         app.write_header(_WALL_ZERO, library=str(args.library))
         for node in keys[1:]:
             app.queue(node, time.perf_counter())

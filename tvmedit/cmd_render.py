@@ -36,6 +36,7 @@ def add_arguments(parser):
     parser.add_argument("--fps", type=options.positive, default=None,
                         help="output frame rate (default: the library's)")
     parser.add_argument("--grid", action="store_true", help="draw a floor grid")
+    options.add_shading(parser)
     parser.add_argument("--force", action="store_true",
                         help="replace OUT if it is a video, GIF, PNG or frame folder tvmedit could have written")
     parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
@@ -75,7 +76,7 @@ def run(args):
                           np.max([p.max(axis=0) for p in points], axis=0))
                 camera = camera_for(library, tile, args.camera, bounds=bounds)
             player.contact_sheet(library, keys, args.out, tile=tile, labels=labels, camera=camera,
-                                 grid=args.grid, force=args.force)
+                                 grid=args.grid, shading=args.shading, force=args.force)
             print(f"wrote the contact sheet of {node.name} ({len(keys)} frames) to {args.out}")
             return 0
         if len(args.keys) < 2:
@@ -86,6 +87,7 @@ def run(args):
         camera = camera_for(library, size, args.camera, args.orbit) if args.camera else None
         out = player.render(edit, args.out, size=size, fps=fps, camera=camera,
                             orbit_deg_per_s=args.orbit, progress=not args.quiet, grid=args.grid,
+                            shading=args.shading,
                             force=args.force)
     except (ValueError, FileExistsError) as error:
         raise TvmError(str(error).rstrip(".") + ".") from None

@@ -71,3 +71,40 @@ def cycles(text):
         raise argparse.ArgumentTypeError(f"should be a whole number of cycles from 1 to {MAX_LOOPS}, "
                                          f"not {text!r}")
     return value
+
+
+def up_axis(text):
+    """``+x`` ... ``-z`` (a bare ``y`` means ``+y``), for --up."""
+    key = text.strip().lower()
+    key = key if key[:1] in "+-" else "+" + key
+    if key not in ("+x", "-x", "+y", "-y", "+z", "-z"):
+        raise argparse.ArgumentTypeError(f"should be one of +x, -x, +y, -y, +z, -z, not {text!r}")
+    return key
+
+
+def add_frame_of_reference(parser):
+    """--up, --units and --mirror/--no-mirror: the capture's frame, where detection is not wanted."""
+    group = parser.add_argument_group("frame of reference (default: detected; tvmedit check says how)")
+    group.add_argument("--up", type=up_axis, default=None, metavar="AXIS",
+                       help="the capture's up axis: +x, -x, +y, -y, +z or -z")
+    group.add_argument("--units", choices=("m", "cm", "mm"), default=None,
+                       help="the capture's length unit")
+    group.add_argument("--mirror", action=argparse.BooleanOptionalAction, default=None,
+                       help="swap left and right, for a capture stored as a mirror image (text reads backwards); default: no")
+
+
+def as_flags(text):
+    """An engine message with the structure parameters it names written as build flags
+    (``min_cluster`` -> ``--min-cluster``)."""
+    if not text:
+        return text
+    for name in ("min_cluster", "novelty_threshold"):
+        text = text.replace(name, "--" + name.replace("_", "-"))
+    return text
+
+
+def add_shading(parser):
+    """--shading auto|texture|colour, for render and play."""
+    parser.add_argument("--shading", choices=("auto", "texture", "colour"), default="auto",
+                        help="draw each frame's texture (texture) or its vertex colours (colour); "
+                             "default auto: the texture where the capture has one")

@@ -1,0 +1,230 @@
+"""Captures as they come: Draco with textures, scvv manifests, OBJ+MTL+texture, glTF; colours
+from textures; the commands on a real depth-camera capture.
+
+The real capture is ``../shared/data/scvv-card`` (193 Draco frames with a JPG texture each, a
+``scvv_animation.json``); the tests that need it skip where it is absent. A second capture in
+the other layout (``scvv.json``, ``.drc`` frames, textures named apart from their meshes) is
+written to a temporary folder from some of its frames.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import trimesh
+from PIL import Image
+
+from engine.load import open_sequence, load_sequence, read_frame, resample
+from engine.readers import READERS, read_manifest, read_mesh, texture_colours
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
+CARD = SHARED / "data" / "scvv-card"
+
+
+def _card():
+    if not (CARD / "scvv_animation.json").exists():
+        pytest.skip(f"the scvv capture is not at {CARD} (set TVMEDIT_SHARED to the shared folder)")
+    return CARD
+
+
+def scvv_capture(out, first=0, count=12, step=1):
+    """A capture in the other scvv layout from frames of the card: ``scvv.json``, ``.drc``
+    meshes and textures whose names differ from their meshes' (``tex_K.jpg``)."""
+    card = _card()
+    frames = json.loads((card / "scvv_animation.json").read_text())["frames"][first:first + count * step:step]
+    out.mkdir(parents=True, exist_ok=True)
+    listed = []
+    for k, frame in enumerate(frames):
+        shutil.copy(card / frame["mesh_path"], out / f"mesh_{k:03d}.drc")
+        shutil.copy(card / frame["texture_path"], out / f"tex_{k:03d}.jpg")
+        listed.append({"mesh_path": f"mesh_{k:03d}.drc", "texture_path": f"tex_{k:03d}.jpg",
+                       "delay_us": 0 if k == 0 else 33333 * step + (1500 if k % 2 else -1500)})
+    (out / "scvv.json").write_text(json.dumps({"frames": listed}))
+    return out
+
+
+def _tvmedit(*args, **kwargs):
+    return subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True, text=True,
+                          timeout=300, cwd=ROOT, **kwargs)
+
+
+def test_every_format_has_one_reader_in_the_registry():
+    assert {suffix: name for suffix, (name, _) in READERS.items()} == {
+        ".ply": "ply", ".off": "off", ".obj": "obj", ".gltf": "gltf", ".glb": "gltf",
+        ".drc": "draco", ".draco": "draco"}
+
+
+def test_scvv_json_capture_reads_in_manifest_order_with_textures_and_times(tmp_path):
+    capture = scvv_capture(tmp_path / "take", count=8)
+    manifest = read_manifest(capture)
+    assert [p.name for p in manifest.meshes] == [f"mesh_{k:03d}.drc" for k in range(8)]
+    sequence = open_sequence(capture)
+    assert sequence.format == "scvv" and sequence.name == "take"
+    assert sequence.fps == pytest.approx(1e6 / 33333, rel=0.06)
+    assert len(sequence.paths) == 8 and sequence.times[-1] == pytest.approx(7 * 0.033333, abs=0.002)
+    frame = read_frame(sequence.paths[0], sequence.orientation)
+    mesh = read_mesh(capture / "mesh_000.drc")
+    assert len(frame.positions) == len(mesh.vertices) and frame.texture.shape == (256, 512, 3)
+    # The texture named by the manifest (not a file with the mesh's stem) coloured the vertices.
+    assert mesh.texture_path.name == "tex_000.jpg"
+    assert len(np.unique(frame.colours, axis=0)) > 100
+
+
+def test_colour_of_a_textured_vertex_is_its_neighbourhood_of_the_texture(tmp_path):
+    capture = scvv_capture(tmp_path / "take", count=1)
+    mesh = read_mesh(capture / "mesh_000.drc")
+    texels = mesh.texture[((1 - mesh.uv[:, 1]) * 255).astype(int).clip(0, 255),
+                          (mesh.uv[:, 0] * 511).astype(int).clip(0, 511)].astype(float)
+    # Averaged over each vertex's triangles: close to the texel under it on the whole, and
+    # smoother across neighbouring vertices than single texels are.
+    assert np.abs(mesh.colours.astype(float) - texels).mean() < 20
+    edges = mesh.faces[:, :2]
+    jump = lambda c: np.abs(c[edges[:, 0]].astype(float) - c[edges[:, 1]]).mean()  # noqa: E731
+    assert jump(mesh.colours) < jump(texels)
+
+
+def test_obj_with_mtl_texture_and_glb_carry_uv_and_image(tmp_path):
+    # Two boxes apart, the one at x > 0 mapped into the texture's blue half, the other into its red.
+    box = trimesh.util.concatenate([trimesh.creation.box().apply_translation([-1, 0, 0.5]),
+                                    trimesh.creation.box().apply_translation([1, 0, 0.5])])
+    uv = np.c_[(box.vertices[:, 0] > 0).astype(float) * 0.5 + 0.25, np.full(len(box.vertices), 0.5)]
+    image = np.zeros((8, 16, 3), np.uint8)
+    image[:, :8] = (230, 20, 20)
+    image[:, 8:] = (20, 20, 230)
+    box.visual = trimesh.visual.TextureVisuals(uv=uv, image=Image.fromarray(image))
+    box.export(tmp_path / "frame.obj")
+    box.export(tmp_path / "frame.glb")
+    for name in ("frame.obj", "frame.glb"):
+        frame = read_frame(tmp_path / name)
+        assert frame.uv is not None and frame.texture.shape == (8, 16, 3), name
+        # Vertices at x > 0 sit on the blue half of the texture, the others on the red half.
+        vertices = read_mesh(tmp_path / name).vertices
+        right = vertices[:, 0] > 0
+        assert (frame.colours[right, 2] > 150).all() and (frame.colours[~right, 0] > 150).all(), name
+
+
+def test_gltf_is_y_up_by_its_convention(tmp_path):
+    body = trimesh.creation.capsule(height=1.4, radius=0.2)   # along z
+    body.vertices = body.vertices[:, [0, 2, 1]] * [1, 1, -1]  # now along y, glTF's up
+    for k in range(3):
+        body.export(tmp_path / f"f{k}.glb")
+    sequence = open_sequence(tmp_path)
+    assert sequence.format == "gltf" and sequence.orientation.up == "+y"
+    assert "glTF" in sequence.orientation.reasons["up"]
+    frame = load_sequence(tmp_path).frames[0]
+    extent = frame.positions.max(axis=0) - frame.positions.min(axis=0)
+    assert extent[2] == pytest.approx(1.8, abs=0.01)  # tall along z, tvmedit's up
+
+
+def test_resampling_holds_across_gaps_and_keeps_jittered_frames():
+    jittered = np.cumsum([0] + [0.033 + 0.002 * (-1) ** k for k in range(29)])
+    assert resample(jittered, 1 / 0.033).tolist() == list(range(30))
+    assert resample([0.0, 0.1, 0.2, 0.5], 10).tolist() == [0, 1, 2, 2, 3, 3]
+
+
+def test_check_prints_format_timing_textures_and_frame_of_reference(tmp_path):
+    capture = scvv_capture(tmp_path / "take", count=10)
+    result = _tvmedit("check", capture)
+    assert result.returncode == 0, result.stderr
+    out = result.stdout
+    assert "format: scvv sequence (scvv.json) of draco frames" in out
+    assert "10 frames over 0.30 s, 31.8-34.8 ms apart" in out and "analysed at" in out
+    assert "textures: 10 of 10 frames (512x256)" in out
+    assert "up axis: -x (a depth camera looks along +z" in out
+    assert "units: m" in out
+
+
+def test_texture_colours_average_a_checkerboard_under_big_triangles():
+    texture = np.zeros((32, 32, 3), np.uint8)
+    texture[(np.indices((32, 32)).sum(axis=0) % 2) == 0] = 200
+    uv = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.5]])
+    faces = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]])
+    assert np.abs(texture_colours(uv, faces, texture).astype(int) - 100).max() <= 2
+
+
+# --- the real capture, through the command line --------------------------------------------
+
+@pytest.fixture(scope="module")
+def card_library(tmp_path_factory):
+    out = tmp_path_factory.mktemp("card") / "card.tvmlib"
+    result = _tvmedit("build", _card(), "-o", out, "-q", "--workers", "2", "--no-cache")
+    assert result.returncode == 0, result.stderr
+    return out
+
+
+def test_card_builds_upright_with_two_or_more_motions(card_library):
+    from engine import Library
+
+    result = _tvmedit("info", card_library, "--json")
+    info = json.loads(result.stdout)
+    assert len(info["nodes"]) >= 2 and {n["kind"] for n in info["nodes"]} <= {"cycle", "once"}
+    library = Library.open(card_library)
+    record = library.manifest["sequences"][0]
+    assert record["format"] == "scvv" and record["orientation"]["up"] == "-x"
+    # Upright: the top of every stored frame is the head (skin and hair, warm), its bottom the
+    # dark shirt. Read with the wrong up axis, the top would be the shirt's side or the card.
+    warm, dark = 0, 0
+    keys = library.stored_frames()[::10]
+    for key in keys:
+        positions, colours, _, _ = library.frame_mesh(key)
+        z = positions[:, 2]
+        top = colours[z > np.quantile(z, 0.95)].astype(float).mean(axis=0)
+        bottom = colours[z < np.quantile(z, 0.05)].astype(float).mean(axis=0)
+        warm += top[0] > top[2] + 15
+        dark += bottom.mean() < 90
+    assert warm == len(keys) and dark >= 0.8 * len(keys)
+    assert library.textured and library.frame_texture(keys[0])[1].shape == (256, 512, 3)
+
+
+def test_card_renders_its_texture_not_just_vertex_colours(card_library, tmp_path):
+    import dataclasses
+
+    import player
+    from engine import Library
+    from player.camera import Camera
+
+    library = Library.open(card_library)
+    key = library.stored_frames()[10]
+    camera = Camera.framing(library.bounds(), 4 / 3, elevation=0)
+    camera = dataclasses.replace(camera, distance=camera.distance * 0.5)
+    images = {shading: player.render_frame(library, key, camera, size=(640, 480), shading=shading).astype(float)
+              for shading in ("texture", "colour")}
+    # Texture detail (the card's print, the face) shows as sharper neighbouring pixels inside
+    # the person; the background and the silhouette are alike in both.
+    background = images["colour"][0, 0]
+    sharpness = {}
+    for shading, image in images.items():
+        inside = np.abs(image - background).max(axis=2) > 3
+        both = inside[:, 1:] & inside[:, :-1]
+        sharpness[shading] = np.abs(np.diff(image.mean(axis=2), axis=1))[both].mean()
+    assert sharpness["texture"] > 1.3 * sharpness["colour"], sharpness
+    result = _tvmedit("render", card_library, "--node", library.nodes[0].name, "-o", tmp_path / "sheet.png",
+                      "--shading", "texture")
+    assert result.returncode == 0 and (tmp_path / "sheet.png").exists(), result.stderr
+
+
+def test_second_capture_in_the_other_layout_checks_builds_renders_and_plays(tmp_path):
+    capture = scvv_capture(tmp_path / "drc-take", first=0, count=96, step=2)
+    assert _tvmedit("check", capture).returncode == 0
+    library = tmp_path / "drc.tvmlib"
+    result = _tvmedit("build", capture, "-o", library, "-q", "--workers", "1", "--no-cache")
+    assert result.returncode == 0, result.stderr
+    info = json.loads(_tvmedit("info", library, "--json").stdout)
+    assert info["sequences"][0]["fps"] == pytest.approx(15, rel=0.1) and info["nodes"]
+    sheet = tmp_path / "sheet.png"
+    result = _tvmedit("render", library, "--node", info["nodes"][0]["name"], "-o", sheet)
+    assert result.returncode == 0 and sheet.exists(), result.stderr
+    if shutil.which("Xvfb") and shutil.which("xvfb-run"):
+        log = tmp_path / "play.jsonl"
+        played = subprocess.run(["xvfb-run", "-a", sys.executable, "-m", "tvmedit", "play", library,
+                                 "--seconds", "2", "--log", log], capture_output=True, text=True,
+                                timeout=120, cwd=ROOT)
+        assert played.returncode == 0, played.stderr
+        frames = [json.loads(line) for line in log.read_text().splitlines() if '"frame"' in line]
+        assert len(frames) > 10
