@@ -197,6 +197,13 @@ LIBRARY_FILES = ["manifest.json", "features.npy", "structure.json", "database.js
                  "frame_keys.npy", "names.json", "graph.graphml", ".tvmedit"]
 
 
+def _copy(tmp_path_factory, folder, name):
+    """A fresh folder holding a copy of ``folder`` called ``name``: (root, copy)."""
+    root = tmp_path_factory.mktemp("hostile-copy")
+    shutil.copytree(folder, root / name)
+    return root, root / name
+
+
 def damage(data, path):
     """Truncate, overwrite bytes in place (same size) or append garbage to ``path``."""
     blob = bytearray(path.read_bytes()) if path.exists() else bytearray()
@@ -216,9 +223,7 @@ def damage(data, path):
 @SWEEP
 @given(data=st.data())
 def test_damaged_library_files(world, data, tmp_path_factory):
-    root = tmp_path_factory.mktemp("damaged")
-    library = root / "gym.lib"
-    shutil.copytree(world["library"], library)
+    root, library = _copy(tmp_path_factory, world["library"], "gym.lib")
     damage(data, library / data.draw(st.sampled_from(LIBRARY_FILES)))
     argv = data.draw(st.sampled_from([
         ["info", library, "--json"], ["path", library, world["a"], world["b"]],
@@ -233,9 +238,7 @@ def test_damaged_library_files(world, data, tmp_path_factory):
 @SWEEP
 @given(data=st.data())
 def test_damaged_frames(world, data, tmp_path_factory):
-    root = tmp_path_factory.mktemp("frames")
-    sequence = root / "seq"
-    shutil.copytree(world["sequence"], sequence)
+    root, sequence = _copy(tmp_path_factory, world["sequence"], "seq")
     for _ in range(data.draw(st.integers(1, 2))):
         damage(data, data.draw(st.sampled_from(sorted(sequence.glob("*.ply")))))
     skip = data.draw(st.sampled_from([[], ["--skip-bad-frames"]]))
@@ -256,9 +259,7 @@ MOMENTS = [("build", "engine.featcache:stat_list", 1), ("build", "engine.libform
 @settings(SWEEP, max_examples=max(EXAMPLES // 10, 8))
 @given(moment=st.sampled_from(MOMENTS), signum=st.sampled_from([signal.SIGINT, signal.SIGTERM]))
 def test_signals_at_random_moments(world, moment, signum, tmp_path_factory):
-    root = tmp_path_factory.mktemp("signals")
-    library = root / "gym.lib"
-    shutil.copytree(world["library"], library)
+    root, library = _copy(tmp_path_factory, world["library"], "gym.lib")
     command, at, after = moment
     argv = {"build": ["build", world["sequence"], "-o", library, "--force", "-q", "--workers", "1"],
             "export": ["export", library, world["a"], world["b"], "-o", root / "edit", "-q"],
