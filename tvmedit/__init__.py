@@ -1,8 +1,11 @@
 """tvmedit: motion editing for time-varying meshes. The command line lives in :mod:`tvmedit.cli`."""
 
-from importlib.metadata import PackageNotFoundError, version
 
-try:
-    __version__ = version("tvmedit")
-except PackageNotFoundError:  # running from a source tree that was never installed
-    __version__ = "0.0.0+unknown"
+def __getattr__(name):
+    # The version is looked up on first use: importlib.metadata takes a while to import, and
+    # `tvmedit` should start (and take Ctrl-C as a command) at once.
+    if name == "__version__":
+        from engine.libformat import tvmedit_version
+
+        return tvmedit_version()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -14,7 +14,6 @@ import warnings
 
 from engine.errors import TvmError, UnknownMotion
 
-from . import __version__
 
 # Order is the order ``tvmedit --help`` lists them: the pipeline from data to pictures.
 COMMANDS = ["synth", "check", "build", "info", "rename", "path", "export", "render", "play", "report"]
@@ -26,7 +25,7 @@ def _parser(argv):
         description="Edit time-varying meshes: find cyclic motions, link them in a motion graph, "
         "and play or render new sequences through the motions you choose.",
     )
-    parser.add_argument("--version", action="version", version=f"tvmedit {__version__}")
+    parser.add_argument("--version", action=_Version, help="show the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     # Only the invoked command's options are built: some read their defaults from engine
     # modules (networkx, scikit-image), which `tvmedit play` should not wait for.
@@ -39,6 +38,18 @@ def _parser(argv):
             module.add_arguments(p)
         p.set_defaults(_run=module.run, _parser=p)
     return parser
+
+
+class _Version(argparse.Action):
+    """--version, looked up only when asked for (importlib.metadata is slow to import)."""
+
+    def __init__(self, option_strings, dest, help=None):
+        super().__init__(option_strings, dest, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import tvmedit
+
+        parser.exit(message=f"tvmedit {tvmedit.__version__}\n")
 
 
 def main(argv=None):
