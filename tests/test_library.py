@@ -24,7 +24,7 @@ from engine.features import BinSizes, FeatureAccumulator
 from engine.graph import build_graph, nodes_of
 from engine.load import open_sequence, read_frame
 from engine.parallel import Workers
-from tvmedit.cli import as_flags
+from tvmedit.options import as_flags
 
 
 def _inputs(take):

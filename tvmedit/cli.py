@@ -7,12 +7,13 @@ that draw, so ``tvmedit --help`` and the analysis commands start fast and run wi
 
 import argparse
 import importlib
-import re
 import signal
 import sys
 import warnings
 
 from engine.errors import TvmError, UnknownMotion
+
+from . import options
 
 
 # Order is the order ``tvmedit --help`` lists them: the pipeline from data to pictures.
@@ -68,7 +69,7 @@ def main(argv=None):
         parser = args._parser
         return args._run(args) or 0
     except TvmError as error:
-        message = as_flags(str(error), parser) if parser is not None else str(error)
+        message = options.as_flags(str(error), parser)
         if isinstance(error, UnknownMotion) and getattr(args, "library", None):
             message = f"{message.rstrip('.')}; `tvmedit info {args.library}` lists them."
         print(f"error: {_sentence(message)}", file=sys.stderr)
@@ -87,57 +88,10 @@ def main(argv=None):
         return 2
 
 
-#: Options of other commands that engine advice may name (``rebuild with mu=2``).
-_OTHER = {"mu": "--mu", "skip_bad_frames": "--skip-bad-frames", "fps": "--fps", "force": "--force",
-          "workers": "--workers", "dask": "--dask"}
-
-
-def as_flags(message, parser):
-    """An engine message with its Python advice (``force=True``, ``mu=2``) as this command's options.
-
-    The engine names parameters as ``name=value``; where the command has an option of that
-    name (``--force``, ``--mu``), the advice is given as the option.
-
-    >>> p = argparse.ArgumentParser()
-    >>> _ = p.add_argument("--force", action="store_true"); _ = p.add_argument("--mu", type=float)
-    >>> as_flags("library x already exists; pass force=True to replace it, or mu=2.5.", p)
-    'library x already exists; pass --force to replace it, or --mu 2.5.'
-    >>> as_flags("x is damaged; rebuild it with build(inputs, 'x', force=True).", p)
-    'x is damaged; rebuild it with `tvmedit build INPUT... -o x --force`.'
-    """
-    options = {name: (option, name in ("force", "skip_bad_frames")) for name, option in _OTHER.items()}
-    for action in parser._actions:
-        if action.option_strings:
-            option = action.option_strings[-1]
-            for name in (action.dest, option.lstrip("-").replace("-", "_")):
-                options[name] = (option, action.nargs == 0)
-
-    def flag(match):
-        name, value = match.group(1), match.group(2)
-        found = options.get(name)
-        if found is None:
-            return match.group(0)
-        option, switch = found
-        pair = re.fullmatch(r"\((\d+), (\d+)\)", value)
-        if pair:  # size=(640, 480) is --size 640x480
-            return f"{option} {pair.group(1)}x{pair.group(2)}"
-        return option if switch and value == "True" else f"{option} {value}"
-
-    message = re.sub(r"\bbuild\((inputs|\[.*?\]), '(.+?)'(, force=True)?\)", _build_command, message)
-    return re.sub(r"\b([a-z][a-z_]*)=(\(\d+, \d+\)|\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
-
-
 def _sentence(message):
     """One line that ends as a sentence does."""
     message = " ".join(message.split())
     return message if message.endswith((".", "!", "?")) else message + "."
-
-
-def _build_command(match):
-    """``build(['a'], 'lib', force=True)`` (see ``engine.libformat.build_call``) as a command."""
-    sources = "INPUT..." if match.group(1) == "inputs" else " ".join(re.findall(r"'(.*?)'", match.group(1)))
-    force = " --force" if match.group(3) else ""
-    return f"`tvmedit build {sources} -o {match.group(2)}{force}`"
 
 
 def _terminate(signum, frame):
@@ -147,7 +101,7 @@ def _terminate(signum, frame):
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     # What the engine warns about (skipped frames, files left out) is for the user: one line,
     # without Python's file and line.
-    print(f"warning: {message}", file=sys.stderr)
+    print(f"warning: {options.as_flags(str(message))}", file=sys.stderr)
 
 
 if __name__ == "__main__":

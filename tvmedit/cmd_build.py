@@ -118,7 +118,7 @@ def run(args):
     def say(message):
         # -q silences progress and the summary, never a warning (skipped frames, no motions).
         if not args.quiet or message.startswith("warning") or "skipped" in message:
-            print(options.as_flags(message), file=sys.stderr)
+            print(options.as_flags(message, args._parser), file=sys.stderr)
 
     from engine.features import MAX_ANGLE_BINS
     from engine.params import number

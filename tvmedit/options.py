@@ -2,6 +2,7 @@
 
 import argparse
 import math
+import re
 
 #: Largest image side a GL context is sure to allocate (GL_MAX_TEXTURE_SIZE is 16384 or more).
 MAX_SIZE = 8192
@@ -93,14 +94,61 @@ def add_frame_of_reference(parser):
                        help="swap left and right, for a capture stored as a mirror image (text reads backwards); default: no")
 
 
-def as_flags(text):
-    """An engine message with the structure parameters it names written as build flags
-    (``min_cluster`` -> ``--min-cluster``)."""
-    if not text:
-        return text
-    for name in ("min_cluster", "novelty_threshold"):
-        text = text.replace(name, "--" + name.replace("_", "-"))
-    return text
+#: Options of other commands that engine advice may name (``rebuild with mu=2``).
+_OTHER = {"mu": "--mu", "skip_bad_frames": "--skip-bad-frames", "fps": "--fps", "force": "--force",
+          "workers": "--workers", "dask": "--dask", "min_cluster": "--min-cluster",
+          "novelty_threshold": "--novelty-threshold"}
+
+
+def as_flags(message, parser=None):
+    """An engine message with the Python it speaks (``force=True``, ``mu=2``, ``min_cluster``,
+    ``build(...)``) said as the command line's options and commands.
+
+    The engine names parameters as ``name=value`` or, in advice, by name; where the command
+    (``parser``), or another command the advice is about, has an option of that name
+    (``--force``, ``--mu``, ``--min-cluster``), the option is given instead.
+
+    >>> p = argparse.ArgumentParser()
+    >>> _ = p.add_argument("--force", action="store_true"); _ = p.add_argument("--mu", type=float)
+    >>> as_flags("library x already exists; pass force=True to replace it, or mu=2.5.", p)
+    'library x already exists; pass --force to replace it, or --mu 2.5.'
+    >>> as_flags("x is damaged; rebuild it with build(inputs, 'x', force=True).", p)
+    'x is damaged; rebuild it with `tvmedit build INPUT... -o x --force`.'
+    >>> as_flags("try a shorter min_cluster or a lower novelty_threshold.")
+    'try a shorter --min-cluster or a lower --novelty-threshold.'
+    """
+    if not message:
+        return message
+    options = {name: (option, name in ("force", "skip_bad_frames")) for name, option in _OTHER.items()}
+    for action in (parser._actions if parser is not None else ()):
+        if action.option_strings:
+            option = action.option_strings[-1]
+            for name in (action.dest, option.lstrip("-").replace("-", "_")):
+                options[name] = (option, action.nargs == 0)
+
+    def flag(match):
+        name, value = match.group(1), match.group(2)
+        found = options.get(name)
+        if found is None:
+            return match.group(0)
+        option, switch = found
+        pair = re.fullmatch(r"\((\d+), (\d+)\)", value)
+        if pair:  # size=(640, 480) is --size 640x480
+            return f"{option} {pair.group(1)}x{pair.group(2)}"
+        return option if switch and value == "True" else f"{option} {value}"
+
+    message = re.sub(r"\bbuild\((inputs|\[.*?\]), '(.+?)'(, force=True)?\)", _build_command, message)
+    message = re.sub(r"\b([a-z][a-z_]*)=(\(\d+, \d+\)|\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
+    # Parameters named in advice ("a shorter min_cluster"): snake_case words that are options.
+    return re.sub(r"(?<![-=\w])([a-z]+(?:_[a-z]+)+)\b(?!=)",
+                  lambda m: options[m.group(1)][0] if m.group(1) in options else m.group(0), message)
+
+
+def _build_command(match):
+    """``build(['a'], 'lib', force=True)`` (see ``engine.libformat.build_call``) as a command."""
+    sources = "INPUT..." if match.group(1) == "inputs" else " ".join(re.findall(r"'(.*?)'", match.group(1)))
+    force = " --force" if match.group(3) else ""
+    return f"`tvmedit build {sources} -o {match.group(2)}{force}`"
 
 
 def add_shading(parser):
