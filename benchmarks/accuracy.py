@@ -13,7 +13,6 @@ beta = 0.07.
 
 import argparse
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -22,8 +21,8 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from conftest import CACHE, mocap_take, synth_take  # noqa: E402  (the tests' generators and cache)
 
-from engine.evaluate import boundary_scores, load_truth, sequence_features, texton_length_accuracy  # noqa: E402
-from engine.structure import StructureParams, parse  # noqa: E402
+from engine.evaluate import load_truth, score_take  # noqa: E402
+from engine.structure import StructureParams  # noqa: E402
 
 VARIANTS = {
     "base": {},
@@ -48,16 +47,8 @@ def take_folder(take, variant="base"):
 
 def score(folder, params):
     """(precision, recall, texton accuracy, clusters, seconds) of one parse."""
-    truth = load_truth(folder)
-    features = sequence_features(folder, cache_dir=CACHE.parent / "features")
-    vectors = features.vectors
-    fps = float(truth["fps"])
-    t0 = time.perf_counter()
-    s = parse(vectors, fps, params, theta=features.theta_columns)
-    seconds = time.perf_counter() - t0
-    p, r, _ = boundary_scores(s.clusters, truth["segments"], tolerance_frames=round(1.0 * fps))
-    acc = texton_length_accuracy(s, truth)
-    return p, r, acc, s, seconds
+    result = score_take(folder, params, cache_dir=CACHE.parent / "features")
+    return result.precision, result.recall, result.texton_accuracy, result.structure, result.parse_seconds
 
 
 def main(argv=None):

@@ -18,21 +18,16 @@ sys.path.insert(0, str(ROOT))
 
 from accuracy import CACHE, VARIANTS, take_folder  # noqa: E402
 
-from engine.evaluate import boundary_scores, load_truth, sequence_features, texton_length_accuracy  # noqa: E402
+from engine.evaluate import score_take  # noqa: E402
 from engine.features import BinSizes  # noqa: E402
-from engine.structure import parse  # noqa: E402
 
 R_SIZES = (0.01, 0.02, 0.04, 0.08)
 ANGLE_SIZES = (2.5, 5.0, 10.0, 20.0)
 
 
 def scores(folder, bins):
-    truth = load_truth(folder)
-    features = sequence_features(folder, bins=bins, cache_dir=CACHE.parent / "features")
-    fps = float(truth["fps"])
-    s = parse(features.vectors, fps, theta=features.theta_columns)
-    p, r, _ = boundary_scores(s.clusters, truth["segments"], tolerance_frames=round(fps))
-    return p, r, texton_length_accuracy(s, truth), features.vectors.shape[1]
+    result = score_take(folder, bins=bins, cache_dir=CACHE.parent / "features")
+    return result.precision, result.recall, result.texton_accuracy, result.feature_columns
 
 
 def main(argv=None):

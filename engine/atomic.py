@@ -31,7 +31,7 @@ import os
 import shutil
 from pathlib import Path
 
-from .errors import OutputError
+from .errors import OutputError, summarise
 
 __all__ = ["MARKER", "temporary", "replacing_file", "write_text", "write_bytes", "replacing_folder",
            "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target"]
@@ -68,11 +68,18 @@ def _remove(path):
 def replacing_file(path, keep_suffix=None):
     """Yield a temporary path to write; when the block ends without error it becomes ``path``.
 
-    On an error (or Ctrl-C) the temporary file is removed and ``path`` is left as it was.
+    The temporary file exists (empty) when the block starts. On an error (or Ctrl-C) it is
+    removed and ``path`` is left as it was.
     """
     path = Path(path)
     tmp = temporary(path, keep_suffix=keep_suffix)
     _remove(tmp)
+    # Created at once, so that a folder that cannot be written to is found before any work
+    # (an OSError naming the file), not by a writer deep in a library.
+    try:
+        tmp.touch()
+    except OSError as error:
+        raise OSError(error.errno, error.strerror, str(path)) from None
     try:
         yield tmp
         os.replace(tmp, path)
@@ -221,17 +228,6 @@ def _foreign(folder):
     return [name for name in _files(folder) if name != MARKER and name not in written]
 
 
-def _summary(names, limit=3):
-    """``a, b`` or ``412 files, e.g. a, b, c``.
-
-    >>> _summary(["a", "b"]), _summary([str(i) for i in range(5)])
-    ('a, b', '5 files, e.g. 0, 1, 2')
-    """
-    if len(names) <= limit:
-        return ", ".join(names)
-    return f"{len(names)} files, e.g. {', '.join(names[:limit])}"
-
-
 def _refuse_inside(out, inputs):
     resolved = Path(os.path.abspath(out))
     for parent in resolved.parents:
@@ -284,7 +280,7 @@ def check_target(out, kind, force=False, inputs=(), legacy=None):
                           "work from outside it.")
     foreign = _foreign(out) if foreign is None else foreign
     if foreign:
-        raise OutputError(f"{out} holds {_summary(foreign)}, which tvmedit did not write, so it is "
+        raise OutputError(f"{out} holds {summarise(foreign)}, which tvmedit did not write, so it is "
                           "not replaced; move them out first or choose another output.")
 
 

@@ -22,7 +22,6 @@ never half of one.
 
 import dataclasses
 import glob as _glob
-import math
 import os
 import sys
 import time
@@ -32,8 +31,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import atomic, featcache, libformat
-from .errors import InputError, TvmError
+from . import atomic, featcache, libformat, params
+from .errors import InputError, ParameterError, TvmError
 from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
 from .load import open_sequence, read_frame
 from .normals import vertex_normals
@@ -501,25 +500,19 @@ def _check_mu(mu):
     >>> _check_mu("inf")
     Traceback (most recent call last):
     ...
-    engine.errors.InputError: mu must be a finite number above 0 (the default is 0.9), not 'inf'.
+    engine.errors.ParameterError: mu=inf is out of range: it must be a finite number above 0 (the default is 0.9).
     """
     from .graph import MU
 
-    try:
-        value = float(mu)
-    except (TypeError, ValueError):
-        value = None
-    if value is None or not math.isfinite(value) or value <= 0:
-        raise InputError(f"mu must be a finite number above 0 (the default is {MU:g}), not {str(mu)!r}.")
-    return value
+    return params.number("mu", mu, above=0, hint=f" (the default is {MU:g})")
 
 
 def _carry_names(old, nodes, tmp):
     """Names given with ``rename`` survive a rebuild where the same texton is still a motion."""
     if old is None:
         return {}
-    defaults = {n.id: n.name for n in old._read_nodes(renamed=False)}
-    given = {(n.sequence, n.start, n.end): n.name for n in old.nodes if n.name != defaults[n.id]}
+    given = libformat.read_names(old.path)
+    given = {(n.sequence, n.start, n.end): given[str(n.id)] for n in old.nodes if str(n.id) in given}
     taken = {n.name for n in nodes}
     names = {}
     for node in nodes:
@@ -536,8 +529,9 @@ def _structure_params(module, structure):
     if structure is None:
         return module.StructureParams()
     if isinstance(structure, dict):
-        try:
-            return module.StructureParams(**structure)
-        except (TypeError, ValueError) as error:
-            raise InputError(f"bad structure parameters: {error}.") from None
+        known = [f.name for f in dataclasses.fields(module.StructureParams)]
+        unknown = sorted(set(structure) - set(known))
+        if unknown:
+            raise ParameterError(f"structure has no parameter {unknown[0]!r}; it has {', '.join(known)}.")
+        return module.StructureParams(**structure)
     return structure

@@ -35,6 +35,7 @@ from typing import NamedTuple
 
 
 from .errors import LibraryError, TvmError
+from .params import MAX_LOOPS, whole
 from .graph import node_by_key
 from .search import SearchIndex, best_path, motion_label
 
@@ -200,9 +201,11 @@ def _edge(graph, u, v, weight):
 
 
 def _check_loops(loops):
-    if loops is not None and (not isinstance(loops, int) or loops < 1):
-        raise TvmError(f"loops should be a whole number of cycles, 1 or more (or None for "
-                       f"forever); got {loops!r}.")
+    """Loops are a whole number of cycles, bounded: the schedule holds every frame."""
+    if loops is None:
+        return None
+    return whole("loops", loops, at_least=1, at_most=MAX_LOOPS,
+                 hint=" (None plays the last key motion for ever)")
 
 
 def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
@@ -248,7 +251,7 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
     >>> edit.legs[0].to_json()
     {'from': 0, 'to': 1, 'path': [0, 1], 'cost': 0.5, 'edges': 1, 'frames': 5}
     """
-    _check_loops(loops)
+    loops = _check_loops(loops)
     keys = [resolve_motion(graph, key) for key in keys]
     if len(keys) < 2:
         raise TvmError(f"An edit needs at least two key motions; got {len(keys)}.")

@@ -4,6 +4,18 @@ The command line prints ``str(error)`` after ``error:`` and exits non-zero, with
 """
 
 
+def summarise(names, limit=3):
+    """Names for a one-line message: ``a, b`` or, when long, ``412 files, e.g. a, b, c``.
+
+    >>> summarise(["a", "b"]), summarise([str(i) for i in range(5)])
+    ('a, b', '5 files, e.g. 0, 1, 2')
+    """
+    names = [str(n) for n in names]
+    if len(names) <= limit:
+        return ", ".join(names)
+    return f"{len(names)} files, e.g. {', '.join(names[:limit])}"
+
+
 class TvmError(Exception):
     """Base class of every error tvmedit reports to a user."""
 
@@ -36,3 +48,7 @@ class NoPath(TvmError):
 
 class OutputError(TvmError):
     """An output would replace or land inside something tvmedit did not write."""
+
+
+class ParameterError(TvmError, ValueError):
+    """A parameter given by the caller is not a finite number in its range (or not a choice)."""

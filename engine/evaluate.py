@@ -20,16 +20,103 @@ periods are known:
 from __future__ import annotations
 
 import json
+import math
+import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 __all__ = [
+    "TOLERANCE_S",
+    "Score",
+    "score",
+    "score_take",
+    "tolerance_frames",
     "boundary_scores",
     "texton_length_accuracy",
     "load_truth",
     "sequence_features",
 ]
+
+#: Largest |detected - true| cluster start that counts as a hit, in seconds (rounded to
+#: frames at the sequence's rate). Tests, benchmarks and the report all score with it.
+TOLERANCE_S = 1.0
+
+
+def tolerance_frames(fps):
+    """:data:`TOLERANCE_S` in frames at ``fps``.
+
+    >>> tolerance_frames(10), tolerance_frames(30)
+    (10, 30)
+    """
+    return round(TOLERANCE_S * float(fps))
+
+
+@dataclass
+class Score:
+    """How a parsed structure compares with ``truth.json`` (see the module docstring).
+
+    ``texton_accuracy`` is NaN when no cluster can be scored, or when the structure is at
+    another frame rate than the truth (its periods count frames at the truth's rate).
+    ``structure``, ``parse_seconds`` and ``feature_columns`` are set by :func:`score_take`.
+    """
+
+    precision: float
+    recall: float
+    texton_accuracy: float
+    matches: list
+    tolerance_frames: int
+    segments: list
+    structure: object = field(default=None, repr=False)
+    parse_seconds: float = 0.0
+    feature_columns: int = 0
+
+
+def _segments_at(truth, fps):
+    # truth.json counts frames at its own rate; a library may hold the sequence at another.
+    scale = float(fps) / float(truth.get("fps", fps) or fps)
+    if abs(scale - 1.0) < 1e-9:
+        return list(truth["segments"])
+    return [{**seg, "start": int(round(seg["start"] * scale)), "end": int(round(seg["end"] * scale))}
+            for seg in truth["segments"]]
+
+
+def score(structure, truth, fps=None):
+    """Score ``structure`` (parsed at ``fps``, default the truth's) against ``truth``.
+
+    >>> from engine.structure import Structure, Texton
+    >>> s = Structure([(0, 9), (10, 19)], [Texton(0, 4, 0, 0.0), Texton(10, 14, 1, 0.0)], np.zeros(20))
+    >>> truth = {"fps": 10, "segments": [{"start": 0, "end": 9}, {"start": 11, "end": 19}],
+    ...          "periods_hint": [{"period_frames": 5}, {"period_frames": 5}]}
+    >>> result = score(s, truth)
+    >>> result.precision, result.recall, result.texton_accuracy, result.tolerance_frames
+    (1.0, 1.0, 1.0, 10)
+    """
+    fps = float(truth["fps"]) if fps is None else float(fps)
+    segments = _segments_at(truth, fps)
+    tolerance = tolerance_frames(fps)
+    precision, recall, matches = boundary_scores(structure.clusters, segments, tolerance)
+    same_rate = segments == list(truth["segments"])
+    accuracy = texton_length_accuracy(structure, truth) if same_rate else math.nan
+    return Score(precision, recall, accuracy, matches, tolerance, segments)
+
+
+def score_take(folder, params=None, bins=None, cache_dir=None):
+    """Parse the take in ``folder`` (its features cached) and :func:`score` it against its truth.json."""
+    from .structure import parse
+
+    truth = load_truth(folder)
+    features = sequence_features(folder, bins=bins, cache_dir=cache_dir)
+    fps = float(truth["fps"])
+    t0 = time.perf_counter()
+    structure = parse(features.vectors, fps, params, theta=features.theta_columns)
+    seconds = time.perf_counter() - t0
+    result = score(structure, truth, fps)
+    result.structure = structure
+    result.parse_seconds = seconds
+    result.feature_columns = features.vectors.shape[1]
+    return result
 
 
 def _starts(ranges):

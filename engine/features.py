@@ -45,6 +45,12 @@ from typing import Iterable
 import numpy as np
 
 from .errors import InputError
+from .params import number
+
+#: Most angular bins (theta or phi) and radial bins a histogram may have: each is a column
+#: of every frame's feature vector.
+MAX_ANGLE_BINS = 3600
+MAX_R_BINS = 100_000
 
 __all__ = [
     "BinSizes",
@@ -88,10 +94,12 @@ class BinSizes:
     phi: float = math.radians(5.0)
 
     def __post_init__(self):
-        for name in ("r", "theta", "phi"):
+        # Every angular bin is a histogram column of every frame: their number is bounded.
+        for name, span in (("r", None), ("theta", 2 * math.pi), ("phi", math.pi)):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-                raise InputError(f"bin size {name}={value!r} must be a positive finite number")
+            least = span / MAX_ANGLE_BINS if span else None
+            hint = f" (at most {MAX_ANGLE_BINS} bins over {span:.4g} rad)" if span else ""
+            number(name, value, above=None if span else 0, at_least=least, at_most=span, hint=hint)
 
     @property
     def n_theta(self) -> int:
@@ -208,6 +216,10 @@ def frame_histograms(positions, origin, bins: BinSizes = BinSizes()):
     np.sqrt(r, out=r)
     if not math.isfinite(r.max()):
         raise InputError("a frame has NaN or infinite vertex positions")
+    if r.max() / bins.r >= MAX_R_BINS:
+        raise InputError(f"a frame reaches {r.max():.4g} from its sequence's origin, which needs "
+                         f"{r.max() / bins.r:.3g} radial bins of {bins.r:g}; at most {MAX_R_BINS} "
+                         "are allowed: use larger bins or check the frame's units.")
     np.divide(r, bins.r, out=tmp)
     np.copyto(index, tmp, casting="unsafe")
     h_r = np.bincount(index) * scale

@@ -9,7 +9,8 @@ files, float colours, polygons that are not all triangles, extra face
 properties, other elements first) makes :func:`read_ply` return ``None`` so the caller falls
 back to trimesh.
 
-A file that announces more data than it holds raises ``ValueError`` naming what is missing.
+A file that announces more data than it holds, or less (a header that under-counts its
+faces), raises ``ValueError`` naming the difference.
 """
 
 from pathlib import Path
@@ -116,6 +117,10 @@ def read_ply(path):
     need = offset + n_vertices * vertex_dtype.itemsize + n_faces * face_dtype.itemsize
     if len(data) < need:
         raise ValueError(f"the file holds {len(data)} bytes but its header announces {need}")
+    if len(data) > need and len(elements) == 2:
+        # An under-counted header would silently drop the rest of the mesh.
+        raise ValueError(f"the file holds {len(data) - need} bytes more than its header announces "
+                         f"({n_vertices} vertices, {n_faces} faces)")
     vertices = np.frombuffer(data, vertex_dtype, n_vertices, offset)
     faces = np.frombuffer(data, face_dtype, n_faces, offset + n_vertices * vertex_dtype.itemsize)
     if n_faces and not (faces["n"] == 3).all():

@@ -65,11 +65,14 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 
 import numpy as np
 
-from .features import distance_matrix
+from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, atoms_along_lag,
+                    atom_window, lag_profile, novelty)
+from .errors import ParameterError
+from .params import MAX_FPS, number
 
 __all__ = [
     "StructureParams",
@@ -83,8 +86,15 @@ __all__ = [
     "novelty",
 ]
 
-PAPER_TAPS = (0.25, 0.5, 1.0, 0.5, 0.25)
-PAPER_FPS = 10.0
+
+#: Longest atom window (eq. (5)), seconds, and most taps it may have.
+MAX_WINDOW_S = 10.0
+MAX_TAPS = 101
+
+
+def _param(default, **limits):
+    """A numeric field of :class:`StructureParams` with its range (see :func:`engine.params.number`)."""
+    return field(default=default, metadata={"limits": limits})
 
 
 @dataclass(frozen=True)
@@ -141,26 +151,38 @@ class StructureParams:
 
     method: str = "energy"
     window_taps: tuple = PAPER_TAPS
-    window_fps: float = PAPER_FPS
-    beta: float = 0.3
-    texton_contrast: float = 0.2
-    texton_drop: float = 0.05
-    min_texton: float = 0.4
-    max_period: float = 5.0
-    min_periodicity: float = 0.05
-    period_tolerance: float = 0.3
-    novelty_window: float = 3.0
-    novelty_threshold: float = 0.05
-    min_cluster: float = 2.0
-    twin_peak: float = 0.9
-    analysis_fps: float = 10.0
+    window_fps: float = _param(PAPER_FPS, above=0, at_most=MAX_FPS)
+    beta: float = _param(0.3, at_least=0)
+    texton_contrast: float = _param(0.2, at_least=0, at_most=1)
+    texton_drop: float = _param(0.05, at_least=0)
+    min_texton: float = _param(0.4, above=0, at_most=600)
+    max_period: float = _param(5.0, above=0, at_most=600)
+    min_periodicity: float = _param(0.05, at_least=0, at_most=1)
+    period_tolerance: float = _param(0.3, at_least=0, at_most=1)
+    novelty_window: float = _param(3.0, above=0, at_most=3600)
+    novelty_threshold: float = _param(0.05, at_least=0)
+    min_cluster: float = _param(2.0, above=0, at_most=3600)
+    twin_peak: float = _param(0.9, at_least=0, at_most=1)
+    analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):
-            raise ValueError(f"unknown structure method {self.method!r}; use 'energy' or 'paper'")
-        taps = self.window_taps
-        if len(taps) < 3 or len(taps) % 2 == 0:
-            raise ValueError(f"the atom window needs an odd number >= 3 of taps, got {len(taps)}")
+            raise ParameterError(f"method={self.method!r} is not a structure method; use 'energy' or 'paper'.")
+        for f in fields(self):
+            if "limits" in f.metadata:
+                object.__setattr__(self, f.name, number(f.name, getattr(self, f.name), **f.metadata["limits"]))
+        taps = tuple(number("window_taps", tap, at_least=0) for tap in self.window_taps)
+        if not 3 <= len(taps) <= MAX_TAPS or len(taps) % 2 == 0 or not sum(taps) > 0:
+            raise ParameterError(f"window_taps has {len(taps)} taps summing to {sum(taps):g}; the atom "
+                                 f"window needs an odd number from 3 to {MAX_TAPS} of them, not all 0.")
+        object.__setattr__(self, "window_taps", taps)
+        if (len(taps) - 1) / self.window_fps > MAX_WINDOW_S:
+            raise ParameterError(f"window_fps={self.window_fps:g} makes the atom window "
+                                 f"{(len(taps) - 1) / self.window_fps:g} s long; it may span at most "
+                                 f"{MAX_WINDOW_S:g} s.")
+        if self.max_period <= self.min_texton:
+            raise ParameterError(f"max_period={self.max_period:g} must be above "
+                                 f"min_texton={self.min_texton:g}.")
 
 
 @dataclass
@@ -236,182 +258,6 @@ class Structure:
             fps=float(data.get("fps", PAPER_FPS)),
             params=params,
         )
-
-
-def atom_window(fps, taps=PAPER_TAPS, taps_fps=PAPER_FPS):
-    """Weights w(k), k = -K..K, of the atom window of eq. (5) at frame rate ``fps``.
-
-    The taps, given at ``taps_fps``, are read as a piecewise-linear function of time and
-    sampled at the frames within the same time span; the result is scaled to the same
-    total as the given taps, so atom distances compare across frame rates.
-
-    Returns
-    -------
-    (2K + 1,) float64
-
-    Examples
-    --------
-    >>> atom_window(10).tolist()
-    [0.25, 0.5, 1.0, 0.5, 0.25]
-    >>> len(atom_window(30)), round(float(atom_window(30).sum()), 6)
-    (13, 2.5)
-    """
-    taps = np.asarray(taps, dtype=np.float64)
-    k0 = len(taps) // 2
-    if abs(fps - taps_fps) < 1e-9:
-        return taps.copy()
-    span = k0 / taps_fps
-    k = max(1, int(round(span * fps)))
-    times = np.arange(-k, k + 1) / fps
-    w = np.interp(times, np.arange(-k0, k0 + 1) / taps_fps, taps)
-    return w * (taps.sum() / w.sum())
-
-
-def atom_distance(vectors, t1, t2, window) -> float:
-    """Atom distance d_A(t1, t2, K) of eq. (5).
-
-    Parameters
-    ----------
-    vectors : (T, D) array
-        Feature vectors, one row per frame.
-    t1, t2 : int
-        Centres of the two atoms.
-    window : (2K + 1,) array
-        w(-K..K), e.g. :func:`atom_window`. Offsets k for which t1 + k or t2 + k falls
-        outside the sequence are left out and the rest rescaled to the window's total.
-
-    Examples
-    --------
-    >>> v = np.array([[0.0], [1.0], [0.0], [1.0], [0.0], [1.0]])
-    >>> atom_distance(v, 1, 3, [0.25, 0.5, 1, 0.5, 0.25])
-    0.0
-    >>> atom_distance(v, 0, 1, [0.5, 1, 0.5])  # frame distance 1 at every tap, weights sum 2
-    2.0
-    """
-    return float(atom_distances_to(vectors, t1, np.array([t2]), window)[0])
-
-
-def atom_distances_to(vectors, t, others, window) -> np.ndarray:
-    """d_A(t, u) for every u in ``others`` (1-D int array), vectorised over u.
-
-    Returns
-    -------
-    (len(others),) float64
-    """
-    v = np.asarray(vectors)
-    T = len(v)
-    w = np.asarray(window, dtype=np.float64)
-    K = len(w) // 2
-    others = np.asarray(others, dtype=np.intp)
-    num = np.zeros(len(others))
-    den = np.zeros(len(others))
-    for k in range(-K, K + 1):
-        a = t + k
-        if a < 0 or a >= T:
-            continue
-        b = others + k
-        ok = (b >= 0) & (b < T)
-        diff = v[b[ok]].astype(np.float64) - v[a]
-        num[ok] += w[k + K] * np.sqrt(np.einsum("nd,nd->n", diff, diff))
-        den[ok] += w[k + K]
-    return np.where(den > 0, num / np.maximum(den, 1e-300), np.nan) * w.sum()
-
-
-def _lag_frame_distances(v, lag):
-    diff = v[lag:].astype(np.float64) - v[: len(v) - lag]
-    return np.sqrt(np.einsum("nd,nd->n", diff, diff))
-
-
-def _atoms_along_lag(v, lag, w):
-    # d_A(u, u + lag) for every valid u: the windowed sum of frame distances at that lag.
-    d = _lag_frame_distances(v, lag)
-    n = len(d)
-    K = len(w) // 2
-    ones = np.ones(n)
-    num = np.convolve(d, w[::-1], mode="full")[K: K + n]
-    den = np.convolve(ones, w[::-1], mode="full")[K: K + n]
-    return num / den * w.sum()
-
-
-def lag_profile(vectors, lags, window) -> np.ndarray:
-    """Mean atom distance mean_u d_A(u, u + L) for each lag L (self-similarity at lag L).
-
-    Parameters
-    ----------
-    vectors : (T, D) array
-    lags : 1-D int array, each in 1..T-1
-    window : (2K + 1,) array
-
-    Returns
-    -------
-    (len(lags),) float64; its minima are candidate periods.
-
-    Examples
-    --------
-    >>> t = np.arange(60)
-    >>> v = np.stack([np.sin(2 * np.pi * t / 12), np.cos(2 * np.pi * t / 12)], axis=1)
-    >>> int(np.argmin(lag_profile(v, np.arange(4, 20), atom_window(10)))) + 4
-    12
-    """
-    v = np.asarray(vectors)
-    w = np.asarray(window, dtype=np.float64)
-    return np.array([_atoms_along_lag(v, int(L), w).mean() for L in lags])
-
-
-def novelty(vectors, block, min_block=None) -> np.ndarray:
-    """Energy-distance novelty between the ``block`` frames before and after each frame.
-
-    n(t) = 2 mean d(X, Y) - mean d(X, X') - mean d(Y, Y') with X = frames [t - block, t),
-    Y = frames [t, t + block), d the frame distance and the within-block means taken over
-    distinct pairs. Computed in chunks, so memory and time grow linearly with T.
-
-    Parameters
-    ----------
-    vectors : (T, D) array
-    block : int
-        Frames per block (cut at the sequence's ends).
-    min_block : int, optional
-        Frames below which a block is too short to judge; n is 0 there. Default ``block``//3.
-
-    Returns
-    -------
-    (T,) float64
-
-    Examples
-    --------
-    >>> v = np.r_[np.zeros((20, 2)), np.ones((20, 2))]
-    >>> n = novelty(v, 10)
-    >>> int(np.argmax(n)), round(float(n.max()), 4)
-    (20, 2.8284)
-    """
-    v = np.asarray(vectors, dtype=np.float64)
-    T = len(v)
-    if min_block is None:
-        min_block = max(2, block // 3)
-    out = np.zeros(T)
-    chunk = max(4 * block, 64)
-    for c0 in range(0, T, chunk):
-        c1 = min(T, c0 + chunk)
-        lo, hi = max(0, c0 - block), min(T, c1 + block)
-        D = distance_matrix(v[lo:hi])
-        # 2-D prefix sums make each block mean O(1).
-        S = np.zeros((hi - lo + 1, hi - lo + 1))
-        S[1:, 1:] = D.cumsum(0).cumsum(1)
-
-        def box(a, b, c, d):
-            return S[b, d] - S[a, d] - S[b, c] + S[a, c]
-
-        for t in range(c0, c1):
-            a, b = max(lo, t - block), min(hi, t + block)
-            n_left, n_right = t - a, b - t
-            if n_left < min_block or n_right < min_block:
-                continue
-            i, j, k = a - lo, t - lo, b - lo
-            cross = box(i, j, j, k) / (n_left * n_right)
-            left = box(i, j, i, j) / (n_left * (n_left - 1))
-            right = box(j, k, j, k) / (n_right * (n_right - 1))
-            out[t] = 2.0 * cross - left - right
-    return out
 
 
 def _reduce(vectors, step):
@@ -554,7 +400,7 @@ def _textons_by_period(v, cs, ce, P, w, ci):
         return []
     # d_A(u, u + P) for every u at once (ends renormalised as everywhere); it exists for
     # u + P < T only, so a cluster that ends the sequence has one candidate fewer.
-    along = _atoms_along_lag(v, P, np.asarray(w, dtype=np.float64))
+    along = atoms_along_lag(v, P, np.asarray(w, dtype=np.float64))
     starts = np.arange(cs, min(ce - P + 1, cs + P - 1, len(along) - 1) + 1)
     if len(starts) == 0:
         return []

@@ -16,6 +16,8 @@ import numpy as np
 from tqdm import tqdm
 
 from engine import atomic
+from engine.errors import ParameterError
+from engine.params import MAX_FPS, number, whole
 from player.camera import Camera
 from player.context import shared_headless_context
 from player.font import draw_text
@@ -23,6 +25,8 @@ from player.renderer import BACKGROUND, Renderer
 from player.source import check_shading, texture_of
 
 FRAME_PATTERN = "frame_{:05d}.png"
+#: Largest image side a GL context is sure to allocate (GL_MAX_TEXTURE_SIZE is 16384 or more).
+MAX_SIZE = 8192
 VIDEO_QUALITY = 7
 """imageio-ffmpeg's 1..10 scale; 7 is x264 CRF 15, visually clean for flat-shaded meshes."""
 
@@ -41,6 +45,7 @@ def render_frame(source, key, camera=None, size=(640, 480), grid=False, backgrou
         colours); see ``player.source.SHADINGS``
     """
     check_shading(source, shading)
+    size = _check_size(size)
     with _renderer(source, size, grid, background, samples) as renderer:
         renderer.draw(source.frame_mesh(key), _camera(camera, source.bounds(), size),
                       texture=texture_of(source, key, shading))
@@ -73,13 +78,12 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     check_shading(source, shading)
     if not keys:
         raise ValueError("nothing to render: the list of frames is empty")
-    if fps <= 0:
-        raise ValueError(f"fps should be positive, got {fps}")
+    fps = number("fps", fps, above=0, at_most=MAX_FPS)
     out = Path(out)
     kind = {".mp4": "mp4", ".gif": "gif", "": "folder"}.get(out.suffix.lower())
     if kind is None:
         raise ValueError(f"{out}: unknown output kind {out.suffix!r}; use .mp4, .gif, or no suffix for a folder of PNG frames")
-    width, height = (int(v) for v in size)
+    width, height = _check_size(size, smallest=2 if kind == "mp4" else 1)
     if kind == "mp4":
         width, height = width - width % 2, height - height % 2
     _check_output(out, kind, force, source)
@@ -135,7 +139,7 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
         raise ValueError(f"labels should give one string per frame: {len(labels)} labels for {len(keys)} frames")
     columns = max(1, min(int(columns), len(keys)))
     rows = math.ceil(len(keys) / columns)
-    tw, th = (int(v) for v in tile)
+    tw, th = _check_size(tile)
     meshes = [source.frame_mesh(key) for key in keys]
     low = np.min([m[0].min(axis=0) for m in meshes], axis=0)
     high = np.max([m[0].max(axis=0) for m in meshes], axis=0)
@@ -177,6 +181,20 @@ def _camera(camera, bounds, size, all_azimuths=False):
     if camera is None:
         return Camera.framing(bounds, aspect, all_azimuths=all_azimuths)
     return camera.with_aspect(aspect)
+
+
+def _check_size(size, smallest=1):
+    """``(width, height)`` as whole pixel counts from ``smallest`` to :data:`MAX_SIZE`."""
+    try:
+        width, height = size
+    except (TypeError, ValueError):
+        raise ParameterError(f"size={size!r} must be a (width, height) pair of pixel counts.") from None
+    why = " (an MP4 is encoded in 2x2 blocks)" if smallest > 1 else ""
+    try:
+        return tuple(whole("size", v, at_least=smallest, at_most=MAX_SIZE) for v in (width, height))
+    except ParameterError:
+        raise ParameterError(f"size=({width}, {height}) is out of range: width and height must be "
+                             f"whole pixel counts from {smallest} to {MAX_SIZE}{why}.") from None
 
 
 def _legacy_frames(path):

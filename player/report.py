@@ -7,7 +7,7 @@ What a build found, in the order of the paper:
   motion clusters as alternating bands. Where a ``truth.json`` sits beside the sequence's
   frames, its segments are drawn as a labelled band under the detected clusters and the
   boundary precision and recall of the clusters are printed (Figure 5's measure), computed
-  with ``engine.evaluate.boundary_scores`` at the tolerance of ``benchmarks/accuracy.py``.
+  by ``engine.evaluate.score``, the scorer of the tests and of ``benchmarks/accuracy.py``.
 * **Motion database** (section 5, eq. (9)): one contact sheet of evenly spaced frames per
   node, captioned with its length, texton distance d_T (eq. (6)) and motion intensity
   (eq. (11)), as Figure 6 shows selected textons.
@@ -37,10 +37,7 @@ import numpy as np
 
 from engine import atomic
 from engine.errors import TvmError
-
-#: Largest |detected - true| cluster start that counts as a hit, in seconds (rounded to
-#: frames); the tolerance ``benchmarks/accuracy.py`` scores with, so both print the same figures.
-TOLERANCE_S = 1.0
+from engine.evaluate import TOLERANCE_S, score
 
 #: Frames per node contact sheet (evenly spaced over the texton, first and last included).
 SHEET_FRAMES = 8
@@ -347,11 +344,12 @@ class _Report:
             self.say(f"report: structure of {seq.name}")
             structure = self.library.structure(seq.name)
             truth = _truth_beside(seq)
-            segments = _scaled_segments(truth, seq.fps) if truth else None
+            scored = score(structure, truth, seq.fps) if truth else None
             png = f"structure-{k:02d}.png"
             plotted = atom_distance_figure(structure.curve, structure.textons, structure.clusters,
-                                           self.folder / png, truth_segments=segments, fps=seq.fps,
-                                           title=seq.name)
+                                           self.folder / png,
+                                           truth_segments=scored.segments if scored else None,
+                                           fps=seq.fps, title=seq.name)
             row = {"name": seq.name, "image": png, "texton_starts": plotted["texton_starts"],
                    "clusters": [list(map(int, c)) for c in structure.clusters],
                    "textons": len(structure.textons)}
@@ -360,32 +358,27 @@ class _Report:
             parts.append(f"<h3>{_e(seq.name)}</h3><p>{_e(facts)}</p>"
                          f"<img src='{png}' width='{CURVE_SIZE[0]}' height='{CURVE_SIZE[1]}' "
                          f"alt='atom distance of {_e(seq.name)}'>")
-            if segments is not None:
-                from engine.evaluate import boundary_scores
-
-                tolerance = tolerance_frames(seq.fps)
-                precision, recall, matches = boundary_scores(structure.clusters, segments,
-                                                             tolerance_frames=tolerance)
-                self.say(f"report: {seq.name}: cluster boundaries against truth.json: precision "
-                         f"{precision:.3f}, recall {recall:.3f}")
-                accuracy = ""
-                if segments == truth["segments"]:  # periods_hint counts frames at the truth's rate
-                    from engine.evaluate import texton_length_accuracy
-
-                    score = texton_length_accuracy(structure, truth)
-                    row["texton_accuracy"] = score if math.isfinite(score) else None
-                    if math.isfinite(score):
-                        accuracy = (f"; texton-length accuracy {score:.3f} (median texton length "
-                                    "within 15 % of the true period)")
-                row.update(precision=precision, recall=recall, tolerance_frames=tolerance,
-                           truth_segments=len(segments))
-                parts.append(
-                    f"<p class='score'>Cluster boundaries against truth.json "
-                    f"(tolerance {tolerance} frames, {TOLERANCE_S:g} s): precision {precision:.3f}, "
-                    f"recall {recall:.3f} ({len(matches)} matched of {len(_inner(structure.clusters))} "
-                    f"detected and {len(_inner(segments))} true boundaries){accuracy}</p>")
+            if scored is not None:
+                parts.append(self._score_paragraph(seq, structure, scored, row))
             summary["sequences"].append(row)
         return "\n".join(parts)
+
+    def _score_paragraph(self, seq, structure, scored, row):
+        """The scores against truth.json (engine.evaluate.score), for the page and report.json."""
+        self.say(f"report: {seq.name}: cluster boundaries against truth.json: precision "
+                 f"{scored.precision:.3f}, recall {scored.recall:.3f}")
+        accuracy = ""
+        if math.isfinite(scored.texton_accuracy):
+            accuracy = (f"; texton-length accuracy {scored.texton_accuracy:.3f} (median texton "
+                        "length within 15 % of the true period)")
+        row.update(precision=scored.precision, recall=scored.recall,
+                   tolerance_frames=scored.tolerance_frames, truth_segments=len(scored.segments),
+                   texton_accuracy=scored.texton_accuracy if math.isfinite(scored.texton_accuracy) else None)
+        return (f"<p class='score'>Cluster boundaries against truth.json "
+                f"(tolerance {scored.tolerance_frames} frames, {TOLERANCE_S:g} s): precision "
+                f"{scored.precision:.3f}, recall {scored.recall:.3f} ({len(scored.matches)} matched "
+                f"of {len(_inner(structure.clusters))} detected and {len(_inner(scored.segments))} "
+                f"true boundaries){accuracy}</p>")
 
     def database_section(self, nodes, summary):
         from player.headless import contact_sheet
@@ -502,24 +495,6 @@ def _truth_beside(sequence):
 
 def _sequence_folder(sequence):
     return Path(sequence.paths[0]).parent if sequence.paths else None
-
-
-def tolerance_frames(fps):
-    """:data:`TOLERANCE_S` in frames at ``fps``, rounded as ``benchmarks/accuracy.py`` does.
-
-    >>> tolerance_frames(10), tolerance_frames(30)
-    (10, 30)
-    """
-    return round(TOLERANCE_S * float(fps))
-
-
-def _scaled_segments(truth, fps):
-    # truth.json counts frames at its own rate; a library may hold the sequence at another.
-    scale = float(fps) / float(truth.get("fps", fps) or fps)
-    if abs(scale - 1.0) < 1e-9:
-        return list(truth["segments"])
-    return [{**seg, "start": int(round(seg["start"] * scale)), "end": int(round(seg["end"] * scale))}
-            for seg in truth["segments"]]
 
 
 def _inner(ranges):

@@ -1,4 +1,5 @@
-"""Run ``tvmedit`` in a child process that receives a real signal at a chosen point of its work.
+"""Run ``tvmedit`` in a child process, as a user does (:func:`tvmedit`), or receiving a real
+signal at a chosen point of its work (:func:`run_signalled`).
 
 Sending a signal from the test when a file appears is a race: on a fast machine the command
 can finish between the check and the signal. Here the child sends the signal to itself,
@@ -47,3 +48,23 @@ def run_signalled(args, *, at, signum, after=1, env=None):
     command = [sys.executable, "-c", _CHILD, module, attribute, str(after), str(int(signum)),
                *map(str, args)]
     return subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+
+
+def tvmedit(*args, **kwargs):
+    """``tvmedit ARGS`` in a child process: the ``subprocess.CompletedProcess``, text captured."""
+    return subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True,
+                          text=True, **kwargs)
+
+
+def reachable_pair(library):
+    """Two different motions of ``library`` with a path between them, and the edit through them."""
+    from engine.errors import NoPath
+
+    for a in library.nodes:
+        for b in library.nodes:
+            if a.id != b.id:
+                try:
+                    return a, b, library.edit([a.id, b.id])
+                except NoPath:
+                    pass
+    raise AssertionError("the test library has no transition at all")

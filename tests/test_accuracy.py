@@ -10,19 +10,15 @@ seconds, are not fitted to 10 fps. Features are cached next to the generated fra
 import pytest
 
 from conftest import CACHE, mocap_take
-from engine.evaluate import boundary_scores, load_truth, sequence_features, texton_length_accuracy
-from engine.structure import StructureParams, parse
+from engine.evaluate import score_take
+from engine.structure import StructureParams
 
 pytestmark = pytest.mark.slow
 
 
 def scores(folder, params=None):
-    truth = load_truth(folder)
-    features = sequence_features(folder, cache_dir=CACHE.parent / "features")
-    fps = float(truth["fps"])
-    s = parse(features.vectors, fps, params, theta=features.theta_columns)
-    precision, recall, _ = boundary_scores(s.clusters, truth["segments"], tolerance_frames=round(fps))
-    return precision, recall, texton_length_accuracy(s, truth), s
+    result = score_take(folder, params, cache_dir=CACHE.parent / "features")
+    return result.precision, result.recall, result.texton_accuracy, result.structure
 
 
 # The whole takes, a 30 fps capture of each (time-like parameters are in seconds), and a

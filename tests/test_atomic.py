@@ -3,32 +3,18 @@ that writes, run as a user would against folders and files that are not tvmedit'
 
 import json
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from engine import atomic
 from engine.errors import OutputError
-
-
-def tvmedit(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd)
+from interrupt import reachable_pair, tvmedit
 
 
 def _pair(library):
-    from engine.errors import NoPath
-
-    for a in library.nodes:
-        for b in library.nodes:
-            try:
-                library.edit([a.id, b.id])
-                return str(a.id), str(b.id)
-            except NoPath:
-                pass
-    pytest.fail("the test library has no transition at all")
+    a, b, _ = reachable_pair(library)
+    return str(a.id), str(b.id)
 
 
 def _one_sentence(result):

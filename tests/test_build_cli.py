@@ -155,7 +155,7 @@ def test_an_infinite_mu_is_refused_in_one_sentence(take_13_30, tmp_path, capsys)
     out = tmp_path / "lib"
     assert main(["build", _small(take_13_30), "-o", str(out), "--mu", "inf", "-q"]) == 2
     err = capsys.readouterr().err
-    assert err == "error: mu must be a finite number above 0 (the default is 0.9), not 'inf'.\n"
+    assert err == "error: --mu inf is out of range: it must be a finite number above 0 (the default is 0.9).\n"
     assert not out.exists()
 
 

@@ -7,13 +7,8 @@ import sys
 import pytest
 
 from engine import Library
-from interrupt import run_signalled
-from test_edit_cli import _reachable_pair
-
-
-def tvmedit(*args, **kwargs):
-    return subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True,
-                          text=True, **kwargs)
+from interrupt import reachable_pair as _reachable_pair
+from interrupt import run_signalled, tvmedit
 
 
 def _pair(library):

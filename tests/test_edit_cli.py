@@ -10,24 +10,10 @@ import pytest
 
 from engine import Library, NoPath
 from engine.load import load_sequence
+from interrupt import reachable_pair as _reachable_pair
+from interrupt import tvmedit
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def tvmedit(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd)
-
-
-def _reachable_pair(library):
-    for a in library.nodes:
-        for b in library.nodes:
-            if a.id != b.id:
-                try:
-                    return a, b, library.edit([a.id, b.id])
-                except NoPath:
-                    pass
-    pytest.fail("the test library has no transition at all")
 
 
 def _unreachable_pair(library):

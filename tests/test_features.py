@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from engine.errors import InputError
+from engine.errors import InputError, ParameterError
 from engine.features import (
     BinSizes,
     FeatureAccumulator,
@@ -120,8 +120,12 @@ def test_bad_frames_are_named_errors():
         frame_histograms(np.zeros((0, 3)), [0, 0, 0])
     with pytest.raises(InputError):
         frame_histograms(np.array([[np.nan, 0, 0]]), [0, 0, 0])
-    with pytest.raises(InputError):
+    with pytest.raises(ParameterError, match=r"r=0 is out of range"):
         BinSizes(r=0)
+    with pytest.raises(ParameterError, match=r"at most 3600 bins"):
+        BinSizes(phi=1e-300)  # once a hang: 3e300 bins
+    with pytest.raises(InputError, match=r"needs 5e\+28 radial bins of 0.02; at most 100000"):
+        frame_histograms(np.array([[1e27, 0, 0]]), [0, 0, 0])
 
 
 frames = arrays(np.float64, st.tuples(st.integers(1, 60), st.just(3)),
@@ -175,7 +179,7 @@ def bins_of_each_point(points, origin, bins):
     BinSizes(),
     BINS,
     BinSizes(r=0.03, theta=math.radians(7), phi=math.radians(13)),  # partial last bins
-    BinSizes(theta=math.radians(0.01), phi=math.radians(0.01)),      # phi falls back to search
+    BinSizes(theta=math.radians(0.1), phi=math.radians(0.1)),        # phi falls back to search
 ])
 def test_every_vertex_lands_in_the_bin_of_its_spherical_coordinates(bins):
     rng = np.random.default_rng(7)

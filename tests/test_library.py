@@ -19,7 +19,7 @@ from engine.builder import expand_inputs
 from engine.featcache import cache_dir
 from engine.normals import vertex_normals
 from engine.database import build_database
-from engine.errors import InputError, OutputError, TvmError
+from engine.errors import InputError, OutputError, ParameterError, TvmError
 from engine.features import BinSizes, FeatureAccumulator
 from engine.graph import build_graph, nodes_of
 from engine.load import open_sequence, read_frame
@@ -347,7 +347,7 @@ def test_force_replaces_only_a_tvmedit_library(built, tmp_path, take_13_30, monk
 
 @pytest.mark.parametrize("mu", [float("inf"), float("nan"), -1.0, 0.0, "abc"])
 def test_mu_must_be_finite_and_positive(take_13_30, tmp_path, mu):
-    with pytest.raises(InputError, match=r"mu must be a finite number above 0 \(the default is 0.9\), not '"):
+    with pytest.raises(ParameterError, match=r"mu=.* is out of range: it must be a finite number above 0 \(the default is 0.9\)\.$"):
         build(_inputs(take_13_30), tmp_path / "lib", workers=1, mu=mu)
     assert not list(tmp_path.iterdir())
 

@@ -155,9 +155,9 @@ def test_check_command_skips_with_a_warning(tmp_path):
 @pytest.mark.parametrize("meta, words", [
     ({"name": 7}, "gives the sequence name 7, but a name must be a non-empty string"),
     ({"name": ["walk"]}, r'gives the sequence name \["walk"\], but a name must be'),
-    ({"fps": "abc"}, "must be a positive number, not 'abc'"),
-    ({"fps": True}, "must be a positive number, not True"),
-    ({"fps": -5}, "must be a positive number, not -5"),
+    ({"fps": "abc"}, "must be a number above 0 and at most 1000, not 'abc'"),
+    ({"fps": True}, "must be a number above 0 and at most 1000, not True"),
+    ({"fps": -5}, "must be a number above 0 and at most 1000, not -5"),
 ])
 def test_sequence_json_values_are_checked(tmp_path, meta, words):
     _mesh().export(tmp_path / "f0.ply")

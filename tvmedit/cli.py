@@ -43,18 +43,22 @@ def _parser(argv):
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = _parser(argv)
-    args = parser.parse_args(argv)
-    if args.command is None:
-        parser.print_help()
-        return 0
     # SIGTERM unwinds like Ctrl-C, so every command removes its temporary files.
     signal.signal(signal.SIGTERM, _terminate)
     warnings.showwarning = _show_warning
+    parser = None
     try:
+        # Building the parser imports the command (and for some, numpy): Ctrl-C may come here.
+        parser = _parser(argv)
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 0
+        parser = args._parser
         return args._run(args) or 0
     except TvmError as error:
-        print(f"error: {as_flags(str(error), args._parser)}", file=sys.stderr)
+        message = as_flags(str(error), parser) if parser is not None else str(error)
+        print(f"error: {message}", file=sys.stderr)
         return error.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
@@ -91,7 +95,9 @@ def as_flags(message, parser):
     options = {name: (option, name in ("force", "skip_bad_frames")) for name, option in _OTHER.items()}
     for action in parser._actions:
         if action.option_strings:
-            options[action.dest] = (action.option_strings[-1], action.nargs == 0)
+            option = action.option_strings[-1]
+            for name in (action.dest, option.lstrip("-").replace("-", "_")):
+                options[name] = (option, action.nargs == 0)
 
     def flag(match):
         name, value = match.group(1), match.group(2)
@@ -99,10 +105,13 @@ def as_flags(message, parser):
         if found is None:
             return match.group(0)
         option, switch = found
+        pair = re.fullmatch(r"\((\d+), (\d+)\)", value)
+        if pair:  # size=(640, 480) is --size 640x480
+            return f"{option} {pair.group(1)}x{pair.group(2)}"
         return option if switch and value == "True" else f"{option} {value}"
 
     message = re.sub(r"\bbuild\((inputs|\[.*?\]), '(.+?)'(, force=True)?\)", _build_command, message)
-    return re.sub(r"\b([a-z][a-z_]*)=(\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
+    return re.sub(r"\b([a-z][a-z_]*)=(\(\d+, \d+\)|\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
 
 
 def _build_command(match):

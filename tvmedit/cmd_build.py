@@ -120,6 +120,14 @@ def run(args):
         if not args.quiet or message.startswith("warning") or "skipped" in message:
             print(options.as_flags(message), file=sys.stderr)
 
+    from engine.features import MAX_ANGLE_BINS
+    from engine.params import number
+
+    # Angles are degrees here and radians in the engine, so they are checked here, in degrees.
+    number("bin_r", args.bin_r, above=0)
+    for name, span in (("bin_theta", 360), ("bin_phi", 180)):
+        number(name, getattr(args, name), at_least=span / MAX_ANGLE_BINS, at_most=span,
+               hint=f" degrees (at most {MAX_ANGLE_BINS} bins over {span} degrees)")
     bins = BinSizes(r=args.bin_r, theta=math.radians(args.bin_theta), phi=math.radians(args.bin_phi))
     cls, fields = _structure_fields()
     defaults = cls()

@@ -61,12 +61,15 @@ def finite(text):
 
 def cycles(text):
     """A whole number of cycles, 1 or more, for --loops."""
+    from engine.params import MAX_LOOPS
+
     try:
         value = int(text)
     except ValueError:
         value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"should be a whole number of cycles, 1 or more, not {text!r}")
+    if not 1 <= value <= MAX_LOOPS:
+        raise argparse.ArgumentTypeError(f"should be a whole number of cycles from 1 to {MAX_LOOPS}, "
+                                         f"not {text!r}")
     return value
 
 
