@@ -1,9 +1,13 @@
-"""Loading TVM sequences: a folder (or glob) of PLY, OBJ or OFF frames, one mesh per frame.
+"""Loading TVM sequences: a folder (or glob) of frame files, one mesh per frame, or a folder
+with a sequence manifest (``scvv_animation.json``, ``scvv.json``).
 
 Every frame is reconstructed independently by a capture system, so vertex count and
-topology change from frame to frame; nothing here assumes otherwise. Frames are loaded with
-``trimesh.load(..., process=False)`` so that vertex order and per-vertex colours survive
-(trimesh otherwise merges and reorders vertices).
+topology change from frame to frame; nothing here assumes otherwise. Files are read by the
+format registry of :mod:`engine.readers` (PLY, OBJ, OFF, Draco, glTF/GLB), which keeps vertex
+order, per-vertex colours, and texture coordinates with their images. Each sequence is put
+into tvmedit's frame of reference (Z up, metres) by the :class:`~engine.orientation.Orientation`
+detected when it is opened. A manifest's per-frame capture times are kept; the analysis sees
+the sequence resampled to a regular rate (:func:`resample`).
 
 Bad input raises :class:`engine.errors.InputError` with one sentence that names the file,
 the problem, and what to do.
@@ -11,6 +15,7 @@ the problem, and what to do.
 
 import glob as _glob
 import json
+import math
 import re
 import warnings
 from dataclasses import dataclass, field
@@ -19,15 +24,17 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError, summarise
+from .orientation import SAMPLES, Orientation, detect
 from .params import MAX_FPS
-from .plyfast import read_ply
+from .readers import READERS, read_manifest, read_mesh, reader_for
 
-MESH_SUFFIXES = (".ply", ".obj", ".off")
+#: Suffixes of frame files: those of the reader registry (engine.readers.READERS).
+MESH_SUFFIXES = tuple(READERS)
 # Files that commonly sit beside frames and are not frames.
 SIDECAR_SUFFIXES = (".json", ".txt", ".md", ".csv", ".log", ".yaml", ".yml")
 # Companions of frames that are not meshes either (OBJ materials, textures, photos): left
 # out without a word. Any other file beside the frames is reported as left out.
-_QUIET_SUFFIXES = SIDECAR_SUFFIXES + (".mtl", ".png", ".jpg", ".jpeg")
+_QUIET_SUFFIXES = SIDECAR_SUFFIXES + (".mtl", ".png", ".jpg", ".jpeg", ".webp", ".bmp", ".bin", ".wav")
 NEUTRAL_COLOUR = (180, 180, 180)
 DEFAULT_FPS = 10.0
 #: Largest vertex coordinate accepted: a kilometre in metres, a metre in micrometres.
@@ -52,13 +59,18 @@ class Frame:
     """One reconstructed mesh.
 
     positions : (N, 3) float32, metres, Z up
-    colours : (N, 3) uint8, per vertex (neutral grey when the file has none)
+    colours : (N, 3) uint8, per vertex (from the texture when the file has none; neutral
+        grey when it has neither)
     faces : (M, 3) uint32, triangles indexing ``positions``
+    uv : (N, 2) float32 texture coordinates (v = 0 at the image's bottom row), or None
+    texture : (H, W, 3) uint8, the frame's texture image, or None
     """
 
     positions: np.ndarray
     colours: np.ndarray
     faces: np.ndarray
+    uv: np.ndarray = None
+    texture: np.ndarray = None
 
     def __len__(self):
         return len(self.positions)
@@ -68,9 +80,14 @@ class Frame:
 class Sequence:
     """A TVM sequence: its name, frame rate and frame files in playback order.
 
+    ``paths`` are the frames the analysis sees, one per 1/``fps`` seconds: where the capture
+    gives its own frame times (``times``, seconds, one per file of ``captured``) they are the
+    captured frames resampled to ``fps`` (:func:`resample`), else the files themselves.
     ``frames`` holds the loaded meshes when the sequence was loaded eagerly
     (:func:`load_sequence`); :func:`open_sequence` only lists the files, for streaming.
     ``skipped`` lists ``(path, reason)`` of frames left out with ``skip_bad_frames``.
+    ``format`` names the reader (``"ply"``, ``"draco"``...) or the manifest (``"scvv"``);
+    ``orientation`` maps the files' coordinates to tvmedit's (see :mod:`engine.orientation`).
     """
 
     name: str
@@ -78,6 +95,11 @@ class Sequence:
     paths: list
     frames: list = field(default_factory=list)
     skipped: list = field(default_factory=list)
+    format: str = "ply"
+    orientation: Orientation = field(default_factory=Orientation)
+    times: np.ndarray = None
+    captured: list = None
+    manifest: Path = None
 
     def __len__(self):
         return len(self.paths)
@@ -108,14 +130,47 @@ def _natural_key(path):
     return (int(numbers[-1]) if numbers else -1, Path(path).name)
 
 
+def _manifest(source):
+    """The :class:`~engine.readers.Manifest` of a folder or manifest file, or None; its frame
+    files must exist."""
+    path = Path(str(source))
+    if any(ch in str(source) for ch in "*?[") or not path.exists():
+        return None
+    if path.is_file() and path.suffix.lower() != ".json":
+        return None
+    try:
+        manifest = read_manifest(path)
+    except ValueError as error:
+        raise InputError(f"{error}.") from None
+    if manifest is None:
+        return None
+    for mesh in manifest.meshes:
+        if not mesh.is_file():
+            raise InputError(f"{manifest.path} lists the frame {mesh.name}, which is not in {mesh.parent}; "
+                             "restore the file or remove it from the manifest.")
+        if reader_for(mesh) is None:
+            raise InputError(f"{manifest.path} lists the frame {mesh.name}, whose format '{mesh.suffix}' "
+                             f"tvmedit cannot read; frames must be {', '.join(MESH_SUFFIXES)} files.")
+    return manifest
+
+
+_KINDS = "PLY, OBJ, OFF, Draco or glTF"
+
+
 def frame_paths(source):
-    """Frame files of a sequence folder or glob, in natural order.
+    """Frame files of a sequence folder, manifest or glob, in playback order.
+
+    A folder with a sequence manifest (``scvv_animation.json``, ``scvv.json``) plays the
+    frames it lists, in its order; any other folder or glob its frame files in natural order.
 
     >>> frame_paths("/no/such/folder")
     Traceback (most recent call last):
     ...
-    engine.errors.InputError: sequence folder /no/such/folder does not exist; give a folder of PLY, OBJ or OFF frames or a glob such as 'capture/*.ply'.
+    engine.errors.InputError: sequence folder /no/such/folder does not exist; give a folder of PLY, OBJ, OFF, Draco or glTF frames or a glob such as 'capture/*.ply'.
     """
+    manifest = _manifest(source)
+    if manifest is not None:
+        return list(manifest.meshes)
     text = str(source)
     if any(ch in text for ch in "*?["):
         paths = [Path(p) for p in _glob.glob(text) if Path(p).is_file()]
@@ -129,7 +184,7 @@ def frame_paths(source):
         return sorted(paths, key=_natural_key)
     folder = Path(source)
     if not folder.exists():
-        raise InputError(f"sequence folder {folder} does not exist; give a folder of PLY, OBJ or OFF "
+        raise InputError(f"sequence folder {folder} does not exist; give a folder of {_KINDS} "
                          "frames or a glob such as 'capture/*.ply'.")
     if folder.is_file():
         raise InputError(f"{folder} is a file, not a sequence folder; give the folder that holds the frames.")
@@ -140,8 +195,8 @@ def frame_paths(source):
         others = sorted(p for p in files if p.suffix.lower() not in SIDECAR_SUFFIXES)
         if others:
             raise InputError(f"{others[0]} has the unsupported extension '{others[0].suffix}' and {folder} "
-                             f"holds no {', '.join(MESH_SUFFIXES)} frames; convert the frames to PLY, OBJ or OFF.")
-        raise InputError(f"sequence folder {folder} is empty: it holds no PLY, OBJ or OFF frames.")
+                             f"holds no {', '.join(MESH_SUFFIXES)} frames; convert the frames to one of these.")
+        raise InputError(f"sequence folder {folder} is empty: it holds no {_KINDS} frames.")
     _warn_listing(folder, entries, paths)
     left_out = sorted((p for p in files if p.suffix and p.suffix.lower() not in MESH_SUFFIXES + _QUIET_SUFFIXES),
                       key=_natural_key)
@@ -153,64 +208,15 @@ def frame_paths(source):
     return sorted(paths, key=_natural_key)
 
 
-def _read_off(path):
-    """(vertices, faces, colours or None) of an OFF/COFF file.
+def read_frame(path, orientation=None, detail="full"):
+    """Load one frame file into a :class:`Frame`, checking it on the way in.
 
-    trimesh's OFF reader drops per-vertex colours (COFF), which TVM frames carry, so OFF is
-    parsed here: a header line, counts, one vertex per line with optional RGB(A) as 0-255
-    integers or 0-1 floats, then polygons (fan-triangulated).
+    ``orientation`` (an :class:`~engine.orientation.Orientation`) maps it into tvmedit's frame;
+    ``detail`` says what to read (``"geometry"``, ``"colours"``, ``"full"``: see
+    :data:`engine.readers.READERS`). Colours not read are neutral grey.
     """
-    tokens_by_line = [line.split("#")[0].split() for line in Path(path).read_text().splitlines()]
-    lines = [t for t in tokens_by_line if t]
-    if not lines or not lines[0][0].upper().endswith("OFF"):
-        raise ValueError("no OFF header")
-    header = lines[0]
-    rest = header[1:] if len(header) > 1 else None
-    counts, body = (rest, lines[1:]) if rest else (lines[1], lines[2:])
-    n_vertices, n_faces = int(counts[0]), int(counts[1])
-    if len(body) < n_vertices + n_faces:
-        raise ValueError(f"expected {n_vertices} vertices and {n_faces} faces, found {len(body)} lines")
-    rows = body[:n_vertices]
-    vertices = np.array([[float(v) for v in row[:3]] for row in rows], dtype=np.float64).reshape(-1, 3)
-    colours = None
-    if rows and all(len(row) >= 6 for row in rows):
-        values = np.array([[float(v) for v in row[3:6]] for row in rows])
-        colours = values * 255.0 if values.max(initial=0) <= 1.0 and any("." in v for v in rows[0][3:6]) else values
-        colours = np.clip(np.rint(colours), 0, 255).astype(np.uint8)
-    triangles = []
-    for row in body[n_vertices:n_vertices + n_faces]:
-        count = int(row[0])
-        ids = [int(v) for v in row[1:1 + count]]
-        triangles += [(ids[0], ids[k], ids[k + 1]) for k in range(1, count - 1)]
-    return vertices, np.array(triangles, dtype=np.int64).reshape(-1, 3), colours
-
-
-def _read_trimesh(path):
-    """(vertices, faces, colours or None) through trimesh, keeping vertex order.
-
-    Binary little-endian PLY triangle meshes, what capture systems write, take the fast
-    path of :mod:`engine.plyfast`; every other file goes through trimesh.
-    """
-    if Path(path).suffix.lower() == ".ply":
-        fast = read_ply(path)
-        if fast is not None:
-            return fast
-    import trimesh
-
-    mesh = trimesh.load(path, process=False, force="mesh")
-    vertices = np.asarray(getattr(mesh, "vertices", np.empty((0, 3))), dtype=np.float64)
-    faces = np.asarray(getattr(mesh, "faces", np.empty((0, 3))))
-    colours = None
-    visual = getattr(mesh, "visual", None)
-    if visual is not None and getattr(visual, "kind", None) == "vertex":
-        colours = np.asarray(visual.vertex_colors)[:, :3]
-    return vertices, faces, colours
-
-
-def read_frame(path):
-    """Load one frame file into a :class:`Frame`, checking it on the way in."""
     path = Path(path)
-    if path.suffix.lower() not in MESH_SUFFIXES:
+    if reader_for(path) is None:
         raise InputError(f"{path} has the unsupported extension '{path.suffix}'; "
                          f"frames must be {', '.join(MESH_SUFFIXES)} files.")
     if not path.exists():
@@ -218,12 +224,12 @@ def read_frame(path):
     if path.stat().st_size == 0:
         raise InputError(f"frame {path} is an empty file; re-export it or remove it (or pass skip_bad_frames=True).")
     try:
-        reader = _read_off if path.suffix.lower() == ".off" else _read_trimesh
-        vertices, faces, colours = reader(path)
-    except Exception as error:  # trimesh raises many types for broken files
-        detail = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
-        raise InputError(f"frame {path} is not a readable mesh (truncated or corrupt: {detail}); "
+        mesh = read_mesh(path, detail)
+    except Exception as error:  # trimesh, DracoPy and Pillow raise many types for broken files
+        reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        raise InputError(f"frame {path} is not a readable mesh (truncated or corrupt: {reason}); "
                          "re-export it or pass skip_bad_frames=True.") from None
+    vertices, faces, colours = mesh.vertices, np.asarray(mesh.faces), mesh.colours
     if len(vertices) == 0:
         raise InputError(f"frame {path} has no vertices; re-export it or pass skip_bad_frames=True.")
     if not np.isfinite(vertices).all():
@@ -243,9 +249,16 @@ def read_frame(path):
                          "truncated); re-export it or pass skip_bad_frames=True.")
     if colours is None or len(colours) != len(vertices):
         colours = np.broadcast_to(np.array(NEUTRAL_COLOUR, np.uint8), (len(vertices), 3))
+    if orientation is not None:
+        vertices = orientation.apply(vertices)
+        faces = orientation.apply_faces(faces)
+    uv = texture = None
+    if mesh.uv is not None and mesh.texture is not None:
+        uv = np.ascontiguousarray(mesh.uv, dtype=np.float32)
+        texture = np.ascontiguousarray(mesh.texture, dtype=np.uint8)
     return Frame(positions=np.ascontiguousarray(vertices, dtype=np.float32),
                  colours=np.ascontiguousarray(colours, dtype=np.uint8),
-                 faces=np.ascontiguousarray(faces, dtype=np.uint32))
+                 faces=np.ascontiguousarray(faces, dtype=np.uint32), uv=uv, texture=texture)
 
 
 def _sidecar(paths):
@@ -270,40 +283,113 @@ def _default_name(source):
     return Path(text.rstrip("/\\")).resolve().name or "sequence"
 
 
-def open_sequence(source, name=None, fps=None):
-    """List a sequence's frames and read its frame rate, without loading any mesh.
+def resample(times, fps):
+    """Which captured frame to show at each tick of a regular ``fps`` clock: the nearest in time.
+
+    A capture's frames arrive at irregular moments (``times``, seconds, increasing); the
+    analysis (section 4 works in frames of one rate) sees the frame nearest to each tick
+    ``k / fps`` from the first frame to the last. A frame that came late is shown on its own
+    tick all the same; across a gap the frames beside it are held, and of frames closer
+    together than a tick one is dropped, so each frame stays on screen about as long as it
+    lasted in the capture.
+
+    Five frames at 30 fps with a gap of four ticks after the third:
+
+    >>> resample([0.0, 0.034, 0.066, 0.2, 0.233], 30).tolist()
+    [0, 1, 2, 2, 3, 3, 3, 4]
+    """
+    times = np.asarray(times, dtype=np.float64)
+    ticks = np.arange(int(round((times[-1] - times[0]) * fps)) + 1) / fps + times[0]
+    right = np.clip(np.searchsorted(times, ticks), 1, len(times) - 1) if len(times) > 1 else np.zeros(len(ticks), int)
+    if len(times) == 1:
+        return right
+    left = right - 1
+    return np.where(ticks - times[left] <= times[right] - ticks, left, right)
+
+
+def _format_of(paths, manifest):
+    entry = reader_for(paths[0])
+    name = entry[0] if entry else "unknown"
+    return f"{manifest.format}" if manifest is not None else name
+
+
+def _positive(value):
+    try:
+        value = float(value) if not isinstance(value, bool) else float("nan")
+    except (TypeError, ValueError):
+        value = float("nan")
+    return value if np.isfinite(value) and value > 0 else None
+
+
+def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None):
+    """List a sequence's frames, read its timing and detect its frame of reference.
 
     The frame rate comes from ``fps`` when given, else ``sequence.json`` beside the frames
-    (``{"fps": 25}``), else 10. The name defaults to the folder's name.
+    (``{"fps": 25}``), else, for a manifest with frame times, the median rate of its frames,
+    else 10. A manifest's frames are resampled to that rate (:func:`resample`). The name
+    defaults to the folder's name.
+
+    ``up``, ``units`` and ``mirror`` fix the frame of reference (:func:`engine.orientation.detect`);
+    what is not given is detected from up to a dozen frames sampled across the sequence, read
+    without their textures.
     """
-    paths = frame_paths(source)
-    meta = _sidecar(paths)
-    given = meta.get("fps", DEFAULT_FPS) if fps is None else fps
-    try:
-        fps = float(given) if not isinstance(given, bool) else float("nan")
-    except (TypeError, ValueError):
-        fps = float("nan")
-    if not np.isfinite(fps) or fps <= 0 or fps > MAX_FPS:
+    manifest = _manifest(source)
+    captured = frame_paths(source)
+    meta = _sidecar(captured)
+    times = None
+    if manifest is not None and len(manifest.times) > 1 and manifest.times[-1] > 0:
+        times = manifest.times
+    given = fps if fps is not None else meta.get("fps")
+    if given is None:
+        if times is not None:
+            steps = np.diff(times)
+            given = 1.0 / float(np.median(steps[steps > 0])) if (steps > 0).any() else DEFAULT_FPS
+        else:
+            given = DEFAULT_FPS
+    rate = _positive(given)
+    if rate is None or rate > MAX_FPS:
         raise InputError(f"the frame rate of {source} must be a number above 0 and at most "
                          f"{MAX_FPS}, not {given!r}; set it with fps=FPS or in sequence.json.")
     if name is None and "name" in meta:
         name = meta["name"]
         if not isinstance(name, str) or not name.strip():
-            raise InputError(f"{Path(paths[0]).parent / 'sequence.json'} gives the sequence name "
+            raise InputError(f"{Path(captured[0]).parent / 'sequence.json'} gives the sequence name "
                              f"{json.dumps(name)}, but a name must be a non-empty string such as "
                              "\"walk\"; fix it or remove the name.")
-    return Sequence(name=name or _default_name(source), fps=fps, paths=paths)
+    paths = [captured[k] for k in resample(times, rate)] if times is not None else list(captured)
+    fmt = _format_of(captured, manifest)
+    try:
+        orientation = detect(_sample_positions(captured), fmt, up=up, units=units, mirror=mirror)
+    except ValueError as error:
+        raise InputError(f"{error}.") from None
+    return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,
+                    orientation=orientation, times=times, captured=list(captured),
+                    manifest=manifest.path if manifest is not None else None)
 
 
-def iter_frames(paths, skip_bad_frames=False, skipped=None):
-    """Yield ``(path, Frame)`` for each frame file, in order.
+def _sample_positions(paths):
+    """Vertex positions of up to :data:`~engine.orientation.SAMPLES` frames spread over the
+    sequence, in the files' coordinates; unreadable frames are passed over (they are
+    reported when the sequence is read)."""
+    picks = sorted(set(np.linspace(0, len(paths) - 1, min(SAMPLES, len(paths))).round().astype(int).tolist()))
+    sample = []
+    for k in picks:
+        try:
+            sample.append(read_frame(paths[k], detail="geometry").positions)
+        except InputError:
+            continue
+    return sample
+
+
+def iter_frames(paths, skip_bad_frames=False, skipped=None, orientation=None, detail="full"):
+    """Yield ``(path, Frame)`` for each frame file, in order, mapped by ``orientation``.
 
     A bad frame raises :class:`InputError`, or with ``skip_bad_frames`` is left out and
     appended to ``skipped`` as ``(path, reason)``.
     """
     for path in paths:
         try:
-            frame = read_frame(path)
+            frame = read_frame(path, orientation, detail)
         except InputError as error:
             if not skip_bad_frames:
                 raise
@@ -320,13 +406,13 @@ def warn_skipped(skipped):
         warnings.warn(f"skipped {len(skipped)} bad frame(s): {listing}", SkippedFramesWarning, stacklevel=3)
 
 
-def load_sequence(source, name=None, fps=None, skip_bad_frames=False):
-    """Load every frame of a sequence into memory.
+def load_sequence(source, name=None, fps=None, skip_bad_frames=False, up=None, units=None, mirror=None):
+    """Load every frame of a sequence into memory, in tvmedit's frame of reference.
 
     Suitable for short sequences and tests; the builder streams with :func:`iter_frames`.
     """
-    sequence = open_sequence(source, name=name, fps=fps)
-    kept = list(iter_frames(sequence.paths, skip_bad_frames, sequence.skipped))
+    sequence = open_sequence(source, name=name, fps=fps, up=up, units=units, mirror=mirror)
+    kept = list(iter_frames(sequence.paths, skip_bad_frames, sequence.skipped, sequence.orientation))
     if not kept:
         raise InputError(f"no usable frames in {source}: all {len(sequence.paths)} were bad.")
     sequence.paths = [p for p, _ in kept]
