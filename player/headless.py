@@ -44,8 +44,8 @@ def render_frame(source, key, camera=None, size=(640, 480), grid=False, backgrou
     shading : "auto" (the frame's texture where it has one), "texture" or "colour" (vertex
         colours); see ``player.source.SHADINGS``
     """
-    check_shading(source, shading)
     size = _check_size(size)
+    check_shading(source, shading)
     with _renderer(source, size, grid, background, samples) as renderer:
         renderer.draw(source.frame_mesh(key), _camera(camera, source.bounds(), size),
                       texture=texture_of(source, key, shading))
