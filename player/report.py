@@ -385,7 +385,9 @@ class _Report:
 
         parts = ["<h2 id='database'>Motion database</h2>",
                  "<p>The representative texton of each cluster, eq. (9): the one with the smallest "
-                 "texton distance d<sub>T</sub> (Figure 6).</p>"]
+                 "texton distance d<sub>T</sub> (Figure 6). A cluster that does not repeat is a "
+                 "one-shot motion, played through once from its first frame and left from its "
+                 "last part.</p>"]
         if not nodes:
             parts.append("<p>The database holds no motions.</p>")
         for node in nodes:
@@ -398,7 +400,8 @@ class _Report:
             n_frames = node.end - node.start + 1
             seconds = n_frames / self.fps[node.sequence]
             intensity = node.intensity if node.intensity is not None else float("nan")
-            caption = (f"{node.id}: {node.name}, frames {node.start}-{node.end} of {node.sequence}, "
+            kind = "one-shot motion (played once)" if getattr(node, "kind", "cycle") == "once" else "texton (a cycle)"
+            caption = (f"{node.id}: {node.name}, {kind}, frames {node.start}-{node.end} of {node.sequence}, "
                        f"{n_frames} frames ({seconds:.2f} s), texton distance "
                        f"{node.texton_distance:.4g}, motion intensity {intensity:.4g}")
             parts.append(f"<figure><img src='{png}' width='{SHEET_TILE[0] * len(frames)}' "
@@ -407,7 +410,7 @@ class _Report:
             summary["nodes"].append({"id": node.id, "name": node.name, "image": png,
                                      "frames": frames, "n_frames": n_frames, "seconds": seconds,
                                      "texton_distance": node.texton_distance,
-                                     "intensity": node.intensity})
+                                     "intensity": node.intensity, "kind": getattr(node, "kind", "cycle")})
         return "\n".join(parts)
 
     def graph_section(self, graph, nodes, show_pruned, summary):
