@@ -42,7 +42,11 @@ def run(args):
     print(f"sequences ({len(info['sequences'])}):")
     for s in info["sequences"]:
         clusters = " ".join(_frames(c["start"], c["end"]) for c in s["clusters"])
-        print(f"  {s['name']}: {s['frames']} frames at {s['fps']:g} fps, {len(s['clusters'])} clusters "
+        record = next(r for r in manifest["sequences"] if r["name"] == s["name"])
+        frame = record.get("orientation")
+        read = (f" ({record.get('format', 'ply')}, up {frame['up']}, {frame['units']}"
+                f"{', mirrored' if frame['mirrored'] else ''})" if frame else "")
+        print(f"  {s['name']}{read}: {s['frames']} frames at {s['fps']:g} fps, {len(s['clusters'])} clusters "
               f"[{clusters}], {len(s['textons'])} textons")
     names = {n["id"]: n["name"] for n in info["nodes"]}
     width = max([len(name) for name in names.values()] + [4])
