@@ -400,10 +400,10 @@ class _Report:
             n_frames = node.end - node.start + 1
             seconds = n_frames / self.fps[node.sequence]
             intensity = node.intensity if node.intensity is not None else float("nan")
-            kind = "one-shot motion (played once)" if getattr(node, "kind", "cycle") == "once" else "texton (a cycle)"
-            caption = (f"{node.id}: {node.name}, {kind}, frames {node.start}-{node.end} of {node.sequence}, "
+            caption = (f"{node.id}: {node.name}, frames {node.start}-{node.end} of {node.sequence}, "
                        f"{n_frames} frames ({seconds:.2f} s), texton distance "
-                       f"{node.texton_distance:.4g}, motion intensity {intensity:.4g}")
+                       f"{node.texton_distance:.4g}, motion intensity {intensity:.4g}"
+                       + ("; a one-shot motion, played once" if getattr(node, "kind", "cycle") == "once" else ""))
             parts.append(f"<figure><img src='{png}' width='{SHEET_TILE[0] * len(frames)}' "
                          f"height='{SHEET_TILE[1]}' alt='{_e(node.name)}'>"
                          f"<figcaption>{_e(caption)}</figcaption></figure>")
