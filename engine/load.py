@@ -15,7 +15,6 @@ the problem, and what to do.
 
 import glob as _glob
 import json
-import math
 import re
 import warnings
 from dataclasses import dataclass, field

@@ -14,7 +14,7 @@ from engine.load import iter_frames, open_sequence
 from engine.orientation import SNAP_DEGREES, Orientation, detect, parse_up
 from engine.plyfast import write_ply
 
-from conftest import mocap_take, synth_take
+from conftest import synth_take
 
 
 def _axis_rotation(seed):
