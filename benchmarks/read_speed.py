@@ -6,7 +6,9 @@ Pillow. tvmedit's read is the whole of it as ``check`` and ``build`` do it: open
 (manifest, timing, the frame of reference detected from a dozen frames), then read every
 frame with its checks, its vertex colours averaged from the texture (``texture_colours``), the
 texture image, and the map into Z up. Both run in this process with the files in the page
-cache, alternately, and the best of three rounds counts. Limit: 2x the bare loop.
+cache, alternately, and the best of five rounds counts, by CPU time of this process (on a
+shared machine other processes' load shows in wall time; both are printed). Limit: 2x the
+bare loop.
 
     python benchmarks/read_speed.py [--rounds N]
 """
@@ -55,26 +57,31 @@ def main(rounds):
     frames = json.loads((CARD / "scvv_animation.json").read_text())["frames"]
     bare(frames[:5])
     tvmedit()  # warm the page cache and the imports
-    times = {"bare": [], "tvmedit": []}
+    wall = {"bare": [], "tvmedit": []}
+    cpu = {"bare": [], "tvmedit": []}
     for _ in range(rounds):
-        t0 = time.perf_counter()
+        w0, c0 = time.perf_counter(), time.process_time()
         bare(frames)
-        t1 = time.perf_counter()
+        w1, c1 = time.perf_counter(), time.process_time()
         vertices = tvmedit()
-        t2 = time.perf_counter()
-        times["bare"].append(t1 - t0)
-        times["tvmedit"].append(t2 - t1)
-    b, t = min(times["bare"]), min(times["tvmedit"])
+        w2, c2 = time.perf_counter(), time.process_time()
+        wall["bare"].append(w1 - w0)
+        wall["tvmedit"].append(w2 - w1)
+        cpu["bare"].append(c1 - c0)
+        cpu["tvmedit"].append(c2 - c1)
+    b, t = min(cpu["bare"]), min(cpu["tvmedit"])
+    wb, wt = min(wall["bare"]), min(wall["tvmedit"])
     print(f"scvv card: {len(frames)} Draco frames + JPG textures, {vertices / len(frames):,.0f} vertices a frame")
-    print(f"bare DracoPy + Pillow decoding: {b:.2f} s ({len(frames) / b:.0f} frames/s)")
-    print(f"tvmedit (open, detect the frame, read, check, colour from textures, map): {t:.2f} s "
-          f"({len(frames) / t:.0f} frames/s)")
+    print(f"bare DracoPy + Pillow decoding: {b:.2f} s CPU ({len(frames) / b:.0f} frames/s), {wb:.2f} s wall")
+    print(f"tvmedit (open, detect the frame, read, check, colour from textures, map): {t:.2f} s CPU "
+          f"({len(frames) / t:.0f} frames/s), {wt:.2f} s wall")
+    print(f"by wall time {wt / wb:.2f}x")
     ratio = t / b
-    print(f"ratio {ratio:.2f}x (limit {LIMIT:g}x): {'met' if ratio <= LIMIT else 'NOT met'}")
+    print(f"by CPU time {ratio:.2f}x (limit {LIMIT:g}x): {'met' if ratio <= LIMIT else 'NOT met'}")
     return 0 if ratio <= LIMIT else 1
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--rounds", type=int, default=5)
     sys.exit(main(parser.parse_args().rounds))
