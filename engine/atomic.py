@@ -34,7 +34,8 @@ from pathlib import Path
 from .errors import OutputError, summarise
 
 __all__ = ["MARKER", "temporary", "replacing_file", "write_text", "write_bytes", "replacing_folder",
-           "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target"]
+           "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target",
+           "refuse_inside", "mark", "marked_files", "note_written"]
 
 #: The file in every folder tvmedit writes: ``{"kind": ..., "files": [...]}``.
 MARKER = ".tvmedit"
@@ -228,7 +229,8 @@ def _foreign(folder):
     return [name for name in _files(folder) if name != MARKER and name not in written]
 
 
-def _refuse_inside(out, inputs):
+def refuse_inside(out, inputs=()):
+    """Refuse an output inside another tvmedit output or inside one of ``inputs``."""
     resolved = Path(os.path.abspath(out))
     for parent in resolved.parents:
         kind = owner(parent)
@@ -262,7 +264,7 @@ def check_target(out, kind, force=False, inputs=(), legacy=None):
         One sentence naming the folder and what is in the way.
     """
     out = Path(out)
-    _refuse_inside(out, inputs)
+    refuse_inside(out, inputs)
     if out.is_symlink() or (out.exists() and not out.is_dir()):
         raise OutputError(f"{out} exists and is not a folder; choose another output for the {kind}.")
     if not out.exists() or not any(out.iterdir()):
@@ -287,7 +289,7 @@ def check_target(out, kind, force=False, inputs=(), legacy=None):
 def check_file_target(out, force=False, inputs=()):
     """Refuse file ``out`` unless it is new, or ``force`` and its content is of its suffix's kind."""
     out = Path(out)
-    _refuse_inside(out, inputs)
+    refuse_inside(out, inputs)
     if not out.exists() and not out.is_symlink():
         return
     if out.is_symlink() or not out.is_file():

@@ -40,7 +40,7 @@ from .graph import node_by_key
 from .search import SearchIndex, best_path, motion_label
 
 __all__ = ["ScheduleEntry", "Transition", "Leg", "Composition", "Playhead", "compose",
-           "play_length", "resolve_motion"]
+           "play_length"]
 
 
 class ScheduleEntry(NamedTuple):
@@ -161,21 +161,6 @@ def _entries(node, sequence, frames):
     return list(map(_new_entry, zip(repeat(node), repeat(sequence), frames)))
 
 
-def resolve_motion(graph, key):
-    """Node id of a key motion given as an id, an id in digits, or its ``name`` attribute.
-
-    The one resolver of the engine, :func:`engine.graph.node_by_key`; raises
-    :class:`~engine.errors.UnknownMotion` naming the known motions.
-
-    >>> import networkx as nx
-    >>> g = nx.DiGraph()
-    >>> g.add_node(0, name="gym/03")
-    >>> resolve_motion(g, "gym/03"), resolve_motion(g, 0), resolve_motion(g, "0")
-    (0, 0, 0)
-    """
-    return node_by_key(graph, key)
-
-
 def _texton(graph, node):
     data = graph.nodes[node]
     return data["sequence"], data["start"], data["end"]
@@ -252,10 +237,10 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
     {'from': 0, 'to': 1, 'path': [0, 1], 'cost': 0.5, 'edges': 1, 'frames': 5}
     """
     loops = _check_loops(loops)
-    keys = [resolve_motion(graph, key) for key in keys]
+    keys = [node_by_key(graph, key) for key in keys]
     if len(keys) < 2:
         raise TvmError(f"An edit needs at least two key motions; got {len(keys)}.")
-    forbidden = {resolve_motion(graph, key) for key in forbidden}
+    forbidden = {node_by_key(graph, key) for key in forbidden}
     index = SearchIndex.of(graph, weight) if index is None else index
 
     schedule, transitions, legs = [], [], []
@@ -339,9 +324,9 @@ class Playhead:
     def __init__(self, graph, start_node, forbidden=(), weight="weight", index=None):
         self.graph = graph
         self.weight = weight
-        self.forbidden = {resolve_motion(graph, key) for key in forbidden}
+        self.forbidden = {node_by_key(graph, key) for key in forbidden}
         self.index = SearchIndex.of(graph, weight) if index is None else index
-        node = resolve_motion(graph, start_node)
+        node = node_by_key(graph, start_node)
         sequence, start, end = _texton(graph, node)
         self._visit = _Visit(node, sequence, start, end, start, once=_once(graph, node))
         self._plan = deque()
@@ -371,7 +356,7 @@ class Playhead:
         :class:`~engine.errors.NoPath` (or :class:`~engine.errors.UnknownMotion`) and leaves
         the queue unchanged when the motion cannot be reached.
         """
-        node = resolve_motion(self.graph, node)
+        node = node_by_key(self.graph, node)
         last = self._last_visit()
         path = best_path(self.graph, last.node, node, self.weight, self.forbidden, index=self.index)
         if len(path) == 1:

@@ -33,6 +33,25 @@ class LibraryError(TvmError):
 class UnknownMotion(TvmError):
     """A key motion name or id that the library does not have."""
 
+    #: Most motion names one message lists.
+    LISTED = 30
+
+    @classmethod
+    def among(cls, key, names, role=""):
+        """The one message for ``key`` among the motions ``names`` (``{id: name}``).
+
+        >>> print(UnknownMotion.among("jump", {0: "walk/01", 1: "run/01"}))
+        there is no motion 'jump'; known motions are walk/01, run/01 (or an id from 0 to 1).
+        """
+        what = f"{role} motion" if role else "motion"
+        if not names:
+            return cls(f"there is no {what} {key!r}; the library has no motions.")
+        ids = list(names)
+        listed = ", ".join(str(names[i]) for i in ids[:cls.LISTED]) + (", ..." if len(ids) > cls.LISTED else "")
+        numbered = all(isinstance(i, int) for i in ids)
+        span = f" (or an id from {min(ids)} to {max(ids)})" if numbered else ""
+        return cls(f"there is no {what} {key!r}; known motions are {listed}{span}.")
+
 
 class NoPath(TvmError):
     """No path in the pruned motion graph leads from one key motion to the next."""

@@ -66,7 +66,7 @@ def export_edit(edit, out, force=False, progress=False):
             from tqdm import tqdm
             iterator = tqdm(schedule, desc="export", unit="frame", leave=False)
         for index, entry in enumerate(iterator):
-            positions, colours, faces = library.frame(entry.sequence, entry.frame)
+            positions, colours, faces, _ = library.frame_mesh((entry.sequence, entry.frame))
             name = f"frame_{index:05d}.ply"
             write_ply(tmp / name, positions, faces, colours)
             frames.append({"index": index, "file": name, "node": int(entry.node),

@@ -61,7 +61,6 @@ __all__ = [
     "features_of",
     "frame_distance",
     "histogram_distance",
-    "pair_distances",
     "distance_matrix",
 ]
 
@@ -505,29 +504,6 @@ def frame_distance(a, b) -> float:
         raise ValueError(f"feature vectors of {a.shape[-1]} and {b.shape[-1]} values have different "
                          "r widths; pad them alike with Features.pad_r first")
     return float(np.sqrt(np.sum((a - b) ** 2)))
-
-
-def pair_distances(vectors, i, j) -> np.ndarray:
-    """Frame distances between rows ``i`` and ``j`` of ``vectors`` (broadcast index arrays).
-
-    Parameters
-    ----------
-    vectors : (T, D) array
-    i, j : int arrays of broadcastable shapes S
-
-    Returns
-    -------
-    (S) float64
-
-    Examples
-    --------
-    >>> v = np.array([[0.0, 0.0], [3.0, 4.0], [0.0, 1.0]])
-    >>> pair_distances(v, np.array([0, 0, 1]), np.array([1, 2, 1])).tolist()
-    [5.0, 1.0, 0.0]
-    """
-    v = np.asarray(vectors)
-    diff = v[np.asarray(i)].astype(np.float64) - v[np.asarray(j)]
-    return np.sqrt(np.einsum("...d,...d->...", diff, diff))
 
 
 def distance_matrix(A, B=None) -> np.ndarray:

@@ -71,34 +71,6 @@ def entry_range(node):
     return (node.start, node.start) if node.kind == ONCE else (node.start, node.end)
 
 
-def node_distance(a, b):
-    """Node distance and transition frames between two textons, eq. (10).
-
-    Parameters
-    ----------
-    a : (n, D) array_like
-        Feature vectors of the frames of texton T_i, in order.
-    b : (m, D) array_like
-        Feature vectors of the frames of texton T_j.
-
-    Returns
-    -------
-    distance : float
-        d_V(T_i, T_j), the smallest frame distance between a frame of each.
-    t_i, t_j : int
-        The transition frames, as 0-based positions within ``a`` and ``b``; on a tie, the
-        earliest ``t_i``, then the earliest ``t_j``.
-
-    Examples
-    --------
-    >>> node_distance([[0.0, 0.0], [1.0, 0.0]], [[3.0, 0.0], [5.0, 0.0]])
-    (2.0, 1, 0)
-    """
-    d = distance_matrix(np.asarray(a), np.asarray(b))
-    t_i, t_j = np.unravel_index(np.argmin(d), d.shape)
-    return float(d[t_i, t_j]), int(t_i), int(t_j)
-
-
 def motion_intensity(vectors):
     """Motion intensity of a texton, eq. (11): mean distance between neighbouring frames.
 
@@ -358,9 +330,6 @@ def nodes_of(graph):
 
 
 #: Names an unknown-motion message lists before it says "...".
-KNOWN_LISTED = 30
-
-
 def node_by_key(graph_or_nodes, key):
     """Id of the node a user means by ``key``: an id, an id written as digits, or a name.
 
@@ -386,7 +355,7 @@ def node_by_key(graph_or_nodes, key):
     >>> node_by_key(nodes, "jump")
     Traceback (most recent call last):
     ...
-    engine.errors.UnknownMotion: there is no motion 'jump'; known motions are walk/01, run/01 (or an id from 0 to 1; tvmedit info lists them).
+    engine.errors.UnknownMotion: there is no motion 'jump'; known motions are walk/01, run/01 (or an id from 0 to 1).
     """
     names = _names(graph_or_nodes)
     if isinstance(key, str):
@@ -398,12 +367,7 @@ def node_by_key(graph_or_nodes, key):
             return int(text)
     elif isinstance(key, (int, np.integer)) and not isinstance(key, bool) and int(key) in names:
         return int(key)
-    if not names:
-        raise UnknownMotion(f"there is no motion {key!r}; the library has no motions.")
-    ids = sorted(names)
-    known = ", ".join(names[i] for i in ids[:KNOWN_LISTED]) + (", ..." if len(ids) > KNOWN_LISTED else "")
-    raise UnknownMotion(f"there is no motion {key!r}; known motions are {known} "
-                        f"(or an id from {ids[0]} to {ids[-1]}; tvmedit info lists them).")
+    raise UnknownMotion.among(key, dict(sorted(names.items())))
 
 
 def rename(graph_or_nodes, key, name):

@@ -365,8 +365,11 @@ def damaged(path, error):
 
 
 def read_json(path, name):
-    """The JSON file ``name`` of the library at ``path``."""
-    return json.loads((Path(path) / name).read_text())
+    """The JSON file ``name`` of the library at ``path``; LibraryError when it is not JSON."""
+    try:
+        return json.loads((Path(path) / name).read_text())
+    except (OSError, ValueError) as error:
+        raise damaged(path, error) from None
 
 
 def load_array(path, name):
@@ -376,6 +379,40 @@ def load_array(path, name):
     except (OSError, ValueError) as error:
         raise LibraryError(f"library {path} has an unreadable {name} ({error}); "
                            f"{_rebuild_hint(path)}.") from None
+
+
+def mesh_arrays(path):
+    """The flat mesh arrays of :data:`MESH_ARRAYS`, memory-mapped, their shapes checked."""
+    arrays = {name: load_array(path, f"{name}.npy") for name, _, _ in MESH_ARRAYS}
+    for name, dtype, width in MESH_ARRAYS:
+        array = arrays[name]
+        if array.ndim != 2 or array.shape[1] != width or array.dtype != dtype:
+            raise damaged(path, ValueError(f"{name}.npy holds {array.dtype} {array.shape}"))
+    if not len(arrays["positions"]) == len(arrays["colours"]) == len(arrays["normals"]):
+        raise damaged(path, ValueError("the vertex arrays differ in length"))
+    return arrays
+
+
+def frame_offsets(path, arrays):
+    """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays."""
+    offsets = np.asarray(load_array(path, "frames.npy"))
+    vertices, faces = len(arrays["positions"]), len(arrays["faces"])
+    ok = offsets.ndim == 2 and offsets.shape[1] == 4 and offsets.dtype == np.int64
+    if ok and len(offsets):
+        v0, nv, f0, nf = offsets.T
+        ok = bool((offsets >= 0).all() and (v0 + nv <= vertices).all() and (f0 + nf <= faces).all())
+    if not ok:
+        raise damaged(path, ValueError("frames.npy does not match the mesh arrays"))
+    return offsets
+
+
+def frame_keys(path, frames, sequences):
+    """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
+    keys = np.asarray(load_array(path, "frame_keys.npy"))
+    ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
+    if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
+        raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))
+    return keys
 
 
 def read_graph(path):

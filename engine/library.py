@@ -6,6 +6,7 @@ memory-mapped, so opening reads only the small JSON files.
 """
 
 from dataclasses import dataclass, field, replace
+import functools
 from functools import cached_property
 from pathlib import Path
 
@@ -13,7 +14,7 @@ import numpy as np
 
 from . import libformat
 from .database import Node
-from .errors import LibraryError
+from .errors import LibraryError, TvmError
 from .libformat import FORMAT
 
 __all__ = ["Library", "LibrarySequence", "FORMAT", "INFO_SCHEMA"]
@@ -119,6 +120,20 @@ class LibrarySequence:
         return self._library.structure(self.name)
 
 
+def _reads_format(method):
+    """Files that do not hold what the format says become one LibraryError, whenever read."""
+    @functools.wraps(method)
+    def checked(self, *args, **kwargs):
+        try:
+            return method(self, *args, **kwargs)
+        except TvmError:
+            raise
+        except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
+            raise libformat.damaged(self.path, error) from None
+
+    return checked
+
+
 class Library:
     """A library opened for editing and playing; use :meth:`open`.
 
@@ -175,6 +190,7 @@ class Library:
             raise LibraryError(f"library {self.path} has no sequence {name!r}; it has {known}.") from None
 
     @cached_property
+    @_reads_format
     def _structures(self):
         from .structure import Structure
 
@@ -187,9 +203,11 @@ class Library:
         return self._structures[name]
 
     @cached_property
+    @_reads_format
     def _features(self):
-        return self._load("features.npy")
+        return libformat.load_array(self.path, "features.npy")
 
+    @_reads_format
     def features(self, name):
         """Features of sequence ``name``, memory-mapped (r padded to the library's width).
 
@@ -227,6 +245,7 @@ class Library:
         return self._nodes[node_by_key(self._nodes, key)]
 
     @cached_property
+    @_reads_format
     def _graph_data(self):
         return libformat.read_graph(self.path)
 
@@ -235,6 +254,7 @@ class Library:
         """The pruned motion graph (networkx DiGraph, see ``engine.graph.graph_from``)."""
         return self.graph_at(None)
 
+    @_reads_format
     def graph_at(self, mu=None):
         """The motion graph pruned at ``mu`` (default: the library's), names applied."""
         from .graph import graph_from
@@ -262,20 +282,20 @@ class Library:
 
     # --- meshes: the MeshSource protocol -------------------------------------------------
 
-    def _load(self, name):
-        return libformat.load_array(self.path, name)
-
     @cached_property
+    @_reads_format
     def _arrays(self):
-        return {name: self._load(f"{name}.npy") for name in ("positions", "colours", "normals", "faces")}
+        return libformat.mesh_arrays(self.path)
 
     @cached_property
+    @_reads_format
     def _offsets(self):
-        return np.asarray(self._load("frames.npy"))
+        return libformat.frame_offsets(self.path, self._arrays)
 
     @cached_property
+    @_reads_format
     def _frame_rows(self):
-        keys = np.asarray(self._load("frame_keys.npy"))
+        keys = libformat.frame_keys(self.path, len(self._offsets), len(self.sequences))
         names = [s.name for s in self.sequences]
         return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist())}
 
@@ -288,10 +308,6 @@ class Library:
         """Keys ``(sequence, frame)`` of every stored frame, in storage order."""
         return list(self._frame_rows)
 
-    def has_frame(self, sequence, frame):
-        """Whether the meshes of ``frame`` of ``sequence`` are stored (texton frames only)."""
-        return (sequence, int(frame)) in self._frame_rows
-
     def _row(self, sequence, frame):
         try:
             return self._frame_rows[sequence, int(frame)]
@@ -300,18 +316,21 @@ class Library:
             raise LibraryError(f"frame {frame} of {sequence} is not stored in library {self.path}: "
                                "only the frames of database motions are.") from None
 
-    def frame(self, sequence, frame):
-        """``(positions (N,3) float32, colours (N,3) uint8, faces (M,3) uint32)``, memory-mapped."""
-        positions, colours, faces, _ = self.frame_mesh((sequence, frame))
-        return positions, colours, faces
-
     def frame_mesh(self, key):
-        """``(positions, colours, faces, normals)`` of frame ``key = (sequence, frame)``."""
+        """``(positions, colours, faces, normals)`` of frame ``key = (sequence, frame)``.
+
+        (N, 3) float32, (N, 3) uint8, (M, 3) uint32 and (N, 3) float32, memory-mapped; only
+        the frames of database motions are stored (:meth:`stored_frames`).
+        """
         sequence, frame = key
         v0, nv, f0, nf = self._offsets[self._row(sequence, frame)].tolist()
         a = self._arrays
-        return (a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], a["faces"][f0:f0 + nf],
-                a["normals"][v0:v0 + nv])
+        faces = a["faces"][f0:f0 + nf]
+        most_v, most_f = self.max_counts()
+        if nv > most_v or nf > most_f or (nf and int(faces.max()) >= nv):
+            raise libformat.damaged(self.path, ValueError(f"frame {frame} of {sequence} does not "
+                                                          "match its vertex and face counts"))
+        return a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
 
     @cached_property
     def _textures(self):
@@ -338,17 +357,22 @@ class Library:
         v0, nv = self._offsets[row, :2].tolist()
         return uvs[v0:v0 + nv], texels[start:start + height * width].reshape(height, width, 3)
 
+    @_reads_format
     def bounds(self):
         """``((xmin, ymin, zmin), (xmax, ymax, zmax))`` over every stored frame."""
-        low, high = self.manifest["bounds"]
-        return tuple(low), tuple(high)
+        low, high = (tuple(float(x) for x in corner) for corner in self.manifest["bounds"])
+        if len(low) != 3 or len(high) != 3 or not np.isfinite([*low, *high]).all():
+            raise ValueError(f"bounds {low}, {high} are not two finite corners")
+        return low, high
 
+    @_reads_format
     def max_counts(self):
         """``(max_vertices, max_faces)`` over every stored frame."""
-        return tuple(self.manifest["max_counts"])
+        return tuple(int(n) for n in self.manifest["max_counts"])
 
     # --- summaries and edits ---------------------------------------------------------------
 
+    @_reads_format
     def info(self):
         """A JSON-ready summary following :data:`INFO_SCHEMA`."""
         sequences = []

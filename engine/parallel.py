@@ -18,6 +18,10 @@ import os
 from collections import deque
 
 from .errors import TvmError
+from .params import whole
+
+#: Most local worker processes a pool may start.
+MAX_WORKERS = 512
 
 __all__ = ["Workers", "default_workers"]
 
@@ -71,9 +75,10 @@ class Workers:
     """
 
     def __init__(self, workers=None, dask=None):
-        if workers is not None and int(workers) < 1:
-            raise TvmError(f"workers={workers} is too few: give 1 or more worker processes.")
-        self.workers = default_workers() if workers is None else int(workers)
+        if workers is not None:
+            workers = whole("workers", workers, at_least=1, at_most=MAX_WORKERS,
+                            hint=" worker processes")
+        self.workers = default_workers() if workers is None else workers
         self.dask = dask
         self._executor = None
         self._client = None

@@ -54,16 +54,10 @@ def motion_label(graph, node):
     return repr(name) if name is not None else str(node)
 
 
-def _known_motions(graph, limit=20):
-    labels = [motion_label(graph, node) for node in list(graph.nodes)[:limit]]
-    more = f" ({graph.number_of_nodes()} in all)" if graph.number_of_nodes() > limit else ""
-    return ", ".join(labels) + (", ..." if more else "") + more
-
-
 def _check_node(graph, node, role):
     if node not in graph:
-        raise UnknownMotion(f"The motion graph has no {role} motion {node!r}; "
-                            f"known motions are {_known_motions(graph)}.")
+        names = {n: graph.nodes[n].get("name", n) for n in graph.nodes}
+        raise UnknownMotion.among(node, names, role)
 
 
 class SearchIndex:
@@ -79,8 +73,8 @@ class SearchIndex:
         ``inf`` where there is no edge and on the diagonal, eq. (12).
 
     Build one with :meth:`of`, which caches it on the graph object. The cache notices added
-    or removed nodes and edges, not weights changed in place: call :meth:`forget` after such
-    an edit.
+    or removed nodes and edges, not weights changed in place: after such an edit, pass
+    ``index=SearchIndex.from_graph(graph)`` to the search.
 
     >>> import networkx as nx
     >>> g = nx.DiGraph()
@@ -137,11 +131,6 @@ class SearchIndex:
             cached = (key, cls.from_graph(graph, weight))
             _INDEXES[graph] = cached
         return cached[1]
-
-    @staticmethod
-    def forget(graph):
-        """Drop the cached index of ``graph`` (after changing edge weights in place)."""
-        _INDEXES.pop(graph, None)
 
     def blocked(self, forbidden):
         """Boolean mask of the rows of the ``forbidden`` node ids."""

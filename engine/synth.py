@@ -34,8 +34,11 @@ import numpy as np
 from . import atomic
 from .errors import InputError
 from .parallel import Workers, default_workers
+from .params import number, whole
 from .plyfast import write_ply
 
+#: Most cycles of one motion a take may have (a cycle is a few seconds of frames).
+MAX_CYCLES = 1000
 VERSION = 2                 # bump when the output for given options changes
 TRANSITION_S = 0.8          # blend between two motions, seconds
 NOISE_M = 0.002             # Gaussian vertex noise, metres
@@ -446,10 +449,10 @@ def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0):
     if unknown or not motions:
         raise InputError(f"Unknown motion '{unknown[0] if unknown else ''}'; "
                          f"choose from {', '.join(MOTIONS)}.")
-    if cycles is not None and (int(cycles) != cycles or cycles < 1):
-        raise InputError(f"The number of cycles must be a positive whole number, not {cycles}.")
-    if not 0 < fps <= 120:
-        raise InputError(f"The frame rate must be above 0 and at most 120 fps, not {fps}.")
+    if cycles is not None:
+        cycles = whole("cycles", cycles, at_least=1, at_most=MAX_CYCLES)
+    fps = number("fps", fps, above=0, at_most=120)
+    whole("seed", seed, at_least=0, at_most=2 ** 32 - 1)
     counts = [cycles if cycles is not None else PRESETS[preset]["cycles"].get(m, MOTIONS[m].cycles)
               for m in motions]
     pieces, periods, total = _timeline(motions, counts, seed)
@@ -475,6 +478,7 @@ def _prepare(out, overwrite):
     anything else in the folder stays, and frames nobody can vouch for are refused.
     """
     out = Path(out)
+    atomic.refuse_inside(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"Output path {out} is a file, not a folder.")
     if out.exists() and any(out.iterdir()):
@@ -513,10 +517,9 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
     generator settings. ``motions`` (names from :data:`MOTIONS`) and ``cycles`` override the
     preset. Files are identical for any number of ``workers`` (default: all cores).
     """
-    if not 1000 <= vertices <= 1_000_000:
-        raise InputError(f"The vertex target must be between 1000 and 1000000, not {vertices}.")
-    if workers is not None and workers < 1:
-        raise InputError(f"The number of workers must be at least 1, not {workers}.")
+    vertices = whole("vertices", vertices, at_least=1000, at_most=1_000_000)
+    if workers is not None:
+        workers = whole("workers", workers, at_least=1, at_most=1024)
     poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed)
     out = _prepare(out, overwrite)
     voxel = float(voxel_size(vertices))

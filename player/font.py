@@ -24,11 +24,21 @@ _GLYPHS = {
     "/": "001 001 010 100 100", "#": "101 111 101 111 101", "(": "010 100 100 100 010",
     ")": "010 001 001 001 010", "=": "000 111 000 111 000", "+": "000 010 111 010 000",
     "?": "111 001 010 000 010",
+    "'": "010 010 000 000 000", "<": "001 010 100 010 001", ">": "100 010 001 010 100",
+    "!": "010 010 010 000 010", "%": "101 001 010 100 101", "[": "110 100 100 100 110",
+    "]": "011 001 001 001 011", "*": "000 101 010 101 000", "|": "010 010 010 010 010",
 }
+#: Every character with a glyph (lower case letters are drawn as upper case).
+CHARSET = "".join(_GLYPHS)
 GLYPH_W, GLYPH_H = 3, 5
 
 
-def _bitmap(char):
+def bitmap(char):
+    """(5, 3) bool glyph of ``char`` ('?' for characters without one).
+
+    >>> bitmap("|").astype(int)[:, 1].tolist()
+    [1, 1, 1, 1, 1]
+    """
     rows = _GLYPHS.get(char.upper(), _GLYPHS["?"]).split()
     return np.array([[bit == "1" for bit in row] for row in rows])
 
@@ -44,7 +54,7 @@ def text_mask(text, scale=1):
     gap = np.zeros((GLYPH_H, 1), bool)
     parts = []
     for i, char in enumerate(text):
-        parts += [gap, _bitmap(char)] if i else [_bitmap(char)]
+        parts += [gap, bitmap(char)] if i else [bitmap(char)]
     mask = np.hstack(parts)
     return mask.repeat(scale, axis=0).repeat(scale, axis=1)
 

@@ -8,26 +8,11 @@ floor. The vertex buffer is rewritten only when the text changes, not on every r
 import moderngl
 import numpy as np
 
-from player.font import GLYPH_H, GLYPH_W, text_mask
+from player.font import CHARSET, GLYPH_H, GLYPH_W, bitmap
 from player.programs import load_program
 
-# Characters with a cell in the atlas; others are drawn as '?' (lower case as upper case).
-CHARSET = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ :-_./#()=+?,'<>!%[]*|"
-
-# Glyphs player.font does not have, in its notation (rows of 3 bits, top first).
-_EXTRA = {
-    "'": "010 010 000 000 000", "<": "001 010 100 010 001", ">": "100 010 001 010 100",
-    "!": "010 010 010 000 010", "%": "101 001 010 100 101", "[": "110 100 100 100 110",
-    "]": "011 001 001 001 011", "*": "000 101 010 101 000", "|": "010 010 010 010 010",
-}
 _CELL = GLYPH_W + 1          # one empty texel column between cells keeps glyphs apart
 _VERTEX = np.dtype([("pixel", np.float32, 2), ("uv", np.float32, 2), ("colour", np.float32, 4)])
-
-
-def _glyph(char):
-    if char in _EXTRA:
-        return np.array([[bit == "1" for bit in row] for row in _EXTRA[char].split()])
-    return text_mask(char)
 
 
 class Label:
@@ -66,7 +51,7 @@ class TextOverlay:
         self._index = {char: i for i, char in enumerate(CHARSET)}
         atlas = np.zeros((GLYPH_H, _CELL * (len(CHARSET) + 1)), np.uint8)
         for i, char in enumerate(CHARSET):
-            atlas[:, i * _CELL:i * _CELL + GLYPH_W] = _glyph(char) * 255
+            atlas[:, i * _CELL:i * _CELL + GLYPH_W] = bitmap(char) * 255
         atlas[:, -_CELL:] = 255  # the solid cell that backing boxes sample
         self._atlas_width = atlas.shape[1]
         self.texture = ctx.texture((atlas.shape[1], atlas.shape[0]), 1, np.ascontiguousarray(atlas).tobytes())

@@ -111,7 +111,7 @@ def test_export_round_trip_frames_colours_and_edit_json(small_library, tmp_path)
     exported = load_sequence(out)
     assert len(exported.frames) == len(edit.schedule)
     for entry, frame in zip(edit.schedule[::7], exported.frames[::7]):
-        positions, colours, faces = library.frame(entry.sequence, entry.frame)
+        positions, colours, faces, _ = library.frame_mesh((entry.sequence, entry.frame))
         np.testing.assert_array_equal(frame.positions, positions)
         np.testing.assert_array_equal(frame.colours, colours)
         np.testing.assert_array_equal(frame.faces, faces)

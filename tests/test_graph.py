@@ -157,7 +157,7 @@ def test_unknown_key_gives_one_sentence_listing_the_known_names(graph):
     with pytest.raises(UnknownMotion) as error:
         node_by_key(graph, "jump")
     assert str(error.value) == ("there is no motion 'jump'; known motions are a/01, a/02, b/01 "
-                                "(or an id from 0 to 2; tvmedit info lists them).")
+                                "(or an id from 0 to 2).")
     with pytest.raises(UnknownMotion):
         node_by_key(graph, 3)
     with pytest.raises(UnknownMotion):

@@ -132,19 +132,19 @@ def test_mesh_arrays_are_flat_memory_mapped_and_read_only_when_used(built):
     frames = np.load(built / "frames.npy")
     assert frames.shape == (len(library.stored_frames()), 4)
     assert (frames[1:, 0] == frames[:-1, 0] + frames[:-1, 1]).all()
-    positions = library.frame(*library.stored_frames()[0])[0]
+    positions = library.frame_mesh(library.stored_frames()[0])[0]
     assert isinstance(positions, np.memmap) and not positions.flags.writeable
 
 
 def test_a_frame_outside_the_database_is_refused_in_one_sentence(built):
     library = Library.open(built)
     node = library.nodes[0]
-    assert library.has_frame(node.sequence, node.start)
-    outside = next(f for f in range(60) if not library.has_frame("gym", f))
+    assert (node.sequence, node.start) in library.stored_frames()
+    outside = next(f for f in range(60) if ("gym", f) not in library.stored_frames())
     with pytest.raises(LibraryError, match=f"frame {outside} of gym is not stored"):
-        library.frame("gym", outside)
+        library.frame_mesh(("gym", outside))
     with pytest.raises(LibraryError, match="no sequence 'walk'; it has gym, gym2"):
-        library.frame("walk", 0)
+        library.frame_mesh(("walk", 0))
 
 
 def test_truncated_missing_or_foreign_files_name_the_problem_and_the_rebuild(built, tmp_path):
@@ -209,7 +209,7 @@ def test_edit_plays_only_stored_frames(built):
     source, target = edges[0]
     edit = library.edit([source, target], loops=1)
     assert edit.library is library
-    assert edit.schedule and all(library.has_frame(e.sequence, e.frame) for e in edit.schedule)
+    assert edit.schedule and all((e.sequence, e.frame) in library.stored_frames() for e in edit.schedule)
 
 
 def test_rebuild_with_other_parameters_reuses_cached_features(take_13_30, tmp_path):

@@ -12,7 +12,7 @@ import signal
 import sys
 import warnings
 
-from engine.errors import TvmError
+from engine.errors import TvmError, UnknownMotion
 
 from . import __version__
 
@@ -46,7 +46,7 @@ def main(argv=None):
     # SIGTERM unwinds like Ctrl-C, so every command removes its temporary files.
     signal.signal(signal.SIGTERM, _terminate)
     warnings.showwarning = _show_warning
-    parser = None
+    parser = args = None
     try:
         # Building the parser imports the command (and for some, numpy): Ctrl-C may come here.
         parser = _parser(argv)
@@ -58,7 +58,9 @@ def main(argv=None):
         return args._run(args) or 0
     except TvmError as error:
         message = as_flags(str(error), parser) if parser is not None else str(error)
-        print(f"error: {message}", file=sys.stderr)
+        if isinstance(error, UnknownMotion) and getattr(args, "library", None):
+            message = f"{message.rstrip('.')}; `tvmedit info {args.library}` lists them."
+        print(f"error: {_sentence(message)}", file=sys.stderr)
         return error.exit_code
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
@@ -112,6 +114,12 @@ def as_flags(message, parser):
 
     message = re.sub(r"\bbuild\((inputs|\[.*?\]), '(.+?)'(, force=True)?\)", _build_command, message)
     return re.sub(r"\b([a-z][a-z_]*)=(\(\d+, \d+\)|\S+?)(?=[,;.:)]*(?:\s|$))", flag, message)
+
+
+def _sentence(message):
+    """One line that ends as a sentence does."""
+    message = " ".join(message.split())
+    return message if message.endswith((".", "!", "?")) else message + "."
 
 
 def _build_command(match):

@@ -71,7 +71,7 @@ def run(args):
             camera = None
             if args.camera:
                 # Framed on this motion's frames, as the automatic camera of a sheet is.
-                points = [library.frame(*key)[0] for key in keys]
+                points = [library.frame_mesh(key)[0] for key in keys]
                 bounds = (np.min([p.min(axis=0) for p in points], axis=0),
                           np.max([p.max(axis=0) for p in points], axis=0))
                 camera = camera_for(library, tile, args.camera, bounds=bounds)
