@@ -253,17 +253,18 @@ def sequence_features(folder, bins=None, cache_dir=None):
     """
     from . import featcache
     from .features import BinSizes, FeatureAccumulator
-    from .load import frame_paths, iter_frames
+    from .load import iter_frames, open_sequence
 
     bins = bins or BinSizes()
-    paths = frame_paths(str(folder))
+    sequence = open_sequence(str(folder))   # in the frame of reference the builder would use
+    paths = sequence.paths
     stats = featcache.stat_list(paths)
-    key = featcache.key(stats, bins)
+    key = featcache.key(stats, bins, orientation=sequence.orientation)
     found = featcache.read(key, bins, cache_dir)
     if found is not None:
         return found[0]
     acc = FeatureAccumulator(bins)
-    for _, frame in iter_frames(paths):
+    for _, frame in iter_frames(paths, orientation=sequence.orientation, detail="geometry"):
         acc.add(frame.positions)
     features = acc.result()
     featcache.write(key, features, {"paths": [row[0] for row in stats], "skipped": []}, cache_dir)

@@ -321,4 +321,5 @@ def _detect_units(frames, direction):
         units = "cm"
     else:
         units = "m"
-    return units, f"the body is {extent:.3g} units tall: {extent * UNITS[units]:.2f} m in {units}"
+    names = {"m": "metres", "cm": "centimetres", "mm": "millimetres"}
+    return units, f"the body is {extent:.3g} units tall: {names[units]}, {extent * UNITS[units]:.2f} m"

@@ -242,10 +242,13 @@ def _coloured(mesh, detail):
 
 @register("ply", ".ply")
 def read_ply_file(path, detail="full"):
-    """PLY: the fast binary path of :mod:`engine.plyfast`, else trimesh."""
+    """PLY: the fast binary path of :mod:`engine.plyfast`, else trimesh (also for a textured
+    PLY, whose header names its image in a ``comment TextureFile`` line)."""
     from .plyfast import read_ply
 
-    fast = read_ply(path)
+    with open(path, "rb") as handle:
+        textured = b"TextureFile" in handle.read(4096).split(b"end_header")[0]
+    fast = None if textured else read_ply(path)
     if fast is not None:
         vertices, faces, colours = fast
         return MeshData(vertices, faces, colours)

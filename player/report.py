@@ -385,7 +385,9 @@ class _Report:
 
         parts = ["<h2 id='database'>Motion database</h2>",
                  "<p>The representative texton of each cluster, eq. (9): the one with the smallest "
-                 "texton distance d<sub>T</sub> (Figure 6).</p>"]
+                 "texton distance d<sub>T</sub> (Figure 6). A cluster that does not repeat is a "
+                 "one-shot motion, played through once from its first frame and left from its "
+                 "last part.</p>"]
         if not nodes:
             parts.append("<p>The database holds no motions.</p>")
         for node in nodes:
@@ -400,14 +402,15 @@ class _Report:
             intensity = node.intensity if node.intensity is not None else float("nan")
             caption = (f"{node.id}: {node.name}, frames {node.start}-{node.end} of {node.sequence}, "
                        f"{n_frames} frames ({seconds:.2f} s), texton distance "
-                       f"{node.texton_distance:.4g}, motion intensity {intensity:.4g}")
+                       f"{node.texton_distance:.4g}, motion intensity {intensity:.4g}"
+                       + ("; a one-shot motion, played once" if getattr(node, "kind", "cycle") == "once" else ""))
             parts.append(f"<figure><img src='{png}' width='{SHEET_TILE[0] * len(frames)}' "
                          f"height='{SHEET_TILE[1]}' alt='{_e(node.name)}'>"
                          f"<figcaption>{_e(caption)}</figcaption></figure>")
             summary["nodes"].append({"id": node.id, "name": node.name, "image": png,
                                      "frames": frames, "n_frames": n_frames, "seconds": seconds,
                                      "texton_distance": node.texton_distance,
-                                     "intensity": node.intensity})
+                                     "intensity": node.intensity, "kind": getattr(node, "kind", "cycle")})
         return "\n".join(parts)
 
     def graph_section(self, graph, nodes, show_pruned, summary):

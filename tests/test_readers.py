@@ -109,6 +109,21 @@ def test_obj_with_mtl_texture_and_glb_carry_uv_and_image(tmp_path):
         assert (frame.colours[right, 2] > 150).all() and (frame.colours[~right, 0] > 150).all(), name
 
 
+def test_textured_ply_names_its_image_in_a_comment(tmp_path):
+    box = trimesh.creation.box()
+    box.visual = trimesh.visual.TextureVisuals(uv=np.c_[(box.vertices[:, 0] > 0) * 0.5 + 0.25,
+                                                        np.full(len(box.vertices), 0.5)])
+    box.export(tmp_path / "plain.ply")
+    data = (tmp_path / "plain.ply").read_bytes()
+    (tmp_path / "frame.ply").write_bytes(data.replace(b"end_header", b"comment TextureFile tex.png\nend_header", 1))
+    image = np.zeros((8, 16, 3), np.uint8)
+    image[:, 8:] = 255
+    Image.fromarray(image).save(tmp_path / "tex.png")
+    frame = read_frame(tmp_path / "frame.ply")
+    assert frame.texture.shape == (8, 16, 3) and frame.uv.shape == (8, 2)
+    assert read_frame(tmp_path / "plain.ply").texture is None
+
+
 def test_gltf_is_y_up_by_its_convention(tmp_path):
     body = trimesh.creation.capsule(height=1.4, radius=0.2)   # along z
     body.vertices = body.vertices[:, [0, 2, 1]] * [1, 1, -1]  # now along y, glTF's up

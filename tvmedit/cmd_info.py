@@ -23,6 +23,17 @@ def _frames(start, end):
     return f"{start}-{end}"
 
 
+def _read_as(manifest, name):
+    """``; read as scvv, up -x, m`` where a sequence was not plain Z-up metre frames."""
+    record = next(r for r in manifest["sequences"] if r["name"] == name)
+    frame, fmt = record.get("orientation"), record.get("format", "ply")
+    plain = frame is None or (frame["up"] == "+z" and frame["units"] == "m" and not frame["mirrored"])
+    if plain and fmt in ("ply", "obj", "off"):
+        return ""
+    return (f"; read as {fmt}" + ("" if frame is None else f", up {frame['up']}, {frame['units']}"
+                                  + (", mirrored" if frame["mirrored"] else "")))
+
+
 def run(args):
     from engine.database import advice
     from engine.library import Library
@@ -43,7 +54,7 @@ def run(args):
     for s in info["sequences"]:
         clusters = " ".join(_frames(c["start"], c["end"]) for c in s["clusters"])
         print(f"  {s['name']}: {s['frames']} frames at {s['fps']:g} fps, {len(s['clusters'])} clusters "
-              f"[{clusters}], {len(s['textons'])} textons")
+              f"[{clusters}], {len(s['textons'])} textons{_read_as(manifest, s['name'])}")
     names = {n["id"]: n["name"] for n in info["nodes"]}
     width = max([len(name) for name in names.values()] + [4])
     print(f"motions ({len(info['nodes'])}):")
