@@ -376,8 +376,9 @@ def load_array(path, name):
     """Array file ``name`` of the library at ``path``, memory-mapped."""
     try:
         return np.load(Path(path) / name, mmap_mode="r")
-    except (OSError, ValueError) as error:
-        raise LibraryError(f"library {path} has an unreadable {name} ({error}); "
+    except Exception as error:  # noqa: BLE001 - a damaged header fails in numpy's parser in many ways
+        detail = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        raise LibraryError(f"library {path} has an unreadable {name} ({detail}); "
                            f"{_rebuild_hint(path)}.") from None
 
 
