@@ -311,10 +311,12 @@ def legacy_foreign(path):
 
     None when ``path`` is not such a library (see :func:`engine.atomic.check_target`).
     """
+    names = sorted(str(p.relative_to(path)) for p in Path(path).rglob("*"))
     if atomic.owner(path) != "library":
-        return None
-    return sorted(str(p.relative_to(path)) for p in Path(path).rglob("*")
-                  if str(p.relative_to(path)) not in LIBRARY_FILES)
+        # A manifest too damaged to read: still a library when it holds nothing but library files.
+        whole = {"manifest.json", "features.npy", "database.json"} <= set(names)
+        return [] if whole and set(names) <= set(LIBRARY_FILES) else None
+    return [name for name in names if name not in LIBRARY_FILES]
 
 
 def read_manifest(path):
@@ -344,6 +346,7 @@ def read_manifest(path):
     version = data.get("format") if isinstance(data, dict) else None
     if version != FORMAT:
         shown = "no format version" if version is None else f"format version {version!r}"
+        shown += f" (a {type(version).__name__}, not a number)" if version is not None and not isinstance(version, int) else ""
         raise LibraryError(f"library {path} has {shown} but this tvmedit reads version "
                            f"{FORMAT!r}; {_rebuild_hint(path)}.")
     for name, size in data.get("files", {}).items():
