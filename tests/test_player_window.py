@@ -279,7 +279,13 @@ def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, 
     expected = best_path(graph, s, a, forbidden=[forbid] if forbid is not None else [])
     expected += best_path(graph, a, b, forbidden=[forbid] if forbid is not None else [])[1:]
     assert nodes == expected
+    _check_textons_and_transitions(graph, runs)
+    _check_queue(rows, frames, a, b, c)
+    _check_refusals(rows, frames, err, key_of, [u] + ([forbid] if forbid is not None else []))
+    _check_screenshot(out, tmp_path)
 
+
+def _check_textons_and_transitions(graph, runs):
     # Every texton is shown completely, in its cyclic order, before it is left; each
     # transition leaves and enters at the frames the graph gives.
     for k, (node, shown) in enumerate(runs[:-1]):
@@ -291,6 +297,8 @@ def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, 
         edge = graph.edges[node, target]
         assert (shown[-1], entered) == (edge["exit_frame"], edge["entry_frame"])
 
+
+def _check_queue(rows, frames, a, b, c):
     # Backspace took back C: the queue held it, then lost it, and C was never reached as a key.
     events = [(row["event"], row["node"], tuple(row["queue"])) for row in rows
               if row.get("event") in ("queued", "unqueued")]
@@ -300,14 +308,18 @@ def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, 
     assert queues and all(c not in q for q in queues)
     assert (a, b) in queues or (b,) in queues
 
+
+def _check_refusals(rows, frames, err, key_of, refused_nodes):
     # The unreachable (and the forbidden) key motions were refused, and playback went on.
     refused = [row for row in rows if row.get("event") == "refused"]
-    assert [row["node"] for row in refused] == [u] + ([forbid] if forbid is not None else [])
+    assert [row["node"] for row in refused] == refused_nodes
     assert all(row["key"] == key_of[row["node"]] and "path" in row["message"] for row in refused)
     assert "No path" in err or "no path" in err
     after = [row["t"] for row in frames if row["t"] > refused[-1]["t"]]
     assert len(after) >= 10 and max(np.diff(after)) < 0.5
 
+
+def _check_screenshot(out, tmp_path):
     # S saved a screenshot of the actor: many pixels differ from the background.
     saved = [line.split(" saved to ")[-1] for line in out.splitlines() if "screenshot saved to" in line]
     assert saved, out
