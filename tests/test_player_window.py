@@ -345,7 +345,7 @@ def test_bad_arguments_and_a_missing_display_are_one_sentence(small_library, tmp
     env = {key: value for key, value in os.environ.items() if key not in ("DISPLAY", "WAYLAND_DISPLAY")}
     headless = _play_command(small_library, env=env)
     assert headless.returncode != 0 and headless.stderr.strip() == (
-        "error: no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
+        "error: no display: set DISPLAY or run under xvfb-run; for files use tvmedit render.")
 
 
 def test_an_unwritable_log_is_one_sentence(small_library, tmp_path):
