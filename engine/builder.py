@@ -261,7 +261,7 @@ def _from_library(old, key, bins):
 
 # --- structure, database, graph -----------------------------------------------------------
 
-def _motion_graph(sequences, padded, params, mu, run):
+def _motion_graph(sequences, padded, params, mu, run, connect="auto"):
     """Parse every sequence (section 4), then build the database (section 5) and graph (section 6)."""
     from . import structure as structure_module
     from .database import advice, build_database
@@ -276,7 +276,7 @@ def _motion_graph(sequences, padded, params, mu, run):
             seq.name: structure_module.parse(vectors[seq.name], seq.fps, params, theta=f.theta_columns)
             for seq, f in zip(sequences, padded)})
         t0 = time.perf_counter()
-        graph = build_graph(build_database(structures), vectors, mu=mu)
+        graph = build_graph(build_database(structures), vectors, mu=mu, connect=connect)
         run.stages["graph"] = time.perf_counter() - t0
     _pass_on(caught, run.log)
     nodes = nodes_of(graph)
@@ -332,7 +332,7 @@ def _write_library(tmp, old, sequences, computed, padded, settings, structures, 
     libformat.write_manifest(tmp, libformat.manifest(
         records,
         params={"bins": bins.to_json(), "structure": settings.params, "mu": settings.mu,
-                "skip_bad_frames": settings.skip_bad_frames},
+                "skip_bad_frames": settings.skip_bad_frames, "connect": settings.connect},
         feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
         counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
                 "stored_frames": meshes.frames},
@@ -381,7 +381,7 @@ def _open_old(out):
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None):
+          units=None, mirror=None, connect="auto"):
     """Build a library from TVM sequences and return it opened.
 
     Parameters
@@ -401,6 +401,9 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         Pruning parameter of eq. (14); default ``engine.graph.MU``.
     skip_bad_frames : bool
         Leave out frames that cannot be read instead of stopping.
+    connect : {"auto", "off"}
+        ``"auto"`` adds the fewest, lightest complete-graph edges that let every motion reach
+        every other (:mod:`engine.connect`); ``"off"`` keeps the graph eq. (14) prunes.
     progress : bool
         tqdm bars on stderr.
     workers : int or None
@@ -425,7 +428,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     """
     run = _Run(progress, log)
     out = Path(out).absolute()
-    settings = _Settings.of(bins, structure, mu, skip_bad_frames)
+    settings = _Settings.of(bins, structure, mu, skip_bad_frames, connect)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
@@ -439,7 +442,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
                 for seq in sequences])
             width = max(entry.features.r.shape[1] for entry in computed)
             padded = [entry.features.pad_r(width) for entry in computed]
-            structures, nodes, graph = _motion_graph(sequences, padded, settings.params, settings.mu, run)
+            structures, nodes, graph = _motion_graph(sequences, padded, settings.params, settings.mu, run,
+                                                     settings.connect)
             index = {seq.name: k for k, seq in enumerate(sequences)}
             needed = sorted({(index[node.sequence], frame)
                              for node in nodes for frame in range(node.start, node.end + 1)})
@@ -456,6 +460,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         "clusters": sum(len(s.clusters) for s in structures.values()),
         "nodes": len(nodes),
         "edges": graph.number_of_edges(),
+        "added": graph.graph["connect"]["added"],
         "stored_frames": len(needed),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)
                    if entry.source != "computed"},
@@ -475,14 +480,18 @@ class _Settings(NamedTuple):
     params: object
     mu: float
     skip_bad_frames: bool
+    connect: str = "auto"
 
     @classmethod
-    def of(cls, bins, structure, mu, skip_bad_frames):
+    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto"):
         from . import structure as structure_module
+        from .connect import MODES
         from .graph import MU
 
+        if connect not in MODES:
+            raise params.ParameterError(f"connect={connect!r} is not one of {', '.join(map(repr, MODES))}.")
         return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
-                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames))
+                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect)
 
 
 def _pass_on(caught, log):

@@ -31,6 +31,11 @@ Pruning is applied exactly as eq. (14) says: an edge goes when w >= mu * mean. W
 edges leaving a node weigh the same (always so in a two-node database) none of them is
 below mu * mean for mu <= 1, and that node has no way out; the unpruned weights kept in
 ``G.graph["unpruned"]`` let a caller explain such a dead end.
+
+Such dead ends are the paper's graph. By default (``connect="auto"``) :func:`graph_from`
+then adds back the fewest, lightest complete-graph edges that make every motion reach every
+other (:mod:`engine.connect`, which proves the choice optimal); those edges carry
+``added=True`` and ``G.graph["connect"]`` says how many were added and why.
 """
 
 import math
@@ -234,7 +239,7 @@ def prune(unpruned, mu=MU):
     return {(i, j) for (i, j), w in unpruned.items() if w < mu * means[i]}
 
 
-def graph_from(nodes, unpruned, transitions, mu=MU):
+def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto"):
     """The pruned motion graph from stored weights and transition frames, no features needed.
 
     Parameters
@@ -247,36 +252,62 @@ def graph_from(nodes, unpruned, transitions, mu=MU):
         ``(exit, entry)`` frames for all i != j, as returned by :func:`transitions`.
     mu : float
         The parameter of eq. (14).
+    connect : {"auto", "off"}
+        ``"auto"`` adds the complete-graph edges :func:`engine.connect.connect` chooses, so
+        that every motion reaches every other; ``"off"`` keeps the pruned graph as printed.
 
     Returns
     -------
     networkx.DiGraph
         Nodes are ids with attributes ``name``, ``sequence``, ``start``, ``end``,
-        ``cluster``, ``texton_distance``, ``intensity``; kept edges carry ``weight``,
-        ``exit_frame`` (t_i*, in the source's sequence) and ``entry_frame`` (t_j*, in the
-        target's). ``G.graph`` holds ``mu``, ``unpruned`` and ``transitions`` (copies), so
-        the graph can be pruned again at another mu.
+        ``cluster``, ``texton_distance``, ``intensity``; edges carry ``weight``,
+        ``exit_frame`` (t_i*, in the source's sequence), ``entry_frame`` (t_j*, in the
+        target's) and ``added`` (True for an edge put back to connect the graph).
+        ``G.graph`` holds ``mu``, ``unpruned`` and ``transitions`` (copies), so the graph
+        can be pruned again at another mu, and ``connect``, the summary of
+        :meth:`engine.connect.Connection.summary`.
 
     Examples
     --------
     >>> nodes = [Node(0, "a/01", "a", 0, 1, 0, 0.0, 1.0), Node(1, "a/02", "a", 3, 4, 1, 0.0, 2.0)]
     >>> G = graph_from(nodes, {(0, 1): 2.0, (1, 0): 1.0}, {(0, 1): (1, 3), (1, 0): (3, 1)}, mu=1.5)
     >>> G.edges[0, 1]
-    {'weight': 2.0, 'exit_frame': 1, 'entry_frame': 3}
+    {'weight': 2.0, 'exit_frame': 1, 'entry_frame': 3, 'added': False}
     >>> G.graph["mu"], G.nodes[1]["name"]
     (1.5, 'a/02')
     """
+    from . import connect as connection
+
+    if connect not in connection.MODES:
+        raise ValueError(f"connect should be one of {', '.join(connection.MODES)}, not {connect!r}")
     G = nx.DiGraph(mu=mu, unpruned=dict(unpruned), transitions=dict(transitions))
     for node in nodes:
         attributes = asdict(node)
         G.add_node(attributes.pop("id"), **attributes)
-    for i, j in sorted(prune(unpruned, mu)):
+    kept = sorted(prune(unpruned, mu))
+    found = connection.Connection()
+    if connect == "auto":
+        found = connection.connect(*_dense(G, unpruned, kept))
+    for (i, j), added in [*((edge, False) for edge in kept), *((edge, True) for edge in found.added)]:
         exit_frame, entry_frame = transitions[i, j]
-        G.add_edge(i, j, weight=unpruned[i, j], exit_frame=exit_frame, entry_frame=entry_frame)
+        G.add_edge(i, j, weight=unpruned[i, j], exit_frame=exit_frame, entry_frame=entry_frame, added=added)
+    G.graph["connect"] = found.summary(connect)
     return G
 
 
-def build_graph(nodes, vectors_by_sequence, mu=MU):
+def _dense(G, unpruned, kept):
+    """``(weights, kept)`` as (N, N) arrays over the graph's nodes in id order (ids 0..N-1)."""
+    n = G.number_of_nodes()
+    weights = np.full((n, n), np.inf)
+    for (i, j), w in unpruned.items():
+        weights[i, j] = w
+    mask = np.zeros((n, n), bool)
+    for i, j in kept:
+        mask[i, j] = True
+    return weights, mask
+
+
+def build_graph(nodes, vectors_by_sequence, mu=MU, connect="auto"):
     """The motion graph of a database, section 6: eq. (10)-(14) in one call.
 
     Parameters
@@ -289,6 +320,8 @@ def build_graph(nodes, vectors_by_sequence, mu=MU):
         Feature vectors of every sequence, rows indexed by frame.
     mu : float
         The parameter of eq. (14).
+    connect : {"auto", "off"}
+        Whether to make the pruned graph strongly connected, see :func:`graph_from`.
 
     Returns
     -------
@@ -300,9 +333,11 @@ def build_graph(nodes, vectors_by_sequence, mu=MU):
     >>> nodes = [Node(0, "a/01", "a", 0, 1, 0, 0.0), Node(1, "a/02", "a", 2, 3, 1, 0.0),
     ...          Node(2, "a/03", "a", 4, 5, 2, 0.0)]
     >>> a = np.array([[0.0], [1.0], [3.0], [5.0], [9.0], [10.0]])
-    >>> G = build_graph(nodes, {"a": a})
+    >>> G = build_graph(nodes, {"a": a}, connect="off")
     >>> sorted(G.edges)
     [(0, 1), (1, 0), (2, 1)]
+    >>> sorted(build_graph(nodes, {"a": a}).edges)  # motion 2 was a source: one edge in is added
+    [(0, 1), (1, 0), (1, 2), (2, 1)]
     >>> G.edges[2, 1]["exit_frame"], G.edges[2, 1]["entry_frame"]
     (4, 3)
     """
@@ -314,7 +349,7 @@ def build_graph(nodes, vectors_by_sequence, mu=MU):
     w = edge_weights(distances, intensities)
     unpruned = {(i, j): float(w[i, j]) for (i, j) in frames}
     measured = [replace(node, intensity=float(x)) for node, x in zip(nodes, intensities)]
-    return graph_from(measured, unpruned, frames, mu)
+    return graph_from(measured, unpruned, frames, mu, connect)
 
 
 def nodes_of(graph):

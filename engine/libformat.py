@@ -203,11 +203,15 @@ class MeshWriter:
 
 
 def graph_to_json(graph):
-    """What ``graph.json`` holds: the complete graph's weights, transition frames and mu."""
+    """What ``graph.json`` holds: the complete graph's weights, transition frames and mu; and,
+    for a reader other than tvmedit (which derives them again), the edges added to connect
+    the graph and why."""
     unpruned = graph.graph["unpruned"]
     transitions = graph.graph["transitions"]
     return {
         "mu": graph.graph["mu"],
+        "connect": graph.graph.get("connect"),
+        "added": [[int(i), int(j)] for i, j, added in sorted(graph.edges(data="added")) if added],
         "unpruned": [[int(i), int(j), float(w)] for (i, j), w in sorted(unpruned.items())],
         "transitions": [[int(i), int(j), int(a), int(b)] for (i, j), (a, b) in sorted(transitions.items())],
     }

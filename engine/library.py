@@ -37,7 +37,8 @@ INFO_SCHEMA = {
         "params": {
             "type": "object",
             "description": "build parameters: bins (r in metres, theta and phi in radians), "
-                           "structure (the parser's parameters), mu, skip_bad_frames",
+                           "structure (the parser's parameters), mu, skip_bad_frames, "
+                           "connect (auto: edges added so every motion reaches every other; off)",
             "required": ["bins", "structure", "mu"],
             "properties": {
                 "bins": {"type": "object", "required": ["r", "theta", "phi"],
@@ -45,6 +46,7 @@ INFO_SCHEMA = {
                 "structure": {"type": "object"},
                 "mu": _NUM,
                 "skip_bad_frames": {"type": "boolean"},
+                "connect": {"enum": ["auto", "off"]},
             },
         },
         "sequences": {
@@ -83,8 +85,20 @@ INFO_SCHEMA = {
                 "type": "object",
                 "required": ["from", "to", "weight", "exit_frame", "entry_frame"],
                 "properties": {"from": _INT, "to": _INT, "weight": _NUM,
-                               "exit_frame": _INT, "entry_frame": _INT},
+                               "exit_frame": _INT, "entry_frame": _INT,
+                               "added": {"type": "boolean",
+                                         "description": "put back from the complete graph so that every "
+                                                        "motion reaches every other (engine.connect)"}},
             },
+        },
+        "connect": {
+            "type": "object",
+            "description": "how the pruned graph was made strongly connected",
+            "required": ["mode", "added", "largest_weight", "reason"],
+            "properties": {"mode": {"enum": ["auto", "off"]}, "added": _INT,
+                           "largest_weight": {"type": ["number", "null"]},
+                           "fewest": {"type": "boolean"}, "components_before": _INT,
+                           "reason": {"type": "string"}},
         },
     },
 }
@@ -174,12 +188,18 @@ class Library:
 
     @property
     def params(self):
-        """Build parameters: ``bins``, ``structure``, ``mu``, ``skip_bad_frames``."""
+        """Build parameters: ``bins``, ``structure``, ``mu``, ``skip_bad_frames``, ``connect``."""
         return self.manifest["params"]
 
     @property
     def mu(self):
         return float(self.params["mu"])
+
+    @property
+    def connect(self):
+        """``"auto"`` (every motion reaches every other, :mod:`engine.connect`) or ``"off"``;
+        libraries built before the option existed are connected too."""
+        return self.params.get("connect", "auto")
 
     def sequence(self, name):
         """The :class:`LibrarySequence` called ``name``."""
@@ -256,11 +276,12 @@ class Library:
 
     @_reads_format
     def graph_at(self, mu=None):
-        """The motion graph pruned at ``mu`` (default: the library's), names applied."""
+        """The motion graph pruned at ``mu`` (default: the library's) and connected as the
+        library was built (:attr:`connect`), names applied."""
         from .graph import graph_from
 
         unpruned, transitions, stored_mu = self._graph_data
-        return graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else mu)
+        return graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else mu, self.connect)
 
     def rename(self, node, name):
         """Give a node a new, unique name, stored at once in ``names.json``; returns the node."""
@@ -391,10 +412,12 @@ class Library:
                   "kind": n.kind}
                  for n in self._nodes]
         edges = [{"from": int(i), "to": int(j), "weight": float(d["weight"]),
-                  "exit_frame": int(d["exit_frame"]), "entry_frame": int(d["entry_frame"])}
+                  "exit_frame": int(d["exit_frame"]), "entry_frame": int(d["entry_frame"]),
+                  "added": bool(d.get("added", False))}
                  for i, j, d in sorted(self.graph.edges(data=True))]
         return {"format": self.manifest["format"], "tvmedit": self.manifest.get("tvmedit", ""),
-                "params": self.params, "sequences": sequences, "nodes": nodes, "edges": edges}
+                "params": self.params, "sequences": sequences, "nodes": nodes, "edges": edges,
+                "connect": self.graph.graph["connect"]}
 
     def edit(self, keys, forbid=(), loops=1):
         """Compose an edit through the key motions ``keys`` (ids or names), sections 7-8.

@@ -329,6 +329,12 @@ def _no_path(graph, source, target, forbidden):
             return NoPath(f"No path leads from motion {a} to {b} because {motion_label(graph, node)} "
                           f"is itself forbidden; allow it or choose another key motion.",
                           source=source, target=target, mu=math.inf)
+    if forbidden and _reaches(graph, source, target):
+        names = ", ".join(motion_label(graph, node) for node in sorted(forbidden))
+        which = "it" if len(forbidden) == 1 else "one of them"
+        return NoPath(f"No path leads from motion {a} to {b} without the forbidden motion"
+                      f"{'s' if len(forbidden) > 1 else ''} {names}; allow {which} or choose another key motion.",
+                      source=source, target=target, mu=math.inf)
     mu = minimum_mu(graph, source, target, forbidden)
     if mu is None:
         message = (f"No path leads from motion {a} to {b} in the motion graph{at}; "
@@ -341,6 +347,12 @@ def _no_path(graph, source, target, forbidden):
         message = (f"No path leads from motion {a} to {b} in the motion graph{at}, but a path "
                    f"exists from mu = {mu:g}: rebuild with mu={mu:g} or choose another key motion.")
     return NoPath(message, source=source, target=target, mu=mu)
+
+
+def _reaches(graph, source, target):
+    """Whether the graph as it stands, nothing forbidden, leads from source to target."""
+    index = SearchIndex.of(graph)
+    return index.bottleneck(index.row[source], index.row[target], None) < np.inf
 
 
 def best_path(graph, source, target, weight="weight", forbidden=(), method="exact", index=None):

@@ -114,3 +114,15 @@ def small_library():
     if not (out / "manifest.json").exists():
         engine.build([("gym", take)], out, workers=2, cache=False, force=True)
     return out
+
+
+@pytest.fixture(scope="session")
+def paper_library(small_library):
+    """:func:`small_library` with the paper's graph (``connect="off"``): motions can be cut off."""
+    import engine
+
+    take = synth_take("gym", cycles=3, vertices=4000)
+    out = CACHE / f"{small_library.name}-paper"
+    if not (out / "manifest.json").exists():
+        engine.build([("gym", take)], out, workers=2, force=True, connect="off")
+    return out

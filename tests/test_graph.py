@@ -48,7 +48,8 @@ def database():
 
 @pytest.fixture
 def graph():
-    return build_graph(database(), VECTORS)
+    """The paper's graph, pruned by eq. (14) alone (connection is tested in test_connect)."""
+    return build_graph(database(), VECTORS, connect="off")
 
 
 def test_unpruned_weights_match_the_hand_computation(graph):
@@ -129,8 +130,11 @@ def test_edge_equal_to_mu_times_mean_is_pruned():
 def test_two_node_database_has_no_edges_unless_mu_exceeds_one():
     # Each node has one edge, which is its own mean: w >= mu * w for every mu <= 1.
     nodes = database()[:2]
-    assert build_graph(nodes, VECTORS).number_of_edges() == 0
+    assert build_graph(nodes, VECTORS, connect="off").number_of_edges() == 0
     assert sorted(build_graph(nodes, VECTORS, mu=1.01).edges) == [(0, 1), (1, 0)]
+    # connected by default: both directions put back, marked as added
+    G = build_graph(nodes, VECTORS)
+    assert sorted(G.edges(data="added")) == [(0, 1, True), (1, 0, True)]
 
 
 def test_frozen_texton_gets_a_finite_weight_through_the_intensity_floor():

@@ -97,6 +97,9 @@ def add_arguments(parser):
         group.add_argument(flag, help=f"{text} (default: %(default)s)", **kwargs)
 
     group = parser.add_argument_group("motion graph (section 6)")
+    group.add_argument("--connect", choices=("auto", "off"), default="auto",
+                       help="auto (default): add back the fewest, lightest transitions of the complete graph "
+                            "so that every motion reaches every other; off: keep the paper's pruned graph")
     group.add_argument("--mu", type=float, default=MU,
                        help="pruning parameter of eq. (14); larger keeps more edges (default: %(default)g)")
 
@@ -136,7 +139,7 @@ def run(args):
         value = getattr(args, f"structure_{field.name}")
         structure[field.name] = tuple(value) if isinstance(getattr(defaults, field.name), tuple) else value
     library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
-                    skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
+                    connect=args.connect, skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
                     workers=args.workers, dask=args.dask, force=args.force,
                     cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror)
     if args.quiet:
@@ -145,7 +148,9 @@ def run(args):
     reused = report["reused"]
     say(f"built {library.path}: {report['sequences']} sequence(s), {report['frames']} frames, "
         f"{report['clusters']} clusters, {report['nodes']} database motions, "
-        f"{report['edges']} graph edges, {report['stored_frames']} frames stored, "
+        f"{report['edges']} graph edges"
+        + (f" ({report['added']} added so every motion reaches every other)" if report.get("added") else "")
+        + f", {report['stored_frames']} frames stored, "
         f"in {report['seconds']:.1f} s ({report['workers']})"
         + (f"; features reused for {len(reused)} of {report['sequences']} sequence(s)" if reused else ""))
     return 0

@@ -3,7 +3,9 @@
 With --json the summary is one JSON object (schema: ``engine.library.INFO_SCHEMA``):
 ``format``, ``params``, ``sequences`` (name, frames, fps, clusters and textons as inclusive
 0-based frame ranges), ``nodes`` (id, name, sequence, start, end, texton_distance,
-intensity) and ``edges`` of the pruned graph (from, to, weight, exit_frame, entry_frame).
+intensity), ``edges`` of the graph (from, to, weight, exit_frame, entry_frame, and
+``added``: true for an edge put back so that every motion reaches every other) and
+``connect`` (mode, how many edges were added, their largest weight, and why).
 """
 
 import json
@@ -69,10 +71,13 @@ def run(args):
     hint = options.as_flags(advice(library.nodes))
     if hint:
         print(f"note: {hint}")
-    print(f"graph: {len(info['edges'])} edges after pruning at mu={params['mu']:g}")
+    connect = info["connect"]
+    added = f", {connect['added']} of them added to connect it" if connect["added"] else ""
+    print(f"graph: {len(info['edges'])} edges after pruning at mu={params['mu']:g}{added} "
+          f"(connect {connect['mode']}: {connect['reason']})")
     for e in info["edges"]:
         print(f"  {names[e['from']]:<{width}} -> {names[e['to']]:<{width}}  weight {e['weight']:.3f}  "
-              f"exit {e['exit_frame']}  entry {e['entry_frame']}")
+              f"exit {e['exit_frame']}  entry {e['entry_frame']}{'  (added)' if e['added'] else ''}")
     (low, high), (v, f) = library.bounds(), library.max_counts()
     size = sum(manifest["files"].values()) / 1e6
     print(f"stored: {manifest['counts']['stored_frames']} frames ({size:.0f} MB), up to {v} vertices "
