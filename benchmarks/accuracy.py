@@ -1,84 +1,112 @@
-"""Motion-structure accuracy on real motion: one table per take and variant, both methods.
+"""Motion-structure accuracy on the development suite, per group, pooled, and held out.
 
-    python benchmarks/accuracy.py [--takes 13_30 13_29] [--variants base seed1 ...]
+    python benchmarks/accuracy.py [--groups synth cmu ...] [--methods energy paper] [--no-cv] [--takes]
 
-For every CMU take turned into meshes (``mocap2tvm.py``, generated once into
-``.cache/testdata`` exactly as the tests do), and for the synthetic actor's gym preset and every variant of it (another noise seed,
-palette, body build, more noise, 30 fps), the sequence is parsed with ``method="energy"``
-(default) and ``method="paper"`` and scored with :mod:`engine.evaluate`: cluster-boundary
-precision and recall (one-to-one, within 1 s) and texton-length accuracy (median texton
-length within 15 % of the true period). The paper method is also shown at its printed
-beta = 0.07.
+Every take of the suite (``benchmarks/devsuite.py``: the synthetic actor varied, the same
+actor drifting across the volume, CMU 13_29/13_30 warped, mirrored and cut, and HDM05 people
+stitched into multi-exercise takes) is parsed from its cached features and scored with
+:mod:`engine.evaluate`: cluster-start precision and recall (one-to-one, within 1 s, frame 0
+left out) and texton-length accuracy (median texton length within 15 % of the true period),
+summed over a group's takes. Then leave-one-group-out cross-validation: for each group, the
+setting of :data:`GRID` with the best mean score on the *other* groups is chosen and its
+figures on the held-out group are printed; "held-out pooled" sums those. ``--takes`` also
+prints each take's line.
 """
 
 import argparse
+import math
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from conftest import CACHE, mocap_take, synth_take  # noqa: E402  (the tests' generators and cache)
+import devsuite  # noqa: E402
 
-from engine.evaluate import load_truth, score_take  # noqa: E402
-from engine.structure import StructureParams  # noqa: E402
+from engine.evaluate import pool, score  # noqa: E402
+from engine.structure import StructureParams, parse  # noqa: E402
 
-VARIANTS = {
-    "base": {},
-    "seed1": {"seed": 1},
-    "palette-b": {"palette": "b"},
-    "build0.8": {"build": 0.8},
-    "build1.3": {"build": 1.3},
-    "noise0.006": {"noise": 0.006},
-    "fps30": {"fps": 30},
-}
-METHODS = {
-    "energy": StructureParams(),
-    "paper": StructureParams(method="paper"),
-    "paper b=.07": StructureParams(method="paper", beta=0.07),
-}
+METHODS = {"energy": {}, "paper": {"method": "paper"}}
+
+#: Settings cross-validation chooses from (the default among them).
+GRID = [{"novelty_threshold": t, "novelty_window": w}
+        for t in (0.03, 0.05, 0.08) for w in (2.0, 3.0, 4.0)]
 
 
-def take_folder(take, variant="base"):
-    """The cached frames of a CMU take (or ``synth-gym``) in one of :data:`VARIANTS`."""
-    return synth_take("gym") if take == "synth-gym" else mocap_take(take, **VARIANTS[variant])
+def run(takes, params):
+    """Score of each take parsed with ``params`` (a StructureParams)."""
+    out = []
+    for take in takes:
+        t0 = time.perf_counter()
+        s = parse(take.vectors, take.fps, params, theta=take.theta)
+        result = score(s, take.truth, take.fps)
+        result.structure, result.parse_seconds = s, time.perf_counter() - t0
+        out.append(result)
+    return out
 
 
-def score(folder, params):
-    """(precision, recall, texton accuracy, clusters, seconds) of one parse."""
-    result = score_take(folder, params, cache_dir=CACHE.parent / "features")
-    return result.precision, result.recall, result.texton_accuracy, result.structure, result.parse_seconds
+def merit(scores_by_group):
+    """Mean over groups of (boundary F1 + texton accuracy) / 2: what cross-validation maximises."""
+    values = []
+    for scores in scores_by_group.values():
+        p, r, a = pool(scores)
+        f1 = 2 * p * r / (p + r) if p + r else 0.0
+        values.append((f1 + (0.0 if math.isnan(a) else a)) / 2)
+    return sum(values) / len(values)
+
+
+def line(label, p, r, a, extra=""):
+    return f"{label:28s} {p:5.2f} {r:6.2f} {a:6.2f} {extra}"
+
+
+def table(takes, params, per_take=False):
+    """Print per-group and pooled figures; returns the scores by group."""
+    groups = {}
+    for take, result in zip(takes, run(takes, params)):
+        groups.setdefault(take.group, []).append(result)
+        if per_take:
+            n = len(result.segments) - 1
+            print(line(f"  {take.name}", result.precision, result.recall, result.texton_accuracy,
+                       f"{result.detected:3d} found {n:3d} true"))
+    for group, scores in groups.items():
+        print(line(group, *pool(scores), f"({len(scores)} takes)"))
+    print(line("pooled", *pool([s for v in groups.values() for s in v])))
+    return groups
+
+
+def cross_validate(takes, base):
+    """Leave one group out: choose a :data:`GRID` setting on the rest, report on the group."""
+    by_setting = []
+    for setting in GRID:
+        params = StructureParams(**{**base, **setting})
+        scores = {}
+        for take, result in zip(takes, run(takes, params)):
+            scores.setdefault(take.group, []).append(result)
+        by_setting.append((setting, scores))
+    held = []
+    for group in by_setting[0][1]:
+        setting, scores = max(by_setting, key=lambda sc: merit({g: v for g, v in sc[1].items() if g != group}))
+        held += scores[group]
+        chosen = ", ".join(f"{k}={v:g}" for k, v in setting.items())
+        print(line(f"held out: {group}", *pool(scores[group]), f"chosen on the rest: {chosen}"))
+    print(line("held-out pooled", *pool(held)))
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--takes", nargs="+", default=["13_30", "13_29", "synth-gym"],
-                    help="CMU takes, or synth-gym for the synthetic actor (base variant only)")
-    ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
-    ap.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
-    ap.add_argument("--verbose", action="store_true", help="print detected clusters and periods")
+    ap.add_argument("--groups", nargs="+", default=list(devsuite.GROUPS), choices=list(devsuite.GROUPS))
+    ap.add_argument("--methods", nargs="+", default=["energy"], choices=list(METHODS))
+    ap.add_argument("--no-cv", action="store_true", help="skip the cross-validation")
+    ap.add_argument("--takes", action="store_true", help="print every take's figures too")
     args = ap.parse_args(argv)
-    print(f"{'take':9s} {'variant':11s} {'method':12s} {'prec':>5s} {'recall':>6s} {'texton':>6s} {'clusters':>8s} {'parse s':>7s}")
-    worst = {}
-    for take in args.takes:
-        for name in args.variants:
-            if take == "synth-gym" and name != "base":
-                continue
-            folder = take_folder(take, name)
-            for method in args.methods:
-                p, r, acc, s, sec = score(folder, METHODS[method])
-                print(f"{take:9s} {name:11s} {method:12s} {p:5.2f} {r:6.2f} {acc:6.2f} {len(s.clusters):8d} {sec:7.2f}")
-                w = worst.setdefault(method, [1.0, 1.0, 1.0])
-                w[0], w[1] = min(w[0], p), min(w[1], r)
-                w[2] = min(w[2], acc) if acc == acc else w[2]
-                if args.verbose:
-                    truth = load_truth(folder)
-                    print("      truth   ", [(g["start"], round(h["period_frames"], 1) if h else None)
-                                              for g, h in zip(truth["segments"], truth["periods_hint"])])
-                    print("      detected", [(c[0], [len(t) for t in s.textons_of(i)]) for i, c in enumerate(s.clusters)])
-    for method, (p, r, a) in worst.items():
-        print(f"worst over all: {method:12s} precision {p:.2f} recall {r:.2f} texton {a:.2f}")
+    takes = devsuite.takes(args.groups)
+    for method in args.methods:
+        print(f"== method {method}: {'group':18s} prec recall texton")
+        table(takes, StructureParams(**METHODS[method]), args.takes)
+        if method == "energy" and not args.no_cv and len({t.group for t in takes}) > 1:
+            cross_validate(takes, METHODS[method])
 
 
 if __name__ == "__main__":

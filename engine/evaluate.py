@@ -32,6 +32,7 @@ __all__ = [
     "Score",
     "score",
     "score_take",
+    "pool",
     "tolerance_frames",
     "boundary_scores",
     "texton_length_accuracy",
@@ -71,6 +72,8 @@ class Score:
     structure: object = field(default=None, repr=False)
     parse_seconds: float = 0.0
     feature_columns: int = 0
+    detected: int = 0
+    texton_rows: list = field(default_factory=list)
 
 
 def _segments_at(truth, fps):
@@ -98,8 +101,29 @@ def score(structure, truth, fps=None):
     tolerance = tolerance_frames(fps)
     precision, recall, matches = boundary_scores(structure.clusters, segments, tolerance)
     same_rate = segments == list(truth["segments"])
-    accuracy = texton_length_accuracy(structure, truth) if same_rate else math.nan
-    return Score(precision, recall, accuracy, matches, tolerance, segments)
+    accuracy, rows = texton_length_accuracy(structure, truth, details=True) if same_rate else (math.nan, [])
+    return Score(precision, recall, accuracy, matches, tolerance, segments,
+                 detected=len(_starts(structure.clusters)), texton_rows=rows)
+
+
+def pool(scores):
+    """Precision, recall and texton-length accuracy of many takes scored together.
+
+    Matches, detections, true starts and scored clusters are summed over the takes (so a
+    long take weighs more than a short one), as if they were one take.
+
+    >>> a = Score(1.0, 0.5, 1.0, [(5, 5)], 10, [{"start": 0}, {"start": 5}, {"start": 9}], detected=1,
+    ...           texton_rows=[(0, 0, 5.0, 5.0, True)])
+    >>> pool([a, a])
+    (1.0, 0.5, 1.0)
+    """
+    matched = sum(len(s.matches) for s in scores)
+    detected = sum(s.detected for s in scores)
+    true = sum(len(_starts(s.segments)) for s in scores)
+    rows = [r[4] for s in scores for r in s.texton_rows]
+    precision = matched / detected if detected else (1.0 if not true else 0.0)
+    recall = matched / true if true else 1.0
+    return precision, recall, (float(np.mean(rows)) if rows else float("nan"))
 
 
 def score_take(folder, params=None, bins=None, cache_dir=None):

@@ -59,6 +59,7 @@ __all__ = [
     "frame_histograms",
     "spherical",
     "features_of",
+    "frame_origin",
     "frame_distance",
     "histogram_distance",
     "distance_matrix",
@@ -403,6 +404,23 @@ class Features:
         return Features(r, self.theta, self.phi, self.origin, self.bins)
 
 
+def frame_origin(positions, origin, follow):
+    """The origin of one frame's coordinates (eq. (1)).
+
+    The paper fixes it at the first frame's centroid (``follow`` False: ``origin``). A person
+    who moves across the capture volume then drifts away from it, and every histogram changes
+    with the position rather than the pose. With ``follow``, the origin is the frame's own
+    centroid horizontally and ``origin``'s height vertically, so it moves with the person.
+
+    >>> frame_origin(np.array([[2.0, 1.0, 0.0], [4.0, 1.0, 2.0]]), np.zeros(3), True).tolist()
+    [3.0, 1.0, 0.0]
+    """
+    if not follow:
+        return origin
+    centre = np.asarray(positions, dtype=np.float64).mean(axis=0)
+    return np.array([centre[0], centre[1], origin[2]])
+
+
 class FeatureAccumulator:
     """Builds :class:`Features` one frame at a time, so no caller must hold every mesh.
 
@@ -418,9 +436,10 @@ class FeatureAccumulator:
     1
     """
 
-    def __init__(self, bins: BinSizes | None = None, origin=None):
+    def __init__(self, bins: BinSizes | None = None, origin=None, follow=False):
         self.bins = bins if bins is not None else BinSizes()
         self.origin = None if origin is None else np.asarray(origin, dtype=np.float64)
+        self.follow = bool(follow)
         self._rows: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
 
     def add(self, positions) -> None:
@@ -430,7 +449,7 @@ class FeatureAccumulator:
             if positions.ndim != 2 or positions.shape[0] == 0:
                 raise InputError("the first frame has no vertices, so it gives no origin")
             self.origin = positions.mean(axis=0, dtype=np.float64)
-        self._rows.append(frame_histograms(positions, self.origin, self.bins))
+        self._rows.append(frame_histograms(positions, frame_origin(positions, self.origin, self.follow), self.bins))
 
     def add_histograms(self, h_r, h_theta, h_phi) -> None:
         """Append histograms computed elsewhere (e.g. by a worker with the same origin)."""

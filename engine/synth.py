@@ -19,7 +19,7 @@ frame (grid offset, vertex and colour noise) only on the seed and the frame inde
 number of workers writes byte-identical files.
 
 >>> sorted(MOTIONS)
-['arm-circles', 'jumping-jacks', 'run', 'side-bends', 'squats', 'walk']
+['arm-circles', 'jumping-jacks', 'knee-raises', 'run', 'side-bends', 'squats', 'walk']
 >>> PRESETS["gym"]["motions"][0], PRESETS["walk"]["motions"]
 ('walk', ['walk'])
 """
@@ -139,6 +139,15 @@ def _side_bends(phase, a):
                  hip_abd_l=0.16, hip_abd_r=0.16)
 
 
+def _knee_raises(phase, a):
+    # The left knee comes up to the right elbow, then the right knee to the left elbow.
+    th = 2 * np.pi * phase
+    left, right = max(0.0, np.sin(th)), max(0.0, -np.sin(th))
+    return _pose(hip_flex_l=1.5 * a * left, knee_l=1.7 * a * left, hip_flex_r=1.4 * a * right,
+                 knee_r=1.6 * a * right, yaw=0.35 * a * (left - right), pitch=0.2 * (left + right),
+                 sh_flex_l=0.6 + 0.3 * right, sh_flex_r=0.6 + 0.3 * left, elbow_l=1.9, elbow_r=1.9)
+
+
 @dataclass(frozen=True)
 class Motion:
     """A cyclic motion: pose function of (phase, amplitude), mean period and default cycles."""
@@ -155,6 +164,7 @@ MOTIONS = {
     "arm-circles": Motion(_arm_circles, 1.5, 7),
     "squats": Motion(_squats, 2.2, 5),
     "side-bends": Motion(_side_bends, 2.5, 4),
+    "knee-raises": Motion(_knee_raises, 1.8, 5),
 }
 
 PRESETS = {
@@ -165,20 +175,26 @@ PRESETS = {
 }
 
 
-def _timeline(motions, counts, seed):
+def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, still=0.0, jitter=1.0):
     """Pieces ``(kind, motion_index, t0, duration, amp0, amp1)`` back to back, the cycle
-    periods (seconds) of each motion, and the total duration. kind is "cycle" or
-    "transition" (into ``motion_index``); amp0 and amp1 are the amplitudes at the start and
-    end of a cycle, so the amplitude changes smoothly from one cycle to the next."""
+    periods (seconds) of each motion, and the total duration. kind is "cycle", "transition"
+    (into ``motion_index``) or "still" (standing at rest before ``motion_index``); amp0 and
+    amp1 are the amplitudes at the start and end of a cycle, so the amplitude changes
+    smoothly from one cycle to the next. ``periods_s`` overrides each motion's mean period,
+    ``jitter`` scales the cycle-to-cycle spread of period and amplitude, and ``still`` seconds
+    of standing at rest split each transition in two halves (into the rest pose and out)."""
     rng = np.random.default_rng(np.random.SeedSequence([seed, 0]))
     pieces, periods, t = [], [], 0.0
     for m, (name, n) in enumerate(zip(motions, counts)):
-        motion = MOTIONS[name]
-        per = motion.period_s * (1 + np.clip(rng.normal(0, PERIOD_JITTER, n), -0.1, 0.1))
-        amp = 1 + np.clip(rng.normal(0, AMPLITUDE_JITTER, n + 1), -0.15, 0.15)
+        mean = MOTIONS[name].period_s if periods_s is None else periods_s[m]
+        per = mean * (1 + jitter * np.clip(rng.normal(0, PERIOD_JITTER, n), -0.1, 0.1))
+        amp = 1 + jitter * np.clip(rng.normal(0, AMPLITUDE_JITTER, n + 1), -0.15, 0.15)
         if m > 0:
-            pieces.append(("transition", m, t, TRANSITION_S, 0.0, 0.0))
-            t += TRANSITION_S
+            steps = [("transition", transition)] if still <= 0 else [
+                ("transition", transition / 2), ("still", still), ("transition", transition / 2)]
+            for kind, dur in steps:
+                pieces.append((kind, m, t, dur, 0.0, 0.0))
+                t += dur
         for i in range(n):
             pieces.append(("cycle", m, t, float(per[i]), float(amp[i]), float(amp[i + 1])))
             t += float(per[i])
@@ -186,15 +202,23 @@ def _timeline(motions, counts, seed):
     return pieces, periods, t
 
 
+def _piece_pose(pieces, motions, j, end):
+    """Pose at the start (``end`` False) or end of a cycle or still piece ``j``."""
+    kind, m, _, _, amp0, amp1 = pieces[j]
+    return _pose() if kind == "still" else MOTIONS[motions[m]].pose(0.0, amp1 if end else amp0)
+
+
 def _pose_at(pieces, motions, t):
     """Pose vector at time t (seconds) and the index of the motion it belongs to."""
     for j, (kind, m, t0, dur, amp0, amp1) in enumerate(pieces):
         if t < t0 + dur or j == len(pieces) - 1:
-            u = min(max((t - t0) / dur, 0.0), 1.0)
+            u = min(max((t - t0) / max(dur, 1e-9), 0.0), 1.0)
             if kind == "cycle":
                 return MOTIONS[motions[m]].pose(u % 1.0, amp0 + (amp1 - amp0) * u), m
-            before = MOTIONS[motions[m - 1]].pose(0.0, pieces[j - 1][5])
-            after = MOTIONS[motions[m]].pose(0.0, pieces[j + 1][4])
+            if kind == "still":
+                return _pose(), m
+            before = _piece_pose(pieces, motions, j - 1, True)
+            after = _piece_pose(pieces, motions, j + 1, False)
             w = u * u * (3 - 2 * u)
             return (1 - w) * before + w * after, m
     raise AssertionError("empty timeline")
@@ -226,8 +250,10 @@ def _limb(side_axis, fwd, up, flex, abd):
     return d, n
 
 
-def primitives(pose):
+def primitives(pose, build=1.0):
     """Primitives of the posed body, feet resting on z = 0 (plus the pose's jump lift).
+
+    ``build`` scales the radii of the trunk and limbs (0.8 slim, 1.3 heavy).
 
     Returns a list of tuples ``("cap", a, b, ra, rb, part)`` (tapered capsule from a to b)
     and ``("ell", centre, axes (3, 3) columns, radii (3,), part)``; part names the body
@@ -282,9 +308,9 @@ def primitives(pose):
     moved = []
     for prim in prims:
         if prim[0] == "cap":
-            moved.append(("cap", prim[1] + shift, prim[2] + shift, *prim[3:]))
+            moved.append(("cap", prim[1] + shift, prim[2] + shift, prim[3] * build, prim[4] * build, prim[5]))
         else:
-            moved.append(("ell", prim[1] + shift, *prim[2:]))
+            moved.append(("ell", prim[1] + shift, prim[2], prim[3] * build, prim[4]))
     return moved
 
 
@@ -347,15 +373,16 @@ def _field(prims, h, origin, shape):
     return field
 
 
-def make_frame(pose, voxel, rng):
-    """One reconstructed frame of the actor in the given pose.
+def make_frame(pose, voxel, rng, build=1.0, noise=NOISE_M):
+    """One reconstructed frame of the actor in the given pose (``build``: see :func:`primitives`;
+    ``noise``: standard deviation of the vertex noise, metres).
 
     Returns ``vertices (V, 3) float32``, ``faces (F, 3) int32`` (outward winding) and
     ``colours (V, 3) uint8``.
     """
     from skimage.measure import marching_cubes
 
-    prims = primitives(pose)
+    prims = primitives(pose, build)
     boxes = np.array([_bounds(p) for p in prims])
     lo, hi = boxes[:, 0].min(axis=0) - 2 * voxel, boxes[:, 1].max(axis=0) + 2 * voxel
     origin = lo - rng.uniform(0.0, voxel, 3)
@@ -363,7 +390,7 @@ def make_frame(pose, voxel, rng):
     field = _field(prims, voxel, origin, shape)
     verts, faces, _, _ = marching_cubes(field, 0.0, spacing=(voxel,) * 3,
                                         gradient_direction="descent", allow_degenerate=False)
-    verts = verts + origin + rng.normal(0.0, NOISE_M, verts.shape)
+    verts = verts + origin + rng.normal(0.0, noise, verts.shape)
     colours = _colours(prims, verts, rng)
     return verts.astype(np.float32), faces.astype(np.int32), colours
 
@@ -432,11 +459,16 @@ def _acf_at(poses, lag):
     return float((x[:-lag] * x[lag:]).sum() / den * len(x) / (len(x) - lag)) if den > 0 else None
 
 
-def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0):
+def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0, periods_s=None,
+         transition=TRANSITION_S, still=0.0, jitter=1.0):
     """Pose and label of every frame, without reconstructing any surface.
 
     Returns ``(poses, labels, motions, periods)``: poses ``(N, len(POSE)) float``, one label
     per frame, the motion names in order, and each motion's cycle periods in seconds.
+    ``cycles`` is one count for every motion or a list of one per motion; ``periods_s``
+    (one mean period per motion, seconds), ``transition`` (seconds of blend between two
+    motions), ``still`` (seconds standing at rest within each transition) and ``jitter``
+    (scale of the cycle-to-cycle spread) vary the timeline (see :func:`_timeline`).
 
     >>> poses, labels, motions, periods = plan("walk")
     >>> poses.shape[1] == len(POSE), labels[0], len(periods[0])
@@ -449,13 +481,18 @@ def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0):
     if unknown or not motions:
         raise InputError(f"Unknown motion '{unknown[0] if unknown else ''}'; "
                          f"choose from {', '.join(MOTIONS)}.")
-    if cycles is not None:
-        cycles = whole("cycles", cycles, at_least=1, at_most=MAX_CYCLES)
+    each = cycles if isinstance(cycles, (list, tuple)) else [cycles] * len(motions)
+    counts = [whole("cycles", c, at_least=1, at_most=MAX_CYCLES) if c is not None
+              else PRESETS[preset]["cycles"].get(m, MOTIONS[m].cycles) for c, m in zip(each, motions)]
+    periods_s = None if periods_s is None else [number("periods_s", x, above=0.05, at_most=60) for x in periods_s]
+    if len(each) != len(motions) or (periods_s is not None and len(periods_s) != len(motions)):
+        raise InputError(f"cycles and periods_s take one value for each of the {len(motions)} motions.")
     fps = number("fps", fps, above=0, at_most=120)
     whole("seed", seed, at_least=0, at_most=2 ** 32 - 1)
-    counts = [cycles if cycles is not None else PRESETS[preset]["cycles"].get(m, MOTIONS[m].cycles)
-              for m in motions]
-    pieces, periods, total = _timeline(motions, counts, seed)
+    transition = number("transition", transition, above=0, at_most=60)
+    still = number("still", still, at_least=0, at_most=600)
+    jitter = number("jitter", jitter, at_least=0, at_most=5)
+    pieces, periods, total = _timeline(motions, counts, seed, periods_s, transition, still, jitter)
     n = max(1, int(round(total * fps)))
     poses, labels = [], []
     for k in range(n):

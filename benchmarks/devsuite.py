@@ -1,0 +1,331 @@
+"""The parser's development suite (issue 15): many labelled takes in groups, scored on features.
+
+A parse is judged on takes it was not tuned on. The suite holds five groups:
+
+``synth``
+    The synthetic actor (:mod:`engine.synth`) varied: builds (slim to heavy) and heights,
+    mean periods 0.6-3 s, cycle-to-cycle jitter, exercise orders, transitions of 0.2-3 s
+    (with standing still between exercises), the left-then-right exercises (knee raises,
+    side bends), vertex noise and holes, frame rates 10-60 fps.
+``synth-drift``
+    The same actor walking across the capture volume while exercising (up to 1.5 m over a
+    take), so the paper's fixed origin at the first frame's centre falls behind.
+``cmu``
+    The real takes 13_29 and 13_30 (CMU subject 13) played at 0.7x and 1.4x, mirrored left to
+    right, and cut at random exercise boundaries (a cut starts a new take: its origin is its own
+    first frame's centre).
+``hdm05``
+    Three more people (HDM05 actors bd, bk, dg) stitched into multi-exercise takes with other
+    orders, block lengths and repetition counts (``shared/tools/hdm05_stitch.py``).
+
+Real takes are turned into meshes once (``mocap2tvm.py``) and every take's features are
+cached under ``.cache/devsuite``; the synthetic actor's frames are reconstructed in memory
+and turned into features without being written. A take here is its feature rows and its
+truth (segments and periods at the take's rate), which :func:`engine.evaluate.score` reads.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
+CACHE = Path(os.environ.get("TVMEDIT_TEST_CACHE", ROOT / ".cache" / "testdata")).parent / "devsuite"
+MOCAP2TVM = SHARED / "tools" / "mocap2tvm.py"
+STITCH = SHARED / "tools" / "hdm05_stitch.py"
+GROUPS = ("synth", "synth-drift", "cmu", "hdm05")
+
+
+@dataclass
+class Take:
+    """One labelled take of the suite.
+
+    Attributes
+    ----------
+    group, name : str
+    vectors : (T, D) float64
+        Feature rows (:attr:`engine.features.Features.vectors`).
+    theta : slice
+        Columns of the azimuth histogram.
+    fps : float
+    truth : dict
+        ``fps``, ``segments`` (inclusive frame ranges with labels) and ``periods_hint``
+        (``period_frames`` per segment, None where unknown), as in ``truth.json``.
+    """
+
+    group: str
+    name: str
+    vectors: np.ndarray
+    theta: slice
+    fps: float
+    truth: dict
+
+
+def _key(*parts):
+    return hashlib.sha1(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()[:12]
+
+
+def _run(cmd):
+    subprocess.run([sys.executable, *map(str, cmd)], check=True, stdout=subprocess.DEVNULL)
+
+
+def cmu_source(take, fps=20, **options):
+    """Folder of CMU take ``take`` turned into meshes at ``fps`` (``mocap2tvm.py`` options)."""
+    out = CACHE / f"cmu-{take}-{_key(take, fps, options)}"
+    if not (out / "truth.json").exists():
+        cmd = [MOCAP2TVM, SHARED / "data" / "mocap6" / f"{take}.amc", "--out", out, "--fps", fps,
+               "--workers", 1, "--overwrite", "--quiet"]
+        for name, value in options.items():
+            cmd += ["--" + name.replace("_", "-"), value]
+        _run(cmd)
+    return out
+
+
+def hdm_source(actor, plan, order_seed=None, **options):
+    """Folder of an HDM05 stitched take: ``plan`` as ``"squat1Reps:6,hopBothLegs1hops:8"``."""
+    out = CACHE / f"hdm-{actor}-{_key(actor, plan, order_seed, options)}"
+    if not (out / "truth.json").exists():
+        CACHE.mkdir(parents=True, exist_ok=True)
+        stem = CACHE / f"stitch-{out.name}"
+        data = SHARED / "data" / "hdm05"
+        _run([STITCH, data, actor, plan, stem] + ([] if order_seed is None else ["--seed", order_seed]))
+        cmd = [MOCAP2TVM, f"{stem}.amc", "--asf", data / f"HDM_{actor}.asf", "--labels", f"{stem}.txt",
+               "--out", out, "--fps", 10, "--workers", 1, "--overwrite", "--quiet"]
+        for name, value in options.items():
+            cmd += ["--" + name.replace("_", "-"), value]
+        _run(cmd)
+        _run([STITCH, "--fix-truth", out, f"{stem}.periods.json"])
+    return out
+
+
+#: The real takes' sources: CMU at 20 fps (so 0.7x and 1.4x can be sampled at 10 fps), and
+#: two stitched takes per HDM05 actor.
+CMU_SOURCES = {"13_29": {}, "13_30": {}}
+HDM_SOURCES = [
+    ("bd", "squat1Reps:6,hopBothLegs1hops:8,elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:6,"
+           "rotateArmsBothBackward1Reps:4", None, {"palette": "b"}),
+    ("bd", "depositFloorR:5,squat1Reps:4,grabHighR:4,hopBothLegs1hops:6,kickLFront1Reps:3", 1,
+     {"build": 1.2, "seed": 1}),
+    ("bk", "kickLFront1Reps:6,squat1Reps:8,rotateArmsBothBackward1Reps:4,hopBothLegs1hops:5,"
+           "elbowToKnee1RepsLelbowStart:6", None, {"palette": "c", "build": 0.9}),
+    ("bk", "grabHighR:5,elbowToKnee1RepsLelbowStart:3,depositFloorR:6,squat1Reps:3,hopBothLegs1hops:9", 2,
+     {"seed": 2}),
+    ("dg", "hopBothLegs1hops:9,elbowToKnee1RepsLelbowStart:6,squat1Reps:5,depositFloorR:4,kickLFront1Reps:4",
+     None, {"palette": "b", "build": 1.1}),
+    ("dg", "squat1Reps:7,grabHighR:6,kickLFront1Reps:5,hopBothLegs1hops:4,rotateArmsBothBackward1Reps:2", 3,
+     {"seed": 3, "palette": "c"}),
+]
+
+
+def generate_sources():
+    """Turn every real source into meshes (once; cached). Returns the folders."""
+    folders = [cmu_source(take, **opts) for take, opts in CMU_SOURCES.items()]
+    folders += [hdm_source(actor, plan, seed, **opts) for actor, plan, seed, opts in HDM_SOURCES]
+    return folders
+
+
+#: How each frame's origin is placed: "first" (the paper: the first frame's centroid for
+#: every frame) or "follow" (see :class:`engine.features.FeatureAccumulator`).
+ORIGIN = os.environ.get("TVMEDIT_DEV_ORIGIN", "first")
+
+
+def _accumulator():
+    from engine.features import FeatureAccumulator
+
+    return FeatureAccumulator(follow=True) if ORIGIN == "follow" else FeatureAccumulator()
+
+
+def _frames_features(folder, start=0, stop=None):
+    """Features of frames [start, stop) of a folder, about their own first frame (cached)."""
+    from engine.load import iter_frames, open_sequence
+
+    sequence = open_sequence(str(folder))
+    stop = len(sequence.paths) if stop is None else stop
+    path = CACHE / "features" / f"{ORIGIN}-{folder.name}-{start}-{stop}.npz"
+    if path.exists():
+        with np.load(path) as z:
+            return z["vectors"], slice(*z["theta"])
+    acc = _accumulator()
+    for _, frame in iter_frames(sequence.paths[start:stop], orientation=sequence.orientation, detail="geometry"):
+        acc.add(frame.positions)
+    f = acc.result()
+    theta = f.theta_columns
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, vectors=f.vectors, theta=[theta.start, theta.stop])
+    return f.vectors, theta
+
+
+def truth_of(labels, periods_s, fps):
+    """truth dict from one label and one true period (seconds, NaN: none) per frame."""
+    segments, hints, start = [], [], 0
+    for i in range(1, len(labels) + 1):
+        if i == len(labels) or labels[i] != labels[start]:
+            period = float(np.nanmedian(periods_s[start:i])) if np.isfinite(periods_s[start:i]).any() else None
+            segments.append({"start": start, "end": i - 1, "label": labels[start]})
+            hints.append(None if period is None else {"period_frames": period * fps, "period_s": period})
+            start = i
+    return {"fps": fps, "segments": segments, "periods_hint": hints}
+
+
+def _frame_truth(truth):
+    """(segment number per frame, true period in seconds per frame) of a truth.json."""
+    n = truth["frames"] if "frames" in truth else truth["segments"][-1]["end"] + 1
+    seg = np.zeros(n, dtype=int)
+    per = np.full(n, np.nan)
+    for i, (s, h) in enumerate(zip(truth["segments"], truth["periods_hint"])):
+        seg[s["start"]: s["end"] + 1] = i
+        if h and h.get("period_frames"):
+            per[s["start"]: s["end"] + 1] = h["period_frames"] / truth["fps"]
+    return seg, per
+
+
+def mirror_theta(vectors, theta):
+    """Feature rows of the mirror image (x -> -x): azimuth bin j becomes bin n/2 - 1 - j."""
+    out = vectors.copy()
+    n = theta.stop - theta.start
+    out[:, theta] = vectors[:, theta][:, (n // 2 - 1 - np.arange(n)) % n]
+    return out
+
+
+def cmu_takes(seed=0):
+    """The CMU group: each take at 1x, 0.7x and 1.4x, mirrored, and two random cuts."""
+    rng = np.random.default_rng(seed)
+    takes = []
+    for take, opts in CMU_SOURCES.items():
+        folder = cmu_source(take, **opts)
+        truth = json.loads((folder / "truth.json").read_text())
+        vectors, theta = _frames_features(folder)
+        seg, per = _frame_truth(truth)
+        src_fps = float(truth["fps"])
+        for speed in (1.0, 0.7, 1.4):
+            idx = np.round(np.arange(0, len(seg) / (speed * src_fps / 10)) * speed * src_fps / 10).astype(int)
+            idx = idx[idx < len(seg)]
+            t = truth_of(seg[idx].tolist(), per[idx] / speed, 10.0)
+            takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t))
+        base = takes[-3]
+        takes.append(Take("cmu", f"{take}-mirror", mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth))
+        segs = truth["segments"]
+        pairs = [(a, b) for a in range(1, len(segs) - 1) for b in range(a + 1, len(segs))]
+        for i in rng.choice(len(pairs), 2, replace=False):
+            a, b = pairs[int(i)]
+            start, stop = segs[a]["start"], segs[b]["end"] + 1
+            vec, cut_theta = _frames_features(folder, start, stop)
+            idx = np.arange(0, stop - start, int(src_fps // 10))
+            t = truth_of(seg[start:stop][idx].tolist(), per[start:stop][idx], 10.0)
+            takes.append(Take("cmu", f"{take}-cut{a}-{b}", vec[idx], cut_theta, 10.0, t))
+    return takes
+
+
+def hdm_takes():
+    """The HDM05 group: two stitched takes of each of three people."""
+    takes = []
+    for actor, plan, seed, opts in HDM_SOURCES:
+        folder = hdm_source(actor, plan, seed, **opts)
+        truth = json.loads((folder / "truth.json").read_text())
+        vectors, theta = _frames_features(folder)
+        seg, per = _frame_truth(truth)
+        t = truth_of(seg.tolist(), per, float(truth["fps"]))
+        takes.append(Take("hdm05", f"{actor}-{_key(plan, seed)[:4]}", vectors, theta, float(truth["fps"]), t))
+    return takes
+
+
+#: Synthetic takes: (name, options). ``plan`` options of :func:`engine.synth.plan`, and
+#: build, height (scale), noise (m), holes (fraction of frames with a hole), drift (m/s as
+#: (vx, vy)) or wander (m, a slow random walk).
+SYNTH = {
+    "synth": [
+        ("slim-fast", dict(motions=["jumping-jacks", "knee-raises", "squats", "arm-circles"],
+                           periods_s=[0.6, 1.2, 1.6, 1.0], cycles=[8, 5, 5, 6], transition=0.2,
+                           build=0.8, height=0.92, seed=11)),
+        ("heavy-slow", dict(motions=["side-bends", "squats", "run", "knee-raises"],
+                            periods_s=[3.0, 2.8, 0.7, 2.4], cycles=[4, 4, 10, 4], transition=3.0,
+                            jitter=2.0, build=1.3, height=1.08, seed=12)),
+        ("still-20fps", dict(motions=["walk", "jumping-jacks", "side-bends", "squats"], cycles=[6, 7, 4, 4],
+                             transition=1.0, still=2.0, fps=20, noise=0.006, seed=13)),
+        ("holes-30fps", dict(motions=["arm-circles", "knee-raises", "jumping-jacks", "run"],
+                             cycles=[5, 5, 8, 8], transition=0.5, fps=30, noise=0.004, holes=0.3, seed=14)),
+        ("60fps", dict(motions=["squats", "jumping-jacks", "knee-raises"], cycles=[4, 6, 4], fps=60, seed=15)),
+        ("similar-15fps", dict(motions=["run", "walk", "arm-circles", "side-bends"], cycles=[10, 8, 6, 4],
+                               jitter=1.5, fps=15, build=1.1, seed=16)),
+    ],
+    "synth-drift": [
+        ("drift-x", dict(motions=["jumping-jacks", "squats", "side-bends", "knee-raises"], cycles=[8, 5, 4, 5],
+                         drift=(0.03, 0.0), seed=21)),
+        ("drift-y-20fps", dict(motions=["walk", "arm-circles", "run", "squats"], cycles=[8, 6, 10, 5],
+                               drift=(0.0, 0.04), fps=20, seed=22)),
+        ("wander", dict(motions=["knee-raises", "jumping-jacks", "side-bends", "squats"], cycles=[5, 8, 4, 4],
+                        wander=0.8, transition=1.5, seed=23)),
+        ("drift-diag-slow", dict(motions=["squats", "run", "arm-circles"], periods_s=[2.6, 0.9, 1.8],
+                                 cycles=[4, 10, 5], drift=(0.025, -0.025), build=1.2, seed=24)),
+    ],
+}
+
+
+def _offsets(n, fps, drift=None, wander=None, seed=0):
+    # Where the actor stands at each frame: a steady drift (m/s) or a slow random walk.
+    t = np.arange(n) / fps
+    if drift is not None:
+        return np.outer(t, [drift[0], drift[1], 0.0])
+    if wander:
+        rng = np.random.default_rng(seed)
+        knots = np.cumsum(rng.normal(0, 1, (int(t[-1] // 4) + 3, 2)), axis=0)
+        knots *= wander / max(1e-9, np.abs(knots).max())
+        xy = np.stack([np.interp(t / 4, np.arange(len(knots)), knots[:, i]) for i in range(2)], axis=1)
+        return np.column_stack([xy, np.zeros(n)])
+    return np.zeros((n, 3))
+
+
+def synth_take(group, name, options, vertices=6000):
+    """A synthetic take's features, reconstructed in memory (cached)."""
+    from engine import synth
+    opts = dict(options)
+    extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander") if k in opts}
+    fps = float(opts.get("fps", 10))
+    path = CACHE / "features" / f"{ORIGIN}-synth-{name}-{_key(options, vertices, synth.VERSION)}.npz"
+    poses, labels, motions, periods = synth.plan(**opts)
+    per = {m: float(np.mean(p)) for m, p in zip(motions, periods)}
+    truth = truth_of(labels, np.array([per[m] for m in labels]), fps)
+    if path.exists():
+        with np.load(path) as z:
+            return Take(group, name, z["vectors"], slice(*z["theta"]), fps, truth)
+    rng = np.random.default_rng(opts.get("seed", 0))
+    shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
+    acc = _accumulator()
+    voxel = float(synth.voxel_size(vertices))
+    for k, pose in enumerate(poses):
+        verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
+        verts = verts * extra.get("height", 1.0) + shift[k]
+        if rng.random() < extra.get("holes", 0.0):
+            centre = verts[rng.integers(len(verts))]
+            verts = verts[np.linalg.norm(verts - centre, axis=1) > 0.15]
+        acc.add(verts)
+    f = acc.result()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop])
+    return Take(group, name, f.vectors, f.theta_columns, fps, truth)
+
+
+def takes(groups=GROUPS):
+    """Every take of the suite in ``groups``, in group order."""
+    out = []
+    for group in groups:
+        if group in SYNTH:
+            out += [synth_take(group, name, opts) for name, opts in SYNTH[group]]
+        elif group == "cmu":
+            out += cmu_takes()
+        elif group == "hdm05":
+            out += hdm_takes()
+    return out
+
+
+if __name__ == "__main__":
+    for folder in generate_sources():
+        print(folder)
