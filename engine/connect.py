@@ -34,14 +34,15 @@ choosing them in two steps.
    (Eswaran and Tarjan 1976: each source needs an edge in, each sink an edge out); sets of
    that size and up are enumerated, smallest total weight first among the fewest, as long as
    at most :data:`EXACT_BUDGET` sets are tried. Beyond that the answer is the greedy one
-   (each sink joined to the lightest reachable source that reaches it back), which is
-   marked ``fewest=False`` in the result. Step 1's guarantee holds either way.
+   (rounds of Eswaran and Tarjan's pairing of sinks with sources, lightest edge first), marked
+   ``fewest=False`` unless it meets the lower bound. Step 1's guarantee holds either way.
 
 Everything runs on dense (N, N) arrays with scipy's strongly connected components, so a
 1,000-motion graph connects in a fraction of a second (``benchmarks/connect_speed.py``).
 """
 
 import itertools
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -145,7 +146,7 @@ def connect(weights, kept):
     between, best = _condense(w, kept, labels, count)
     threshold = _least_threshold(between, best)
     pairs = _pairs_up_to(between, best, threshold)
-    chosen, fewest = _fewest(between, pairs, best)
+    chosen, fewest = _fewest(between, pairs, best, threshold)
     added = sorted(_realise(w, kept, labels, chosen))
     return Connection(added, float(max(w[i, j] for i, j in added)), fewest, count)
 
@@ -159,9 +160,9 @@ def _components(adjacency):
 def _condense(w, kept, labels, count):
     """``between`` (k, k) bool: a kept edge joins the components; ``best`` (k, k): the lightest
     candidate (not kept, finite) weight from one component to another, inf where none."""
-    onehot = np.zeros((len(w), count))
-    onehot[np.arange(len(w)), labels] = 1.0
-    between = (onehot.T @ kept.astype(np.float64) @ onehot) > 0
+    between = np.zeros((count, count), bool)
+    rows, cols = np.nonzero(kept)
+    between[labels[rows], labels[cols]] = True
     candidate = np.where(kept | ~np.isfinite(w), np.inf, w)
     np.fill_diagonal(candidate, np.inf)
     order = np.argsort(labels, kind="stable")
@@ -196,22 +197,24 @@ def _pairs_up_to(between, best, threshold):
     return [(int(a[k]), int(b[k])) for k in order]
 
 
-def _fewest(between, pairs, best):
+def _fewest(between, pairs, best, threshold):
     """Step 2: the fewest pairs that connect the condensation, exact within the budget."""
-    greedy = _greedy(between, pairs)
+    greedy = _greedy(between, np.where(best <= threshold, best, np.inf))
     k = len(between)
     outgoing, incoming = between.any(axis=1), between.any(axis=0)
     sinks = [c for c in range(k) if not outgoing[c]]
     sources = [c for c in range(k) if not incoming[c]]
     lower = max(len(sinks), len(sources))
+    if len(greedy) == lower or math.comb(len(pairs), lower) > EXACT_BUDGET:
+        return greedy, len(greedy) == lower
     reach = [_bits(np.nonzero(between[c])[0]) for c in range(k)]
     tried = 0
-    for size in range(lower, len(greedy) + 1):
+    for size in range(lower, len(greedy)):
         found = None
         for subset in itertools.combinations(pairs, size):
             tried += 1
             if tried > EXACT_BUDGET:
-                return greedy, len(greedy) == lower
+                return greedy, False
             if not _covers(subset, sinks, sources):
                 continue
             if _connected_with(reach, subset):
@@ -223,46 +226,45 @@ def _fewest(between, pairs, best):
     return greedy, True
 
 
-def _greedy(between, pairs):
-    """Join the condensation's sinks one by one: each to the lightest component that reaches
-    it back (a merge), else to the lightest source, else to the lightest other component."""
+def _greedy(between, allowed):
+    """Rounds of Eswaran and Tarjan's pairing: in each round every sink of the condensation
+    gets its lightest allowed edge to a source not yet taken in that round (else to any other
+    part), then every source still without a way in gets its lightest allowed edge in; the
+    condensation is then recomputed. A first round adds max(sources, sinks) edges, the lower
+    bound; each round leaves fewer parts, so it ends. A round is a few numpy passes over
+    (k, k) arrays."""
     adjacency = between.copy()
     chosen = []
-    out_of = {}
-    for a, b in pairs:
-        out_of.setdefault(a, []).append(b)
     while True:
         count, labels = _components(adjacency)
         if count == 1:
             return chosen
-        members = [np.nonzero(labels == c)[0] for c in range(count)]
-        cond = np.zeros((count, count), bool)
-        rows, cols = np.nonzero(adjacency)
-        cond[labels[rows], labels[cols]] = True
-        np.fill_diagonal(cond, False)
-        sink = next(c for c in range(count) if not cond[c].any())
-        reaches_back = _ancestors(cond, sink)
-        sources = ~cond.any(axis=0)
-        options = [(a, b) for a in members[sink] for b in out_of.get(a, []) if labels[b] != sink]
-        # pairs are lightest first, so the first option of the best kind is the lightest one
-        pick = (next((p for p in options if reaches_back[labels[p[1]]] and sources[labels[p[1]]]), None)
-                or next((p for p in options if reaches_back[labels[p[1]]]), None)
-                or next((p for p in options if sources[labels[p[1]]]), None)
-                or options[0])
-        chosen.append(pick)
-        adjacency[pick] = True
+        parts, lightest = _condense(allowed, adjacency, labels, count)
+        sinks = np.nonzero(~parts.any(axis=1))[0]
+        free = ~parts.any(axis=0)
+        links = []
+        for sink in sinks:
+            row = lightest[sink]
+            target = np.where(free, row, np.inf).argmin()
+            if not np.isfinite(row[target]):
+                target = row.argmin()
+            free[target] = False
+            links.append((sink, target))
+        for source in np.nonzero(free)[0]:
+            links.append((lightest[:, source].argmin(), source))
+        for a, b in links:
+            pair = _lightest_pair(allowed, adjacency, labels == a, labels == b)
+            chosen.append(pair)
+            adjacency[pair] = True
 
 
-def _ancestors(cond, target):
-    """(k,) bool: the components with a path to ``target`` (itself included)."""
-    seen = np.zeros(len(cond), bool)
-    seen[target] = True
-    frontier = [target]
-    while frontier:
-        new = cond[:, frontier].any(axis=1) & ~seen
-        seen |= new
-        frontier = list(np.nonzero(new)[0])
-    return seen
+def _lightest_pair(w, adjacency, rows, cols):
+    """The lightest ``(i, j)`` with i in ``rows`` and j in ``cols`` (boolean masks) not already
+    in ``adjacency`` (ties by the smaller pair)."""
+    rows, cols = np.nonzero(rows)[0], np.nonzero(cols)[0]
+    block = np.where(adjacency[np.ix_(rows, cols)], np.inf, w[np.ix_(rows, cols)])
+    r, c = np.unravel_index(np.argmin(block), block.shape)
+    return int(rows[r]), int(cols[c])
 
 
 def _covers(subset, sinks, sources):
@@ -315,10 +317,4 @@ def _closure(reach, start):
 
 def _realise(w, kept, labels, pairs):
     """Each component pair as its lightest candidate edge (ties by the smaller (i, j))."""
-    edges = []
-    for a, b in pairs:
-        rows, cols = np.nonzero(labels == a)[0], np.nonzero(labels == b)[0]
-        block = np.where(kept[np.ix_(rows, cols)], np.inf, w[np.ix_(rows, cols)])
-        r, c = np.unravel_index(np.argmin(block), block.shape)
-        edges.append((int(rows[r]), int(cols[c])))
-    return edges
+    return [_lightest_pair(w, kept, labels == a, labels == b) for a, b in pairs]
