@@ -12,6 +12,9 @@ from player.font import CHARSET, GLYPH_H, GLYPH_W, bitmap
 from player.programs import load_program
 
 _CELL = GLYPH_W + 1          # one empty texel column between cells keeps glyphs apart
+#: Colour of dimmed lines (motions out of reach), sRGB.
+DIMMED = (0.42, 0.42, 0.46)
+
 _VERTEX = np.dtype([("pixel", np.float32, 2), ("uv", np.float32, 2), ("colour", np.float32, 4)])
 
 
@@ -23,15 +26,17 @@ class Label:
     lines : list of str
     corner : "top-left", "top-right", "bottom-left" or "bottom-right"
     colour : sRGB (r, g, b) in 0..1
+    dimmed : indices of lines drawn in :data:`DIMMED` instead (e.g. motions out of reach)
     """
 
-    def __init__(self, lines, corner="top-left", colour=(1.0, 1.0, 1.0)):
+    def __init__(self, lines, corner="top-left", colour=(1.0, 1.0, 1.0), dimmed=()):
         self.lines = [str(line) for line in lines]
         self.corner = corner
         self.colour = tuple(colour)
+        self.dimmed = frozenset(dimmed)
 
     def _key(self):
-        return (tuple(self.lines), self.corner, self.colour)
+        return (tuple(self.lines), self.corner, self.colour, tuple(sorted(self.dimmed)))
 
 
 class TextOverlay:
@@ -121,8 +126,8 @@ class TextOverlay:
             x = self.margin + pad if "left" in label.corner else width - self.margin - pad - w
             y = self.margin + pad if "top" in label.corner else height - self.margin - pad - h
             quads.append(self._solid(x - pad, y - pad, w + 2 * pad, h + 2 * pad, self.backing))
-            colour = (*label.colour, 1.0)
             for row, line in enumerate(label.lines):
+                colour = (*(DIMMED if row in label.dimmed else label.colour), 1.0)
                 top = y + row * (GLYPH_H + 2) * s
                 for col, char in enumerate(line.upper()):
                     if char == " ":

@@ -22,6 +22,8 @@ import textwrap
 import time
 from pathlib import Path
 
+import networkx as nx
+
 from engine.compose import Playhead
 from engine.errors import NoPath, TvmError
 from player.camera import Camera
@@ -100,6 +102,7 @@ class PlayerApp:
         self.slot = None            # when the frame ``tick`` produced should appear
         self._restarted = False
         self._pause_left = 0.0
+        self._reach = None          # (node, motions unreachable from it), see unreachable()
         self._mesh = None
         self._texture = None
         self._bounds = source.bounds()
@@ -200,18 +203,27 @@ class PlayerApp:
         return None
 
     def queue(self, node, now, key=None):
-        """Queue ``node`` as the next key motion; an unreachable one is refused with a message."""
+        """Queue ``node`` as the next key motion. The motion the queue already ends at (the one
+        playing when nothing is queued) is ignored quietly; one that the forbidden motions cut
+        off is refused with a message (a connected graph has no other)."""
         try:
             path = self.playhead.queue(node)
         except NoPath as error:
             self.say(f"refused {self.label(node)}: {error}", now, echo=True)
             self._event(now, "refused", node, key=key, message=str(error))
             return False
-        if len(path) == 1:
-            self.say(f"{self.label(node)} is already where the queue ends", now)
-        else:
+        if len(path) > 1:
             self._event(now, "queued", node, key=key)
         return True
+
+    def unreachable(self):
+        """Motions no key can queue now: the forbidden ones and those they cut off from where
+        the queue ends (greyed out in the legend)."""
+        last = self.playhead.queue_list[-1] if self.playhead.queue_list else self.playhead.current_node
+        if self._reach is None or self._reach[0] != last:
+            allowed = self.graph.subgraph(n for n in self.graph if n not in self.forbidden or n == last)
+            self._reach = (last, set(self.graph) - nx.descendants(allowed, last) - {last})
+        return self._reach[1]
 
     def toggle_pause(self, now):
         if self.paused:
@@ -272,12 +284,18 @@ class PlayerApp:
         return None
 
     def legend_lines(self):
+        """Every motion with its key (as far as keys go), then the command keys."""
         lines = [self.label(n) for n in self.order if n in self.keys.values()]
         hidden = len(self.order) - len(self.keys)
         if hidden > 0:
             lines.append(f"({hidden} more without a key)")
         return lines + ["", "bksp unqueue  space pause", "arrows/drag orbit  +/- zoom",
                         "r reset  s screenshot  q quit"]
+
+    def legend_dimmed(self):
+        """Indices of the legend lines to grey out: motions :meth:`unreachable` names."""
+        cut = self.unreachable()
+        return {k for k, n in enumerate(n for n in self.order if n in self.keys.values()) if n in cut}
 
 
     def write_header(self, wall_zero, library=None):
@@ -495,7 +513,8 @@ class Window:
             self._screenshot = False
             self._save_screenshot()
         labels = [Label(self.app.status_lines(now), "top-left"),
-                  Label(self.app.legend_lines(), "top-right", colour=(0.85, 0.9, 1.0))]
+                  Label(self.app.legend_lines(), "top-right", colour=(0.85, 0.9, 1.0),
+                        dimmed=self.app.legend_dimmed())]
         message = self.app.message_text(now)
         if message:
             width = self.ctx.screen.viewport[2]

@@ -117,6 +117,25 @@ def test_an_unreachable_key_is_refused_and_the_queue_keeps_the_others():
     assert _play(app, 0.05, 0.5)                       # playback goes on
 
 
+def test_a_key_for_the_motion_playing_or_last_queued_is_ignored_quietly():
+    app, log = _app()
+    app.tick(0.0)
+    app.press("1", 0.01)                               # 0 is playing
+    assert app.playhead.queue_list == [] and app.message_text(0.02) is None and not log
+    app.press("2", 0.03)
+    app.press("2", 0.04)                               # 1 is already last in the queue
+    assert app.playhead.queue_list == [1] and app.message_text(0.05) is None
+    assert [row["event"] for row in log if "event" in row] == ["queued"]
+
+
+def test_the_legend_greys_out_what_the_forbidden_motions_cut_off():
+    app, _ = _app()
+    assert app.legend_dimmed() == set()                # from 0, 1 and 2 are reachable
+    app, _ = _app(forbidden=[1])
+    assert app.legend_dimmed() == {1, 2}               # 1 is forbidden and 2 lies behind it
+    assert app.legend_lines()[:3] == ["[1] 0 s/00", "[2] 1 s/01", "[3] 2 s/02"]
+
+
 def test_a_forbidden_motion_cannot_be_queued():
     app, log = _app(forbidden=[1])
     app.tick(0.0)
@@ -219,9 +238,11 @@ def _runs(frames):
     return runs
 
 
-def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, small_library, tmp_path):
+def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, paper_library, tmp_path):
+    # The paper's graph (--connect off) still cuts motions off: refusals are checked on it.
     from engine.library import Library
 
+    small_library = paper_library
     library = Library.open(small_library)
     graph = library.graph
     order = [node.id for node in library.nodes]
@@ -365,3 +386,39 @@ def test_without_keys_the_player_starts_on_the_first_motion_not_forbidden(xdispl
     assert result.returncode == 0, result.stderr
     frames = _frames(_rows(log))
     assert frames and {row["node"] for row in frames} == {order[1]}
+
+
+def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdisplay, small_library, tmp_path):
+    """Issue 12's bar: on the demo library (connected by default) no key is refused."""
+    from engine import Library
+
+    order = [node.id for node in Library.open(small_library).nodes]
+    keys = motion_keys(len(order))
+    log_path = tmp_path / "play.jsonl"
+    env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
+    player = subprocess.Popen([sys.executable, "-m", "tvmedit", "play", str(small_library), "--log", str(log_path),
+                               "--seconds", "60", "--size", "320x240", "--fps", "40"],
+                              cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=env,
+                                capture_output=True, text=True, timeout=20).stdout.split()[0]
+        subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
+        assert _wait_for(lambda rows: _frames(rows), log_path, 20), "no frame was shown"
+        for key in keys:                               # the first is the motion playing: ignored
+            subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10, check=True)
+            time.sleep(0.15)
+        assert _wait_for(lambda rows: any(r.get("node") == order[-1] and not r["queue"] for r in _frames(rows)),
+                         log_path, 40), "the last motion was never reached"
+        subprocess.run(["xdotool", "key", "--window", window, "q"], env=env, capture_output=True, timeout=10)
+        out, err = player.communicate(timeout=20)
+    finally:
+        if player.poll() is None:
+            player.kill()
+            player.communicate()
+    assert player.returncode == 0, err
+    rows = _rows(log_path)
+    assert not [row for row in rows if row.get("event") == "refused"], err
+    assert [row["node"] for row in rows if row.get("event") == "queued"] == order[1:]
+    nodes = [node for node, _ in _runs(_frames(rows))]
+    reached = iter(nodes)
+    assert all(any(node == key for node in reached) for key in order), nodes   # in order

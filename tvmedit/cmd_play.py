@@ -3,7 +3,10 @@
 The first key motion (or the library's first motion) loops until you queue another: keys
 1-9, 0, then a, b, ... (q, r and s are commands) queue motions in the order `tvmedit info`
 lists them, and the player follows the best path there, finishing each motion texton before
-it leaves it (section 8). The legend on screen lists the keys.
+it leaves it (section 8). The legend on screen lists every motion with its key; motions the
+forbidden ones cut off are greyed out. A library built with the default --connect auto lets
+every motion reach every other, so no other key is ever refused; a key for the motion already
+playing, or already last in the queue, is ignored.
 
   Backspace        remove the last queued motion
   Space            pause / resume
