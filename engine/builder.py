@@ -21,8 +21,6 @@ never half of one.
 """
 
 import dataclasses
-import glob as _glob
-import os
 import sys
 import time
 import warnings
@@ -34,44 +32,17 @@ import numpy as np
 from . import atomic, featcache, libformat, params
 from .errors import InputError, ParameterError, TvmError
 from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
-from .load import open_sequence, read_frame
+from .load import expand_inputs, open_sequence, read_frame
 from .normals import vertex_normals
 from .parallel import Workers
 
-__all__ = ["build", "expand_inputs"]
+__all__ = ["build", "derive", "opened", "check_target", "library_features", "Settings", "expand_inputs"]
 
 #: Frames per feature task: large enough to amortise a task's overhead, small enough to
 #: keep every worker busy on short sequences.
 FEATURE_CHUNK = 32
 #: Frames per mesh task; each frame is about 1 MB on its way back, so chunks stay small.
 MESH_CHUNK = 4
-
-
-def expand_inputs(inputs):
-    """``(name or None, source)`` for every sequence that ``inputs`` names.
-
-    An input is a folder, a quoted glob of frame files (one sequence), a glob of folders
-    (one sequence per folder), or a ``(name, source)`` pair. A glob that matches frame
-    files is left to the loader, which orders them.
-
-    >>> expand_inputs([("walk", "captures/a"), "captures/b"])
-    [('walk', 'captures/a'), (None, 'captures/b')]
-    """
-    expanded = []
-    for item in inputs:
-        name, source = item if isinstance(item, tuple) else (None, item)
-        text = str(source)
-        if any(ch in text for ch in "*?[") and not Path(text).exists():
-            matches = sorted(_glob.glob(text.rstrip("/\\")))
-            folders = [m for m in matches if os.path.isdir(m)]
-            if folders and len(folders) == len(matches):
-                if name is not None and len(folders) > 1:
-                    raise InputError(f"{text} matches {len(folders)} sequence folders, so it cannot "
-                                     f"take the one name {name!r}; name each folder separately.")
-                expanded += [(name, folder) for folder in folders]
-                continue
-        expanded.append((name, source))
-    return expanded
 
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
@@ -131,6 +102,7 @@ class _Run:
         self.progress = progress
         self.timing = {"read": 0.0, "compute": 0.0}
         self.stages = {}
+        self.read_frames = 0
         self.started = time.perf_counter()
 
     def stage(self, name, fn, *args):
@@ -215,7 +187,7 @@ def _sequence_features(sequence, bins, skip_bad_frames, pool, old, cache, run):
     """The features of one sequence: from the library being replaced, the cache, or computed."""
     stats = featcache.stat_list(sequence.paths)
     key = featcache.key(stats, bins, skip_bad_frames, sequence.orientation)
-    entry = _from_library(old, key, bins) or (_from_cache(key, bins) if cache else None)
+    entry = library_features(old, key, bins) or (_from_cache(key, bins) if cache else None)
     if entry is None:
         bar = run.bar(len(sequence.paths), f"features {sequence.name}")
         try:
@@ -243,8 +215,9 @@ def _from_cache(key, bins):
     return _SequenceFeatures(features, meta["paths"], [tuple(s) for s in meta["skipped"]], key, "cache")
 
 
-def _from_library(old, key, bins):
-    """Features of the sequence with this key in the library being replaced, or None."""
+def library_features(old, key, bins):
+    """Features of the sequence with feature key ``key`` in library ``old`` (with its frame
+    files and skipped frames, as the feature pass gives them), or None."""
     if old is None:
         return None
     for record in old.manifest["sequences"]:
@@ -261,9 +234,16 @@ def _from_library(old, key, bins):
 
 # --- structure, database, graph -----------------------------------------------------------
 
-def _motion_graph(sequences, padded, params, mu, run, connect="auto"):
-    """Parse every sequence (section 4), then build the database (section 5) and graph (section 6)."""
+#: What the cheap stages make: automatic parses, corrected structures, database, graph.
+_Analysis = NamedTuple("_Analysis", [("parses", dict), ("structures", dict), ("nodes", list),
+                                     ("graph", object), ("corrections", object)])
+
+
+def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, connect="auto"):
+    """Parse every sequence (section 4; unless ``parses`` are given), apply the corrections by
+    hand (:mod:`engine.corrections`), then build the database (section 5) and graph (section 6)."""
     from . import structure as structure_module
+    from .corrections import apply_database, apply_structures
     from .database import advice, build_database
     from .graph import build_graph, nodes_of
 
@@ -272,46 +252,78 @@ def _motion_graph(sequences, padded, params, mu, run, connect="auto"):
         warnings.simplefilter("always")
         # The theta columns tell a one-leg-then-the-other cycle from its half (see
         # engine.structure): left and right poses share their r and phi histograms.
-        structures = run.stage("structure", lambda: {
-            seq.name: structure_module.parse(vectors[seq.name], seq.fps, params, theta=f.theta_columns)
-            for seq, f in zip(sequences, padded)})
+        if parses is None:
+            parses = run.stage("structure", lambda: {
+                seq.name: structure_module.parse(vectors[seq.name], seq.fps, params, theta=f.theta_columns)
+                for seq, f in zip(sequences, padded)})
         t0 = time.perf_counter()
-        graph = build_graph(build_database(structures), vectors, mu=mu, connect=connect)
+        thetas = {seq.name: f.theta_columns for seq, f in zip(sequences, padded)}
+        structures = apply_structures(parses, vectors, corrections, thetas, lambda m: run.say(f"warning: {m}"))
+        nodes = apply_database(build_database(structures), structures, corrections)
+        graph = build_graph(nodes, vectors, mu=mu, connect=connect)
         run.stages["graph"] = time.perf_counter() - t0
     _pass_on(caught, run.log)
     nodes = nodes_of(graph)
     if advice(nodes):
         run.say(f"warning: {advice(nodes)}")
-    return structures, nodes, graph
+    return _Analysis(parses, structures, nodes, graph, corrections)
 
 
 # --- meshes and the rest of the library ---------------------------------------------------
 
-def _write_meshes(tmp, needed, pool, run):
-    """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh arrays."""
+def _stored(old, sequences, computed):
+    """``{(sequence index, frame): (old name, frame)}`` for every frame the library being
+    replaced stores from the same frame files (same feature key): copied, not read again."""
+    if old is None:
+        return {}
+    names = {record.get("feature_key"): record["name"] for record in old.manifest["sequences"]}
+    index = {names[entry.key]: s for s, entry in enumerate(computed) if entry.key in names}
+    return {(index[name], frame): (name, frame) for name, frame in old.stored_frames() if name in index}
+
+
+def _write_meshes(tmp, needed, pool, run, old=None, stored=None):
+    """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh
+    arrays: copied from ``old`` where ``stored`` (:func:`_stored`) has them, else read."""
+    stored = stored or {}
     bar = run.bar(len(needed), "meshes")
-    chunks = [needed[i:i + MESH_CHUNK] for i in range(0, len(needed), MESH_CHUNK)]
+    missing = [item for item in needed if item[:2] not in stored]
+    chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
     tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
+    read = iter(())
     try:
         with libformat.MeshWriter(tmp) as writer:
-            for chunk, (meshes, read_s, compute_s) in zip(
-                    chunks, pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)):
-                for (seq_index, frame, _, _), mesh in zip(chunk, meshes):
+            results = pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)
+            for seq_index, frame, _, _ in needed:
+                key = stored.get((seq_index, frame))
+                if key is not None:
+                    texture = old.frame_texture(key)
+                    writer.add(seq_index, frame, *old.frame_mesh(key), *(texture or (None, None)))
+                else:
+                    mesh = next(read, None)
+                    if mesh is None:
+                        meshes, read_s, compute_s = next(results)
+                        run.add_times(read_s, compute_s)
+                        read = iter(meshes)
+                        mesh = next(read)
                     writer.add(seq_index, frame, *mesh)
-                run.add_times(read_s, compute_s)
-                bar.update(len(chunk))
+                bar.update()
     finally:
         bar.close()
+    run.read_frames = len(missing)
     return writer
 
 
-def _write_library(tmp, old, sequences, computed, padded, settings, structures, nodes, graph, meshes, run):
+def _write_library(tmp, old, sequences, computed, padded, settings, analysis, meshes, run):
     """Everything but the meshes: features, structure, database, graph, names, manifest last."""
     bins = settings.bins
+    structures, nodes, graph = analysis.structures, analysis.nodes, analysis.graph
     features_all = (np.concatenate([f.vectors for f in padded]) if padded
                     else np.zeros((0, 0), np.float32))
     np.save(tmp / "features.npy", np.ascontiguousarray(features_all, dtype=np.float32))
     libformat.write_json(tmp / "structure.json", {name: s.to_json() for name, s in structures.items()})
+    if analysis.corrections:
+        libformat.write_corrections(tmp, analysis.corrections.to_json(),
+                                    {name: s.to_json() for name, s in analysis.parses.items()})
     libformat.write_json(tmp / "database.json", nodes)
     libformat.write_json(tmp / "graph.json", libformat.graph_to_json(graph))
     kept = _carry_names(old, nodes, tmp)
@@ -361,7 +373,7 @@ def _open_inputs(inputs, fps, log, frame=None):
     return sequences
 
 
-def _check_target(out, force, sequences):
+def check_target(out, force, sequences):
     """Refuse an ``out`` that is not a library of ours, holds user files or lies in an input."""
     inputs = {str(Path(path).parent) for seq in sequences for path in seq.paths}
     atomic.check_target(out, "library", force, inputs=sorted(inputs), legacy=libformat.legacy_foreign)
@@ -381,7 +393,7 @@ def _open_old(out):
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None, connect="auto"):
+          units=None, mirror=None, connect="auto", corrections=None):
     """Build a library from TVM sequences and return it opened.
 
     Parameters
@@ -420,48 +432,89 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     up, units, mirror : str, str, bool or None
         The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
         given is detected per sequence (:func:`engine.orientation.detect`).
+    corrections : Corrections, dict, str, Path or None
+        Corrections by hand applied on top of the parse (:mod:`engine.corrections`), or the
+        file holding them; None keeps those of the library being replaced, if any.
 
     Returns
     -------
     Library
         With ``report``: a dict of counts, reused sequences and timings.
     """
+    from .corrections import Corrections
+
     run = _Run(progress, log)
     out = Path(out).absolute()
-    settings = _Settings.of(bins, structure, mu, skip_bad_frames, connect)
+    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect)
+    given = None if corrections is None else Corrections.coerce(corrections)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
-    _check_target(out, force, sequences)
+    check_target(out, force, sequences)
     old = _open_old(out)
-    recheck = lambda target: _check_target(target, force, sequences)  # noqa: E731
+    corrections = given if given is not None else (old.corrections() if old is not None else Corrections())
+    recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
             computed = run.stage("features", lambda: [
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)
                 for seq in sequences])
-            width = max(entry.features.r.shape[1] for entry in computed)
-            padded = [entry.features.pad_r(width) for entry in computed]
-            structures, nodes, graph = _motion_graph(sequences, padded, settings.params, settings.mu, run,
-                                                     settings.connect)
-            index = {seq.name: k for k, seq in enumerate(sequences)}
-            needed = sorted({(index[node.sequence], frame)
-                             for node in nodes for frame in range(node.start, node.end + 1)})
-            needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
-            meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run)
-        run.stage("write", _write_library, tmp, old, sequences, computed, padded,
-                  settings, structures, nodes, graph, meshes, run)
+            derived = derive(tmp, old, sequences, computed, settings, corrections, pool=pool, run=run)
+    return opened(out, derived)
+
+
+#: What :func:`derive` made, for :func:`opened` to report.
+Derived = NamedTuple("Derived", [(name, object) for name in
+                                 ("run", "sequences", "computed", "padded", "analysis", "meshes", "pool")])
+
+
+def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=None, log=None, parses=None):
+    """The stages after the features, written into the library folder ``tmp``.
+
+    Structure (unless ``parses``, the automatic parse of every sequence, are given),
+    corrections, database, graph, stored meshes (copied from ``old`` where it stores them
+    from the same frame files, else read) and the library's other files. ``sequences`` need
+    ``name``, ``fps``, ``format``, ``orientation`` and ``paths``; ``computed`` are their
+    features as :func:`library_features` gives them; ``settings`` a :class:`Settings`.
+    :func:`build` and :func:`engine.rebuild.rebuild` both go through here.
+
+    Returns
+    -------
+    Derived
+    """
+    run = run or _Run(False, log)
+    corrections.check_sequences({seq.name: len(entry.features) for seq, entry in zip(sequences, computed)})
+    width = max(entry.features.r.shape[1] for entry in computed)
+    padded = [entry.features.pad_r(width) for entry in computed]
+    analysis = _motion_graph(sequences, padded, settings.params, settings.mu, run, corrections, parses,
+                             settings.connect)
+    index = {seq.name: k for k, seq in enumerate(sequences)}
+    needed = sorted({(index[node.sequence], frame)
+                     for node in analysis.nodes for frame in range(node.start, node.end + 1)})
+    needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
+    meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run, old, _stored(old, sequences, computed))
+    run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
+    return Derived(run, sequences, computed, padded, analysis, meshes, pool)
+
+
+def opened(out, derived):
+    """The library :func:`derive` wrote, once in place at ``out``, opened, with ``report``:
+    counts, reuse and timings."""
     from .library import Library
+
+    run, sequences, computed, padded, analysis, meshes, pool = derived
 
     library = Library.open(out)
     library.report = {
         "sequences": len(sequences),
         "frames": sum(len(f) for f in padded),
-        "clusters": sum(len(s.clusters) for s in structures.values()),
-        "nodes": len(nodes),
-        "edges": graph.number_of_edges(),
-        "added": graph.graph["connect"]["added"],
-        "stored_frames": len(needed),
+        "clusters": sum(len(s.clusters) for s in analysis.structures.values()),
+        "nodes": len(analysis.nodes),
+        "edges": analysis.graph.number_of_edges(),
+        "added": analysis.graph.graph["connect"]["added"],
+        "stored_frames": meshes.frames,
+        "read_frames": run.read_frames,
+        "corrected": sorted(name for name, c in analysis.corrections.sequences.items() if c),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)
                    if entry.source != "computed"},
         "seconds": time.perf_counter() - run.started,
@@ -473,8 +526,9 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     return library
 
 
-class _Settings(NamedTuple):
-    """The build parameters that shape the library, with defaults filled in and checked."""
+class Settings(NamedTuple):
+    """The build parameters that shape the library, with defaults filled in and checked
+    (:meth:`of`)."""
 
     bins: BinSizes
     params: object

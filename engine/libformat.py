@@ -37,6 +37,10 @@ A library is a directory written by :func:`engine.build` and opened by
     first texel, height, width (0, 0, 0 for an untextured frame).
 ``names.json``
     optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
+``corrections.json``, ``parse.json``
+    only where the parse was corrected by hand (:mod:`engine.corrections`): the corrections,
+    and the automatic parse they were applied to (as ``structure.json``, which then holds the
+    corrected one).
 
 Only the frames of database textons are stored. Every array opens with
 ``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
@@ -55,7 +59,8 @@ from .errors import LibraryError
 __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
            "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
-           "read_names", "write_names", "tvmedit_version"]
+           "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
+           "read_parse"]
 
 #: On-disk format version; a library of another version must be rebuilt.
 FORMAT = 1
@@ -63,7 +68,7 @@ FORMAT = 1
 #: Files whose sizes the manifest records and :func:`read_manifest` checks.
 CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
                  "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
-                 "uvs.npy", "textures.npy", "texture_frames.npy")
+                 "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json")
 
 #: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
 MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
@@ -227,6 +232,23 @@ def write_graphml(graph, path):
     plain.add_edges_from(graph.edges(data=True))
     with atomic.replacing_file(path) as tmp:
         nx.write_graphml(plain, tmp)
+
+
+def write_corrections(folder, corrections, parses):
+    """Write ``corrections.json`` (as :meth:`engine.corrections.Corrections.to_json` gives it)
+    and ``parse.json`` (the automatic parse, per sequence as ``Structure.to_json``)."""
+    write_json(Path(folder) / "corrections.json", corrections)
+    write_json(Path(folder) / "parse.json", parses)
+
+
+def read_corrections(path):
+    """The corrections stored in the library at ``path`` as a dict, or None when it has none."""
+    return read_json(path, "corrections.json") if (Path(path) / "corrections.json").exists() else None
+
+
+def read_parse(path):
+    """The automatic parse stored beside corrections (``{name: Structure JSON}``), or None."""
+    return read_json(path, "parse.json") if (Path(path) / "parse.json").exists() else None
 
 
 def sequence_record(name, fps, rows, features, feature_key, files, skipped, format=None,

@@ -63,6 +63,9 @@ INFO_SCHEMA = {
                     "textons": {"type": "array", "items": {
                         "type": "object", "required": ["start", "end", "cluster"],
                         "properties": {**_RANGE, "cluster": _INT, "distance": _NUM}}},
+                    "corrections": {"type": "object", "description": "corrections by hand applied "
+                                    "on top of the automatic parse, as in corrections.json "
+                                    "(engine.corrections); absent when none"},
                 },
             },
         },
@@ -218,9 +221,41 @@ class Library:
         return {name: Structure.from_json(value) for name, value in data.items()}
 
     def structure(self, name):
-        """The parsed structure (section 4) of sequence ``name``."""
+        """The parsed structure (section 4) of sequence ``name``, corrections applied."""
         self.sequence(name)
         return self._structures[name]
+
+    @cached_property
+    @_reads_format
+    def _parses(self):
+        from .structure import Structure
+
+        data = libformat.read_parse(self.path) or {}
+        return {name: Structure.from_json(value) for name, value in data.items()}
+
+    def parse(self, name):
+        """The automatic parse of sequence ``name``, before any correction by hand."""
+        self.sequence(name)
+        return self._parses.get(name) or self._structures[name]
+
+    @_reads_format
+    def corrections(self):
+        """The corrections by hand stored with the library (:class:`engine.corrections.Corrections`;
+        empty when none)."""
+        from .corrections import Corrections
+
+        data = libformat.read_corrections(self.path)
+        return Corrections.from_json(data, f"{self.path / 'corrections.json'}") if data else Corrections()
+
+    def correct(self, corrections=None, out=None, *, force=None, log=None):
+        """Apply ``corrections`` (a :class:`engine.corrections.Corrections`, a dict as in
+        ``corrections.json`` or its path; the whole set, replacing the stored one) and derive
+        database and graph again from the stored features, writing a new library atomically
+        (``out``, default: this one). Returns it opened; see :func:`engine.rebuild.rebuild`.
+        """
+        from .rebuild import rebuild
+
+        return rebuild(self, out, corrections=corrections, force=force, log=log)
 
     @cached_property
     @_reads_format
@@ -399,13 +434,16 @@ class Library:
     def info(self):
         """A JSON-ready summary following :data:`INFO_SCHEMA`."""
         sequences = []
+        corrections = self.corrections().to_json()["sequences"]
         for seq in self.sequences:
             s = self.structure(seq.name)
+            fixes = {"corrections": corrections[seq.name]} if seq.name in corrections else {}
             sequences.append({
                 "name": seq.name, "frames": seq.frames, "fps": seq.fps,
                 "clusters": [{"start": int(a), "end": int(b)} for a, b in s.clusters],
                 "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
                              "distance": float(t.distance)} for t in s.textons],
+                **fixes,
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,
                   "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity,

@@ -15,6 +15,7 @@ the problem, and what to do.
 
 import glob as _glob
 import json
+import os
 import re
 import warnings
 from dataclasses import dataclass, field
@@ -318,6 +319,33 @@ def _positive(value):
     except (TypeError, ValueError):
         value = float("nan")
     return value if np.isfinite(value) and value > 0 else None
+
+
+def expand_inputs(inputs):
+    """``(name or None, source)`` for every sequence that ``inputs`` names.
+
+    An input is a folder, a quoted glob of frame files (one sequence), a glob of folders
+    (one sequence per folder), or a ``(name, source)`` pair. A glob that matches frame
+    files is left to the loader, which orders them.
+
+    >>> expand_inputs([("walk", "captures/a"), "captures/b"])
+    [('walk', 'captures/a'), (None, 'captures/b')]
+    """
+    expanded = []
+    for item in inputs:
+        name, source = item if isinstance(item, tuple) else (None, item)
+        text = str(source)
+        if any(ch in text for ch in "*?[") and not Path(text).exists():
+            matches = sorted(_glob.glob(text.rstrip("/\\")))
+            folders = [m for m in matches if os.path.isdir(m)]
+            if folders and len(folders) == len(matches):
+                if name is not None and len(folders) > 1:
+                    raise InputError(f"{text} matches {len(folders)} sequence folders, so it cannot "
+                                     f"take the one name {name!r}; name each folder separately.")
+                expanded += [(name, folder) for folder in folders]
+                continue
+        expanded.append((name, source))
+    return expanded
 
 
 def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None):

@@ -79,6 +79,8 @@ __all__ = [
     "Texton",
     "Structure",
     "parse",
+    "textons_for",
+    "texton_curve",
     "atom_window",
     "atom_distance",
     "atom_distances_to",
@@ -421,13 +423,53 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
-def _parse_energy(v, fps, p, w, theta=None):
-    clusters = _energy_clusters(v, fps, p)
+def _textons_of_clusters(v, clusters, fps, p, w, theta=None):
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
         P = _period(v, cs, ce, fps, w, p, theta)
         textons.extend(_textons_by_period(v, cs, ce, P, w, ci))
-    return clusters, textons
+    return textons
+
+
+def _parse_energy(v, fps, p, w, theta=None):
+    clusters = _energy_clusters(v, fps, p)
+    return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta)
+
+
+def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None = None, theta=None) -> list:
+    """The textons of given clusters, found as step 2 of ``method="energy"`` finds them.
+
+    For clusters drawn by hand (:mod:`engine.corrections`): each cluster's period from its
+    lag profile, then whole periods from its most repeatable atom.
+
+    Parameters
+    ----------
+    vectors : (T, D) array
+        Rows of :attr:`engine.features.Features.vectors`.
+    clusters : list of (start, end)
+        Inclusive frame ranges; ``Texton.cluster`` indexes this list.
+    fps, params, theta
+        As for :func:`parse`.
+
+    Returns
+    -------
+    list of Texton
+    """
+    p = params or StructureParams()
+    v = np.asarray(vectors, dtype=np.float64)
+    return _textons_of_clusters(v, clusters, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta)
+
+
+def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructureParams | None = None):
+    """d_A(t, t_first) of every frame, Figure 4: :attr:`Structure.curve` for given clusters and textons.
+
+    Returns
+    -------
+    (T,) float64
+    """
+    p = params or StructureParams()
+    v = np.asarray(vectors, dtype=np.float64)
+    return _curve(v, clusters, textons, atom_window(fps, p.window_taps, p.window_fps))
 
 
 def _parse_paper(v, fps, p, w):

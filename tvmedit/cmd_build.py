@@ -10,6 +10,11 @@ complete, so an interrupted build never leaves half a library. Features, the exp
 part, are cached by frame files and bin sizes: rebuilding with other parsing or pruning
 parameters reuses them (and says so). --workers and --dask spread the reading of frames;
 the library is the same whichever is used.
+
+--corrections FILE applies corrections by hand on top of the automatic parse (cluster
+boundaries and texton starts to add, remove or move, representatives to force, motions to
+drop; see ``engine.corrections``) and stores them in the library, so a later rebuild with
+other parameters applies them again; --no-corrections leaves them out.
 """
 
 import argparse
@@ -67,6 +72,12 @@ def add_arguments(parser):
                         help="frame rate of every sequence (default: sequence.json beside the frames, else 10)")
     parser.add_argument("--skip-bad-frames", action="store_true",
                         help="leave out frames that cannot be loaded instead of stopping")
+    fixes = parser.add_mutually_exclusive_group()
+    fixes.add_argument("--corrections", metavar="FILE", default=None,
+                       help="corrections.json to apply on top of the parse (default: those stored "
+                            "in the library being replaced, if any)")
+    fixes.add_argument("--no-corrections", action="store_true",
+                       help="build from the automatic parse alone, dropping stored corrections")
     options.add_frame_of_reference(parser)
 
     bins = BinSizes()
@@ -141,7 +152,8 @@ def run(args):
     library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
                     connect=args.connect, skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
                     workers=args.workers, dask=args.dask, force=args.force,
-                    cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror)
+                    cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror,
+                    corrections={} if args.no_corrections else args.corrections)
     if args.quiet:
         return 0
     report = library.report
@@ -152,5 +164,6 @@ def run(args):
         + (f" ({report['added']} added so every motion reaches every other)" if report.get("added") else "")
         + f", {report['stored_frames']} frames stored, "
         f"in {report['seconds']:.1f} s ({report['workers']})"
-        + (f"; features reused for {len(reused)} of {report['sequences']} sequence(s)" if reused else ""))
+        + (f"; features reused for {len(reused)} of {report['sequences']} sequence(s)" if reused else "")
+        + (f"; corrections by hand applied to {', '.join(report['corrected'])}" if report["corrected"] else ""))
     return 0

@@ -1,11 +1,15 @@
 """Summarise a library: its parameters, sequences, motions and motion graph.
 
+A sequence whose parse was corrected by hand shows its corrections under it (``+F`` adds a
+boundary or texton start at frame F, ``-F`` removes one, ``A>B`` moves one).
+
 With --json the summary is one JSON object (schema: ``engine.library.INFO_SCHEMA``):
 ``format``, ``params``, ``sequences`` (name, frames, fps, clusters and textons as inclusive
-0-based frame ranges), ``nodes`` (id, name, sequence, start, end, texton_distance,
-intensity), ``edges`` of the graph (from, to, weight, exit_frame, entry_frame, and
-``added``: true for an edge put back so that every motion reaches every other) and
-``connect`` (mode, how many edges were added, their largest weight, and why).
+0-based frame ranges, and ``corrections`` where corrected by hand), ``nodes`` (id, name,
+sequence, start, end, texton_distance, intensity), ``edges`` of the graph (from, to, weight,
+exit_frame, entry_frame, and ``added``: true for an edge put back so that every motion
+reaches every other) and ``connect`` (mode, how many edges were added, their largest
+weight, and why).
 """
 
 import json
@@ -36,6 +40,22 @@ def _read_as(manifest, name):
                                   + (", mirrored" if frame["mirrored"] else "")))
 
 
+def _corrections(entry):
+    """``boundaries +140 -72 72>75; textons +300; representative at 305; drop t30/06``."""
+    parts = []
+    for kind in ("boundaries", "textons"):
+        ops = entry.get(kind, {})
+        marks = ([f"+{f}" for f in ops.get("add", [])] + [f"-{f}" for f in ops.get("remove", [])]
+                 + [f"{a}>{b}" for a, b in ops.get("move", [])])
+        if marks:
+            parts.append(f"{kind} {' '.join(marks)}")
+    if entry.get("representatives"):
+        parts.append("representative at " + ", ".join(map(str, entry["representatives"])))
+    if entry.get("drop"):
+        parts.append("drop " + ", ".join(entry["drop"]))
+    return "; ".join(parts)
+
+
 def run(args):
     from engine.database import advice
     from engine.library import Library
@@ -57,6 +77,8 @@ def run(args):
         clusters = " ".join(_frames(c["start"], c["end"]) for c in s["clusters"])
         print(f"  {s['name']}: {s['frames']} frames at {s['fps']:g} fps, {len(s['clusters'])} clusters "
               f"[{clusters}], {len(s['textons'])} textons{_read_as(manifest, s['name'])}")
+        if s.get("corrections"):
+            print(f"    corrected by hand: {_corrections(s['corrections'])}")
     names = {n["id"]: n["name"] for n in info["nodes"]}
     width = max([len(name) for name in names.values()] + [4])
     print(f"motions ({len(info['nodes'])}):")

@@ -1,0 +1,85 @@
+"""Deriving a library again from what it stores: corrections by hand applied in under a second.
+
+A library keeps its features, its automatic parse and its frame files' records, so the cheap
+stages (corrections, database, graph) can run again without reading a frame file or
+computing a feature: :func:`rebuild` makes the sequences and features the builder's last
+stages need (:func:`engine.builder.derive`) from the library itself. Meshes are copied from
+the library; only the frames of a motion it never stored (a new representative texton,
+after a boundary was added) are read from their files.
+"""
+
+from pathlib import Path
+from typing import NamedTuple
+
+from . import atomic
+from .builder import Settings, check_target, derive, library_features, opened
+from .features import BinSizes
+from .parallel import Workers
+
+__all__ = ["rebuild"]
+
+
+class _Recorded(NamedTuple):
+    """A sequence as a library records it: what the stages after the features need of it."""
+
+    name: str
+    fps: float
+    format: str
+    orientation: object
+    paths: list
+
+
+def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None):
+    """Derive ``library`` again from its stored features, with corrections by hand.
+
+    The automatic parse is the stored one, so nothing is parsed again; corrections
+    (:mod:`engine.corrections`), database, graph and meshes are made again and written
+    atomically. No feature is recomputed and no frame file is read, except those of a motion
+    whose frames ``library`` does not store.
+
+    Parameters
+    ----------
+    library : engine.library.Library
+    out : str or Path, optional
+        Where to write; default: replace ``library`` itself.
+    corrections : Corrections, dict, str, Path or None
+        The corrections (the whole set, replacing the library's); None keeps the library's.
+    mu : float, optional
+        Pruning parameter of eq. (14); default: the library's.
+    force : bool, optional
+        Replace an existing ``out``; default: only when ``out`` is ``library`` itself.
+    log : callable, optional
+        Called with one-line messages (a correction that found nothing to act on).
+
+    Returns
+    -------
+    engine.library.Library
+        Opened, with ``report`` as :func:`engine.build` gives it; ``read_frames`` counts the
+        frame files read.
+    """
+    from .corrections import Corrections
+    from .orientation import Orientation
+
+    out = Path(library.path if out is None else out).absolute()
+    force = out == Path(library.path).absolute() if force is None else force
+    params = library.params
+    settings = Settings.of(BinSizes(**params["bins"]), params["structure"],
+                           params["mu"] if mu is None else mu, params.get("skip_bad_frames", False),
+                           params.get("connect", "auto"))
+    corrections = library.corrections() if corrections is None else Corrections.coerce(corrections)
+    sequences, computed = [], []
+    for record in library.manifest["sequences"]:
+        frame = record.get("orientation")
+        sequences.append(_Recorded(record["name"], float(record["fps"]), record.get("format"),
+                                   Orientation.from_json(frame) if frame else None,
+                                   [row[0] for row in record["files"]]))
+        entry = library_features(library, record["feature_key"], settings.bins)
+        entry.stats = {row[0]: row for row in record["files"]}
+        computed.append(entry)
+    parses = {s.name: library.parse(s.name) for s in library.sequences}
+    check_target(out, force, sequences)
+    recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
+    with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(1) as pool:
+        derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
+                         parses=parses)
+    return opened(out, derived)

@@ -1,0 +1,209 @@
+"""Corrections by hand (engine.corrections): a wrong parse made right, and only what changed redone.
+
+On real motion (CMU 13_30 turned into meshes): a true boundary removed and a spurious one
+added through ``corrections.json`` give exactly the corrected clusters, the same database
+and graph as a build from scratch given those clusters, and the rebuild reads no frame file
+but those of the motions the library never stored. Every run points ``XDG_CACHE_HOME`` at
+a temporary folder, so no test reads or fills the user's feature cache.
+"""
+
+import json
+import os
+import shutil
+
+import pytest
+
+import engine
+from engine import Library
+from engine.corrections import CorrectionError, Corrections, apply_structure
+from engine.database import build_database
+from engine.graph import build_graph
+from engine.structure import Structure, StructureParams, texton_curve, textons_for
+from tvmedit.cli import main
+
+NAME = "t30"
+
+
+@pytest.fixture(autouse=True)
+def _cache_home(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+
+
+@pytest.fixture(scope="module")
+def take(take_13_30, tmp_path_factory):
+    """The take's frames linked into a folder of the test's own, which tests may move away."""
+    folder = tmp_path_factory.mktemp("frames") / NAME
+    folder.mkdir()
+    for entry in take_13_30.iterdir():
+        try:
+            os.link(entry, folder / entry.name)
+        except OSError:
+            shutil.copy2(entry, folder / entry.name)
+    return folder
+
+
+@pytest.fixture(scope="module")
+def base(take, tmp_path_factory):
+    """The automatic library of the take (tests write their corrections elsewhere)."""
+    out = tmp_path_factory.mktemp("lib") / "t30.tvmlib"
+    return engine.build([take], out, workers=2, cache=False)
+
+
+def _truth(take):
+    return [s["start"] for s in json.loads((take / "truth.json").read_text())["segments"]][1:]
+
+
+def _expected(library, clusters):
+    """Structure, database and graph of a build from scratch given ``clusters``."""
+    f = library.features(NAME)
+    params = StructureParams(**{**library.params["structure"],
+                                "window_taps": tuple(library.params["structure"]["window_taps"])})
+    fps = library.sequence(NAME).fps
+    textons = textons_for(f.vectors, clusters, fps, params, theta=f.theta_columns)
+    structure = Structure(clusters, textons, texton_curve(f.vectors, clusters, textons, fps, params), fps)
+    nodes = build_database({NAME: structure})
+    return structure, nodes, build_graph(nodes, {NAME: f.vectors}, mu=library.mu)
+
+
+def _edges(graph):
+    return {(i, j): (round(d["weight"], 9), d["exit_frame"], d["entry_frame"]) for i, j, d in graph.edges(data=True)}
+
+
+def _away(take, keep=()):
+    """Move the frame folder away, leaving only the files of frames ``keep``; returns a restorer."""
+    aside = take.with_name(take.name + ".aside")
+    take.rename(aside)
+    take.mkdir()
+    files = sorted(p for p in aside.iterdir() if p.suffix == ".ply")
+    for frame in keep:
+        os.link(files[frame], take / files[frame].name)
+
+    def restore():
+        shutil.rmtree(take)
+        aside.rename(take)
+    return restore
+
+
+def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_clusters(base, take, tmp_path):
+    auto = [s for s, _ in base.structure(NAME).clusters]
+    truth = _truth(take)
+    true = next(b for b in auto[1:] if min(abs(b - t) for t in truth) <= 10)
+    longest = max(base.structure(NAME).clusters, key=lambda c: c[1] - c[0])
+    spurious = (longest[0] + longest[1]) // 2
+    assert min(abs(spurious - t) for t in truth) > 10
+    fix = tmp_path / "corrections.json"
+    fix.write_text(json.dumps({"sequences": {NAME: {"boundaries": {"remove": [true], "add": [spurious]}}}}))
+
+    starts = sorted(set(auto) - {true} | {spurious})
+    clusters = [(s, e - 1) for s, e in zip(starts, starts[1:] + [len(base.sequence(NAME))])]
+    structure, nodes, graph = _expected(base, clusters)
+    stored = set(base.stored_frames())
+    new_frames = sorted({f for n in nodes for f in range(n.start, n.end + 1)} - {f for _, f in stored})
+
+    # Only the files of frames the library never stored are left: reading any other one
+    # (features, the frame of reference, a stored mesh) would fail.
+    restore = _away(take, keep=new_frames)
+    try:
+        fixed = base.correct(fix, tmp_path / "fixed.tvmlib")
+    finally:
+        restore()
+
+    assert fixed.structure(NAME).clusters == clusters
+    assert fixed.report["read_frames"] == len(new_frames)
+    assert [(t.start, t.end) for t in fixed.structure(NAME).textons] == [(t.start, t.end) for t in structure.textons]
+    assert [(n.name, n.start, n.end, n.kind) for n in fixed.nodes] == [(n.name, n.start, n.end, n.kind) for n in nodes]
+    assert _edges(fixed.graph) == _edges(graph)
+    assert fixed.parse(NAME).clusters == base.structure(NAME).clusters      # the automatic parse is kept
+    assert fixed.corrections() == Corrections.load(fix)
+    for node in fixed.nodes:                                                # every motion plays
+        assert len(fixed.frame_mesh((NAME, node.end))[0]) > 1000
+
+    # The same corrections in a build from scratch give the same database and graph.
+    scratch = tmp_path / "scratch.tvmlib"
+    assert main(["build", f"{NAME}={take}", "-o", str(scratch), "--corrections", str(fix), "--no-cache",
+                 "--workers", "2", "-q"]) == 0
+    again = Library.open(scratch)
+    assert [(n.start, n.end, n.kind) for n in again.nodes] == [(n.start, n.end, n.kind) for n in fixed.nodes]
+    assert _edges(again.graph) == _edges(fixed.graph)
+
+
+def test_a_correction_of_stored_motions_only_reads_no_frame_file_at_all(base, take, tmp_path):
+    restore = _away(take)
+    try:
+        fixed = base.correct({"sequences": {NAME: {"drop": [base.nodes[1].name]}}}, tmp_path / "d.tvmlib")
+    finally:
+        restore()
+    assert fixed.report["read_frames"] == 0
+    assert [n.name for n in fixed.nodes] == [n.name for n in base.nodes if n.id != 1]
+    for node in fixed.nodes:
+        assert (fixed.frame_mesh((NAME, node.start))[0] == base.frame_mesh((NAME, node.start))[0]).all()
+
+
+def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base, take, tmp_path, capsys):
+    out = tmp_path / "lib.tvmlib"
+    shutil.copytree(base.path, out)
+    auto = base.structure(NAME).clusters
+    fix = tmp_path / "c.json"
+    c = Corrections()
+    c.remove_boundary(NAME, auto[1][0])
+    c.save(fix)
+    assert main(["correct", str(out), str(fix)]) == 0
+    assert main(["build", f"{NAME}={take}", "-o", str(out), "--force", "--mu", "0.8", "-q", "--workers", "1"]) == 0
+    rebuilt = Library.open(out)
+    assert rebuilt.mu == 0.8 and len(rebuilt.structure(NAME).clusters) == len(auto) - 1
+    capsys.readouterr()
+    assert main(["info", str(out)]) == 0
+    assert f"corrected by hand: boundaries -{auto[1][0]}" in capsys.readouterr().out
+    assert main(["info", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["sequences"][0]["corrections"] == c.to_json()["sequences"][NAME]
+    assert main(["build", f"{NAME}={take}", "-o", str(out), "--force", "--no-corrections", "-q"]) == 0
+    assert Library.open(out).structure(NAME).clusters == auto and not Library.open(out).corrections()
+
+
+def test_texton_starts_representatives_and_drops(base):
+    parse = base.parse(NAME)
+    vectors = base.features(NAME).vectors
+    cluster = max(range(len(parse.clusters)), key=lambda k: len(parse.textons_of(k)))
+    first, second, third = parse.textons_of(cluster)[:3]
+    c = Corrections()
+    c.move_texton(NAME, second.start, second.start + 1)
+    c.remove_texton(NAME, third.start)              # joins the third texton to the second
+    c.add_texton(NAME, third.start + 1)             # and splits it again one frame later
+    fixed = apply_structure(parse, vectors, c.of(NAME), name=NAME)
+    spans = [(t.start, t.end) for t in fixed.textons_of(cluster)]
+    assert spans[:3] == [(first.start, second.start), (second.start + 1, third.start), (third.start + 1, third.end)]
+    assert len(fixed.textons) == len(parse.textons)
+    c.remove_texton(NAME, third.start + 1)          # undoing an added start leaves no entry
+    assert c.of(NAME).textons["add"] == []
+
+    c = Corrections()
+    c.represent(NAME, second.start + 2)
+    c.drop(NAME, base.nodes[0].name)
+    fixed = base.correct(c, base.path.with_name("rep.tvmlib"))
+    assert fixed.nodes[0].name == base.nodes[1].name and len(fixed.nodes) == len(base.nodes) - 1
+    forced = next(n for n in fixed.nodes if n.cluster == cluster)
+    assert (forced.start, forced.end) == (second.start, second.end)
+
+
+@pytest.mark.parametrize("entry, words", [
+    ({"boundaries": {"add": [5000]}}, "boundaries.add[0] = 5000 lies outside the sequence"),
+    ({"textons": {"add": [None]}}, "textons.add[0] must be a frame number"),
+    ({"drop": ["t30/99"]}, "drop[0] = 't30/99' names no motion"),
+    ({"representatives": [0]}, "representatives[0] = 0 lies in no texton"),
+])
+def test_an_invalid_correction_is_one_sentence_naming_the_entry(base, tmp_path, capsys, entry, words):
+    fix = tmp_path / "bad.json"
+    fix.write_text(json.dumps({"sequences": {NAME: entry}}))
+    capsys.readouterr()
+    assert main(["correct", str(base.path), str(fix), "-o", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: ") and words in err and str(fix) in err and "\n" not in err
+    assert not (tmp_path / "x").exists()
+
+
+def test_a_texton_shorter_than_the_atom_window_is_refused(base):
+    texton = base.parse(NAME).textons[0]
+    c = Corrections()
+    c.add_texton(NAME, texton.start + 2)
+    with pytest.raises(CorrectionError, match=r"textons.add\[0\] = .* shorter than the 5-frame atom window"):
+        base.correct(c, base.path.with_name("short.tvmlib"))
