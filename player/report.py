@@ -142,6 +142,10 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     return {"texton_starts": [int(x) for x in markers.get_xdata()], "size": list(size)}
 
 
+#: Label colour of the edges added to connect the graph.
+ADDED_COLOUR = "#c0262d"
+
+
 def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_SIZE):
     """Figure 7: the motion graph with weights on the edges and a rendered frame per node.
 
@@ -160,7 +164,9 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
     -------
     dict
         ``positions``: {node: (x, y)} in the unit square; ``edges``: kept edges drawn;
-        ``pruned``: pruned edges drawn (empty unless ``show_pruned``); ``size``.
+        ``pruned``: pruned edges drawn (empty unless ``show_pruned``); ``added``: edges
+        put back to connect the graph (``added`` edge attribute), drawn dashed with red
+        labels; ``size``.
     """
     from matplotlib.offsetbox import AnnotationBbox, OffsetImage
     from matplotlib.patches import Circle, FancyArrowPatch
@@ -189,11 +195,16 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
     for edge in pruned:
         _arrow(ax, FancyArrowPatch, positions, edge, radius, color="#b0b0b0", lw=0.7, ls="--",
                alpha=0.6, zorder=1)
+    added = [e for e in kept if graph.edges[e].get("added")]
     for edge, w in zip(kept, weights):
         colour = cmap(0.85 * (w - low) / (high - low) if high > low else 0.0)
-        mid = _arrow(ax, FancyArrowPatch, positions, edge, radius, color=colour, lw=1.4, zorder=2)
+        # Edges put back to connect the graph (engine.connect): dashed, labelled in red.
+        extra = {"ls": (0, (4, 2))} if edge in added else {}
+        mid = _arrow(ax, FancyArrowPatch, positions, edge, radius, color=colour, lw=1.4, zorder=2, **extra)
+        frame = ADDED_COLOUR if edge in added else colour
         ax.text(*mid, _fmt(w), fontsize=7, ha="center", va="center", zorder=4,
-                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": colour, "lw": 0.6})
+                color=ADDED_COLOUR if edge in added else "black",
+                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "ec": frame, "lw": 1.0 if edge in added else 0.6})
     for n in nodes:
         x, y = positions[n]
         if n in thumbnails:
@@ -218,13 +229,27 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
         bar.ax.xaxis.set_label_position("top")
         bar.ax.tick_params(labelsize=7)
     mu = graph.graph.get("mu")
-    note = f"{len(kept)} transitions kept" + (f" (mu = {mu:g})" if mu is not None else "")
+    note = f"{len(kept) - len(added)} transitions kept" + (f" (mu = {mu:g})" if mu is not None else "")
+    if added:
+        note += f", {len(added)} added to connect (dashed, red labels)"
     if show_pruned:
         note += f", {len(pruned)} pruned (dashed)"
     ax.text(0.01, 0.01, note, transform=ax.transAxes, fontsize=8, color="#404040")
     _save(fig, out_png)
     return {"positions": {n: tuple(positions[n]) for n in nodes}, "edges": kept,
-            "pruned": pruned, "size": list(size)}
+            "pruned": pruned, "added": added, "size": list(size)}
+
+
+def _connect_sentence(connect):
+    """What connecting the graph did, in a sentence (engine.connect), or nothing."""
+    if not connect or connect["mode"] == "off":
+        return "The graph is the paper's: nothing was added to connect it (built with --connect off). "
+    if not connect["added"]:
+        return "Every motion reaches every other through the kept transitions alone. "
+    n = connect["added"]
+    return (f"{n} transition{'s were' if n != 1 else ' was'} added back from the complete graph so "
+            f"that every motion reaches every other (dashed, red labels); the largest added weight, "
+            f"{connect['largest_weight']:.3g}, is the least that connects the graph. ")
 
 
 def _circle(nodes):
@@ -432,11 +457,14 @@ class _Report:
         summary["graph"] = {"image": "graph.png", "edges": [list(e) for e in drawn["edges"]],
                             "pruned_drawn": [list(e) for e in drawn["pruned"]],
                             "pruned": len(unpruned) - graph.number_of_edges() if unpruned else 0,
-                            "mu": graph.graph.get("mu")}
-        hidden = "drawn dashed" if show_pruned else "hidden (show them with --show-pruned)"
+                            "mu": graph.graph.get("mu"), "added": [list(e) for e in drawn["added"]],
+                            "connect": graph.graph.get("connect")}
+        hidden = "drawn dashed in grey" if show_pruned else "hidden (show them with --show-pruned)"
+        kept = graph.number_of_edges() - len(drawn["added"])
         return ("<h2 id='graph'>Motion graph</h2>"
-                f"<p>{graph.number_of_nodes()} motions, {graph.number_of_edges()} transitions kept by "
+                f"<p>{graph.number_of_nodes()} motions, {kept} transitions kept by "
                 f"pruning, eq. (14); edge labels are weights, eq. (12); pruned edges are {hidden}. "
+                f"{_connect_sentence(graph.graph.get('connect'))}"
                 "Each node shows the middle frame of its texton (Figure 7).</p>"
                 f"<img src='graph.png' width='{GRAPH_SIZE[0]}' height='{GRAPH_SIZE[1]}' "
                 "alt='motion graph'>")

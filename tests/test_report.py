@@ -81,6 +81,10 @@ def test_the_cli_prints_the_page_it_wrote_and_draws_pruned_edges_on_request(ctx,
     pruned = sorted(set(G.graph["unpruned"]) - set(G.edges))
     assert pruned and [tuple(e) for e in summary["graph"]["pruned_drawn"]] == pruned
     assert "pruned edges are drawn dashed" in page
+    added = sorted(e for e in G.edges if G.edges[e]["added"])
+    assert [tuple(e) for e in summary["graph"]["added"]] == added
+    if added:
+        assert f"{len(added)} transition" in page and "added back from the complete graph" in page
 
 
 def test_every_section_is_there_and_every_image_it_names_exists(report):
