@@ -27,6 +27,7 @@ frame at a time while key motions are queued and unqueued, for the realtime play
 """
 
 import itertools
+import math
 from collections import deque
 from dataclasses import dataclass, field
 from functools import partial
@@ -80,6 +81,9 @@ class Leg:
 
     ``frames`` counts the schedule from the first frame of key motion ``source`` up to the
     first frame of key motion ``target``: the source's own play and the textons between.
+    ``loops`` are the extra cycles each motion of the path but the last plays (all 0 unless a
+    length was asked). A leg asked to last a time (:mod:`engine.timing`) has ``asked``, in
+    seconds, and ``goal``, the frames it aimed at; a hold is a leg whose path is its source.
     """
 
     source: int
@@ -88,10 +92,16 @@ class Leg:
     cost: float
     edges: int
     frames: int
+    loops: tuple = ()
+    asked: float | None = None
+    goal: int | None = None
 
     def to_json(self):
-        return {"from": self.source, "to": self.target, "path": list(self.path), "cost": self.cost,
-                "edges": self.edges, "frames": self.frames}
+        record = {"from": self.source, "to": self.target, "path": list(self.path), "cost": self.cost,
+                  "edges": self.edges, "frames": self.frames}
+        if self.asked is not None:
+            record.update(loops=list(self.loops), asked_s=self.asked, goal_frames=self.goal)
+        return record
 
 
 @dataclass
@@ -109,6 +119,8 @@ class Composition:
     loops: int | None = 1
     cycle: int = field(default=0, repr=False)  # frames in one cycle of the last key motion
     library: object = field(default=None, repr=False)  # set by Library.edit: where frames come from
+    starts: list = field(default_factory=list)  # schedule index at which each key motion begins
+    fps: float | None = None  # set by Library.edit: frames a second, for lengths in seconds
 
     def frames(self):
         """Iterate the schedule; without end when ``loops`` is None."""
@@ -116,10 +128,19 @@ class Composition:
         if self.loops is None:
             yield from itertools.cycle(self.schedule[len(self.schedule) - self.cycle:])
 
+    def legs_json(self):
+        """Each leg's JSON, with ``asked_s`` (null where no time was asked) and ``achieved_s``
+        when the frame rate is known."""
+        legs = [leg.to_json() for leg in self.legs]
+        if self.fps:
+            for leg, record in zip(self.legs, legs):
+                record.update(asked_s=leg.asked, achieved_s=leg.frames / self.fps)
+        return legs
+
     def to_json(self):
         """The JSON of ``tvmedit path --json``."""
-        return {"keys": list(self.keys), "loops": self.loops,
-                "legs": [leg.to_json() for leg in self.legs],
+        return {"keys": list(self.keys), "loops": self.loops, "fps": self.fps, "key_starts": list(self.starts),
+                "legs": self.legs_json(),
                 "schedule": [entry.to_json() for entry in self.schedule],
                 "transitions": [t.to_json() for t in self.transitions]}
 
@@ -193,7 +214,7 @@ def _check_loops(loops):
                  hint=" (None plays the last key motion for ever)")
 
 
-def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
+def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, timing=None):
     """Compose an edit through the key motions, section 8.
 
     Parameters
@@ -212,6 +233,11 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
         Edge attribute of the transition cost, eq. (12).
     index : SearchIndex, optional
         Prebuilt index of ``graph``.
+    timing : engine.timing.Timing, optional
+        How long each leg should last (:meth:`engine.timing.Timing.request`, which also puts
+        holds in ``keys``). A leg with a time is planned by :func:`engine.timing.plan_leg`; a
+        leg from a motion to itself with a time is a hold: the motion plays on for that many
+        frames and the next leg starts where it then is.
 
     Returns
     -------
@@ -219,7 +245,7 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
 
     Raises
     ------
-    NoPath, UnknownMotion
+    NoPath, UnknownMotion, DurationError (a missed time with ``timing.strict``)
 
     Examples
     --------
@@ -243,26 +269,54 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None):
     forbidden = {node_by_key(graph, key) for key in forbidden}
     index = SearchIndex.of(graph, weight) if index is None else index
 
-    schedule, transitions, legs = [], [], []
-    node = keys[0]
-    sequence, start, end = _texton(graph, node)
-    entry = start
-    for source, target in zip(keys, keys[1:]):
-        path = best_path(graph, source, target, weight, forbidden, index=index)
+    schedule, transitions, legs, starts = [], [], [], [0]
+    sequence, start, end = _texton(graph, keys[0])
+    entry, clock = start, 0.0
+    for i, (source, target) in enumerate(zip(keys, keys[1:])):
         began = len(schedule)
+        planned = timing.planned(i, clock) if timing else None
+        goal = None if planned is None else max(0, math.floor(planned + 0.5) - began)
+        if goal is not None and source == target:  # a hold lasts what was asked, late or not
+            goal = math.floor(timing.durations[i] * timing.fps + 0.5)
+        path, extra = _route(graph, source, entry, target, goal, weight, forbidden, index)
+        if len(path) == 1 and goal:  # a hold: the motion plays on, and the next leg starts where it is
+            schedule += _entries(source, sequence, _cycle(start, end, entry, goal))
+            entry = start + (entry - start + goal) % (end - start + 1)
         cost = 0.0
-        for u, v in zip(path, path[1:]):
+        for (u, v), k in zip(zip(path, path[1:]), extra):
             w, exit_frame, entry_frame = _edge(graph, u, v, weight)
             cost = max(cost, w)
-            schedule += _entries(u, sequence, _cycle(start, end, entry,
-                                                     play_length(start, end, entry, exit_frame, _once(graph, u))))
+            count = play_length(start, end, entry, exit_frame, _once(graph, u)) + k * (end - start + 1)
+            schedule += _entries(u, sequence, _cycle(start, end, entry, count))
             transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame))
             sequence, start, end = _texton(graph, v)
             entry = entry_frame
-        legs.append(Leg(source, target, tuple(path), cost, len(path) - 1, len(schedule) - began))
+        frames = len(schedule) - began
+        legs.append(Leg(source, target, tuple(path), cost, len(path) - 1, frames, tuple(extra),
+                        None if goal is None else timing.durations[i], goal))
+        if goal is not None:
+            timing.check(graph, i + 1, source, target, frames, goal)
+        clock = len(schedule) if planned is None else planned
+        starts.append(len(schedule))
     length = end - start + 1
     schedule += _entries(keys[-1], sequence, _cycle(start, end, entry, length * (loops or 1)))
-    return Composition(keys, legs, schedule, transitions, loops, cycle=length)
+    return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts)
+
+
+def _route(graph, source, entry, target, goal, weight, forbidden, index):
+    """Path of a leg and the extra loops of each motion on it but the last.
+
+    With no ``goal`` (frames), the best path of eq. (15)-(16) played as early as section 8
+    allows; with one, the plan of :func:`engine.timing.plan_leg` (a leg to the same motion
+    is a hold, played by :func:`compose`).
+    """
+    if goal is None or source == target:
+        path = best_path(graph, source, target, weight, forbidden, index=index)
+        return path, (0,) * (len(path) - 1)
+    from .timing import plan_leg
+
+    plan = plan_leg(graph, source, entry, target, goal, forbidden, weight)
+    return list(plan.path), plan.loops
 
 
 @dataclass

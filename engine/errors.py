@@ -65,6 +65,16 @@ class NoPath(TvmError):
         self.mu = mu
 
 
+class DurationError(TvmError):
+    """A leg asked to last a time no schedule makes within a frame, where ``strict`` was asked."""
+
+    exit_code = 3
+
+
+class DurationWarning(UserWarning):
+    """A leg lasts the nearest time any schedule makes, not the time asked (:mod:`engine.timing`)."""
+
+
 class OutputError(TvmError):
     """An output would replace or land inside something tvmedit did not write."""
 

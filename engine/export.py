@@ -4,7 +4,8 @@ The exported folder is an ordinary TVM sequence: tvmedit's own loader and any me
 it. ``edit.json`` records, for each output frame, its file, its source sequence and frame, and
 the capture's frame file it came from (``source_file``, as the library's manifest records it,
 so frames skipped at build time do not shift it), and for each transition the edge taken and
-its weight, so the edit can be traced back to the capture. The folder is written under a
+its weight, so the edit can be traced back to the capture; ``key_starts`` gives the frame at
+which each key motion begins and each leg its ``asked_s`` and ``achieved_s`` seconds. The folder is written under a
 temporary name and renamed into place, so a failure never leaves a half-written export.
 
 Replacing an existing folder (``force``) is allowed only where that folder is a previous
@@ -76,7 +77,8 @@ def export_edit(edit, out, force=False, progress=False):
             "library": str(Path(library.path).resolve()),
             "fps": library.sequence(schedule[0].sequence).fps if schedule else None,
             "keys": [int(k) for k in edit.keys],
-            "legs": [leg.to_json() for leg in edit.legs],
+            "legs": edit.legs_json(),
+            "key_starts": list(edit.starts),
             "frames": frames,
             "transitions": [t.to_json() for t in edit.transitions],
         }

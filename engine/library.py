@@ -457,16 +457,33 @@ class Library:
                 "params": self.params, "sequences": sequences, "nodes": nodes, "edges": edges,
                 "connect": self.graph.graph["connect"]}
 
-    def edit(self, keys, forbid=(), loops=1):
+    def edit(self, keys, forbid=(), loops=1, durations=None, at=None, holds=None, strict=False):
         """Compose an edit through the key motions ``keys`` (ids or names), sections 7-8.
 
         ``forbid`` names motions no path may visit; ``loops`` is the number of cycles of the
-        last key motion (None: forever). Returns ``engine.compose.Composition`` with
-        ``library`` set to this library; its ``schedule`` entries carry ``sequence`` and
-        ``frame``, which :meth:`frame_mesh` plays.
+        last key motion (None: forever). Lengths in seconds at the library's frame rate
+        (:mod:`engine.timing`): ``durations`` gives each leg's (None: as short as section 8
+        plays it), or ``at`` the time each key motion begins; ``holds`` maps a key motion to
+        the seconds it keeps looping once it begins (a key repeated in ``keys`` with a
+        duration between is a hold too). A leg no schedule makes within a frame lasts the
+        nearest time one makes, with a :class:`~engine.errors.DurationWarning`, or raises
+        :class:`~engine.errors.DurationError` with ``strict``.
+
+        Returns ``engine.compose.Composition`` with ``library`` and ``fps`` set to this
+        library's; its ``schedule`` entries carry ``sequence`` and ``frame``, which
+        :meth:`frame_mesh` plays, and its ``starts`` the frame each key motion begins at.
         """
         from .compose import compose
+        from .graph import node_by_key
+        from .timing import Timing
 
-        composition = compose(self.graph, keys, forbidden=forbid, loops=loops)
+        graph = self.graph
+        ids = [node_by_key(graph, key) for key in keys]
+        fps = self.sequence(graph.nodes[ids[0]]["sequence"]).fps if ids else None
+        timing = None
+        if len(ids) >= 2:
+            ids, timing = Timing.request(graph, ids, fps, durations=durations, at=at, holds=holds, strict=strict)
+        composition = compose(graph, ids, forbidden=forbid, loops=loops, timing=timing)
         composition.library = self
+        composition.fps = fps
         return composition

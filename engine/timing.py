@@ -69,13 +69,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import TvmError
-from .search import SearchIndex, best_path, path_cost
+from .errors import DurationError, DurationWarning, ParameterError, TvmError
+from .params import number
+from .search import SearchIndex, best_path, motion_label, path_cost
 
-__all__ = ["LegPlan", "TimingIndex", "plan_leg", "miss"]
+__all__ = ["LegPlan", "Timing", "TimingIndex", "plan_leg", "miss", "MAX_SECONDS"]
 
 #: The longest leg, in frames, the planner searches (about 28 hours at 10 fps).
 MAX_FRAMES = 1_000_000
+#: The longest leg, hold or time a caller may ask for, in seconds (an hour).
+MAX_SECONDS = 3600.0
 
 _INDEXES = weakref.WeakKeyDictionary()
 
@@ -468,3 +471,113 @@ def _cheapest(run, weights, least, horizon, times, tried_least):
         else:
             bad = middle
     return tried[good]
+
+
+@dataclass(frozen=True)
+class Timing:
+    """How long each leg of an edit is asked to last: seconds, or None for as short as section 8 plays it.
+
+    Make one with :meth:`request`, which checks what the caller gives. ``compose`` asks
+    :meth:`planned` for each leg the frame at which its target should begin, counted on the
+    clock of the times asked (so a leg one frame short or long does not shift the ones after
+    it), and hands each leg it played to :meth:`check`.
+    """
+
+    durations: tuple
+    fps: float
+    strict: bool = False
+
+    @classmethod
+    def request(cls, graph, keys, fps, durations=None, at=None, holds=None, strict=False):
+        """Check the caller's lengths and return ``(keys, timing)``, holds put in as repeated keys.
+
+        Parameters
+        ----------
+        graph : networkx.DiGraph
+        keys : list of node ids
+            The key motions, resolved.
+        fps : float
+            Frames a second of the library.
+        durations : sequence of (float or None), optional
+            Seconds of each leg, len(keys) - 1 of them; None leaves a leg as short as it plays.
+        at : sequence of float, optional
+            Instead of ``durations``: the time each key motion begins, 0 first, never earlier
+            than the one before.
+        holds : dict of key -> float, optional
+            Seconds that a key motion keeps looping once it begins, before the path to the next
+            one (within that leg's asked time, if it has one); a key given twice in ``keys``
+            with a duration between is the same.
+        strict : bool
+            A leg no schedule makes within a frame raises :class:`~engine.errors.DurationError`
+            instead of a warning.
+
+        Returns
+        -------
+        (list of node ids, Timing or None): None when nothing is asked.
+        """
+        from .graph import node_by_key
+
+        legs = len(keys) - 1
+        if durations is not None and at is not None:
+            raise ParameterError("give durations= or at=, not both: durations are the legs' lengths, "
+                                 "at the times the key motions begin.")
+        if at is not None:
+            at = _seconds("at", at, len(keys))
+            if at[0] != 0:
+                raise ParameterError(f"at={at[0]:g} for the first key motion: it begins at 0, so at= starts with 0.")
+            for i in range(1, len(at)):
+                if at[i] < at[i - 1]:
+                    raise ParameterError(f"at= goes back in time: key motion {i + 1} at {at[i]:g} s comes "
+                                         f"before key motion {i} at {at[i - 1]:g} s; give the times in order.")
+            durations = [b - a for a, b in zip(at, at[1:])]
+        durations = [None] * legs if durations is None else _seconds("durations", durations, legs, free=True)
+        held = {node_by_key(graph, key): number(f"holds[{key!r}]", value, at_least=0, at_most=MAX_SECONDS)
+                for key, value in (holds or {}).items()}
+        for node in held:
+            if node not in keys:
+                raise ParameterError(f"holds names motion {motion_label(graph, node)}, which is not among the "
+                                     f"key motions; hold one of them.")
+        if not held and all(d is None for d in durations):
+            return list(keys), None
+        out_keys, out = [keys[0]], []
+        for i, key in enumerate(keys):
+            if key in held:
+                out_keys.append(key)
+                out.append(held[key])
+            if i < legs:
+                out_keys.append(keys[i + 1])
+                given = durations[i]
+                out.append(None if given is None else max(0.0, given - held.get(key, 0.0)))
+        return out_keys, cls(tuple(out), number("fps", fps, above=0), bool(strict))
+
+    def planned(self, leg, clock):
+        """Frame (a float) at which leg ``leg``'s target should begin, from ``clock``, the one at
+        which its source was to begin; None for a leg left free."""
+        asked = self.durations[leg]
+        return None if asked is None else clock + asked * self.fps
+
+    def check(self, graph, leg, source, target, frames, goal):
+        """Warn (or raise, when strict) where leg ``leg`` (from 1) misses its goal by over a frame."""
+        asked = self.durations[leg - 1]
+        if asked is None or miss(frames, goal) == 0:
+            return
+        what = "hold" if source == target else "leg"
+        kept = "" if goal == round(asked * self.fps) else f" ({goal / self.fps:g} s to keep the next key motion on time)"
+        message = (f"{what} {leg} ({motion_label(graph, source)} -> {motion_label(graph, target)}) was asked to "
+                   f"last {asked:g} s{kept} and lasts {frames / self.fps:g} s ({frames} frames at {self.fps:g} fps), "
+                   f"the nearest any schedule of the loop-then-transition rule makes")
+        if self.strict:
+            raise DurationError(f"{message}; ask for {frames / self.fps:g} s or choose other key motions.")
+        import warnings
+
+        warnings.warn(message + ".", DurationWarning, stacklevel=4)
+
+
+def _seconds(name, values, count, free=False):
+    """A list of ``count`` times in seconds, each in range (None where ``free`` allows)."""
+    values = list(values)
+    if len(values) != count:
+        raise ParameterError(f"{name}= has {len(values)} value{'s' * (len(values) != 1)}; this edit needs {count}"
+                             f" ({'one a leg' if name == 'durations' else 'one a key motion'}).")
+    return [None if free and v is None else number(f"{name}[{i}]", v, at_least=0, at_most=MAX_SECONDS)
+            for i, v in enumerate(values)]

@@ -8,8 +8,9 @@ import random
 import networkx as nx
 import pytest
 
-from engine.errors import NoPath
-from engine.timing import TimingIndex, miss, plan_leg
+from engine.compose import compose
+from engine.errors import DurationError, DurationWarning, NoPath
+from engine.timing import Timing, TimingIndex, miss, plan_leg
 
 
 def random_graph(rng):
@@ -148,3 +149,44 @@ def test_unreachable_target_is_no_path(asked):
     g.add_node(1, name="b", sequence="s", start=5, end=8)
     with pytest.raises(NoPath):
         plan_leg(g, 0, 0, 1, asked)
+
+
+def _two_textons():
+    g = nx.DiGraph()
+    g.add_node(0, name="walk", sequence="a", start=0, end=4)
+    g.add_node(1, name="run", sequence="b", start=10, end=12)
+    g.add_edge(0, 1, weight=0.5, exit_frame=4, entry_frame=10)
+    g.add_edge(1, 0, weight=0.5, exit_frame=12, entry_frame=0)
+    return g
+
+
+def test_timed_edit_keeps_the_key_motions_on_the_clock_asked():
+    g = _two_textons()
+    keys, timing = Timing.request(g, [0, 1, 0], fps=10, durations=[1.5, 0.9])
+    edit = compose(g, keys, timing=timing)
+    # walk plays 5 + 5k frames: 15; run 3 + 3k: 9, so key motions begin at 0, 15, 24.
+    assert edit.starts == [0, 15, 24]
+    assert [leg.loops for leg in edit.legs] == [(2,), (2,)]
+    runs = [len(list(group)) for _, group in itertools.groupby(e.node for e in edit.schedule)]
+    assert runs == [15, 9, 5]
+
+
+def test_a_missed_leg_warns_and_strict_raises():
+    g = _two_textons()
+    keys, timing = Timing.request(g, [0, 1], fps=10, durations=[0.7])  # 5 or 10 frames, not 6-8
+    with pytest.warns(DurationWarning, match=r"leg 1 \('walk' -> 'run'\) was asked to last 0.7 s and lasts 0.5 s"):
+        assert compose(g, keys, timing=timing).legs[0].frames == 5
+    keys, timing = Timing.request(g, [0, 1], fps=10, durations=[0.7], strict=True)
+    with pytest.raises(DurationError, match="ask for 0.5 s"):
+        compose(g, keys, timing=timing)
+
+
+def test_a_hold_plays_the_motion_on_and_the_next_leg_starts_there():
+    g = _two_textons()
+    keys, timing = Timing.request(g, [0, 1], fps=10, durations=[1.5], holds={0: 0.7})
+    assert keys == [0, 0, 1] and timing.durations == (0.7, pytest.approx(0.8))
+    edit = compose(g, keys, timing=timing)
+    frames = [e.frame for e in edit.schedule]
+    # 7 frames of walk from frame 0, then walk again from frame 2 to its exit at 4 (all 5 shown).
+    assert frames[:7] == [0, 1, 2, 3, 4, 0, 1] and edit.starts[:2] == [0, 7]
+    assert frames[7:edit.starts[2]] == [2, 3, 4, 0, 1, 2, 3, 4]

@@ -5,10 +5,23 @@ each neighbouring pair the path whose largest transition cost is smallest is cho
 among those the one with the fewest transitions (eq. 15-16). Each texton is shown whole
 before leaving it, and transitions happen as early as that allows (section 8).
 
---json prints {"legs": [{"from", "to", "path", "cost", "edges", "frames"}], "schedule":
-[{"node", "sequence", "frame"}], "transitions": [...]} with node ids as in `tvmedit info
---json`. An unknown motion is refused with the list of known names; an unreachable pair
-exits with status 3 and says at which --mu a path would exist.
+Lengths, in seconds at the library's frame rate: --durations 4,6.5 makes each leg (from the
+start of one key motion to the start of the next) last that long, --at 0,4,10.5 says when each
+key motion begins, and --hold KEY=SECONDS keeps a key motion looping that long once it begins.
+The planner picks the path and how many extra cycles each texton loops (whole textons, every
+frame shown before leaving) so that each leg lasts the time to within one frame, the least
+costly such path first (eq. 15), then the fewest transitions (eq. 16), then loops spread
+evenly. Where no schedule comes within a frame, the leg lasts the nearest time one makes and a
+warning names it, asked and achieved; --strict makes that an error (exit 3). A leg that comes
+out a frame short or long does not shift the later key motions: their times are kept. The
+last key motion still plays --loops cycles.
+
+--json prints {"legs": [{"from", "to", "path", "cost", "edges", "frames", "asked_s",
+"achieved_s"}], "key_starts": [frame each key motion begins at], "fps", "schedule": [{"node",
+"sequence", "frame"}], "transitions": [...]} with node ids as in `tvmedit info --json`; a leg
+asked a length also has "goal_frames" and "loops" (extra cycles of each motion on its path).
+An unknown motion is refused with the list of known names; an unreachable pair exits with
+status 3 and says at which --mu a path would exist.
 """
 
 import json
@@ -25,6 +38,7 @@ def add_edit_arguments(parser):
     options.add_forbid(parser)
     parser.add_argument("--loops", type=options.cycles, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
+    options.add_timing(parser)
 
 
 def add_arguments(parser):
@@ -36,8 +50,9 @@ def open_edit(args):
     """Open the library and compose the edit the arguments describe."""
     from engine.library import Library
 
+    timing = options.check_timing(args)
     library = Library.open(args.library)
-    return library, library.edit(args.keys, forbid=args.forbid, loops=args.loops)
+    return library, library.edit(args.keys, forbid=args.forbid, loops=args.loops, **timing)
 
 
 def run(args):
@@ -47,11 +62,13 @@ def run(args):
         return 0
     graph = library.graph
     name = lambda node: graph.nodes[node]["name"]  # noqa: E731
-    fps = library.sequence(edit.schedule[0].sequence).fps
+    fps = edit.fps
     for leg in edit.legs:
         route = " -> ".join(name(n) for n in leg.path)
-        print(f"{name(leg.source)} -> {name(leg.target)}: {route}  "
-              f"(cost {leg.cost:.3f}, {leg.edges} transition{'s' * (leg.edges != 1)}, {leg.frames} frames)")
+        asked = "" if leg.asked is None else f" = {leg.frames / fps:g} s, asked {leg.asked:g} s"
+        what = f"hold {name(leg.source)}" if leg.source == leg.target else f"{name(leg.source)} -> {name(leg.target)}"
+        print(f"{what}: {route}  "
+              f"(cost {leg.cost:.3f}, {leg.edges} transition{'s' * (leg.edges != 1)}, {leg.frames} frames{asked})")
     print(f"schedule: {len(edit.schedule)} frames ({len(edit.schedule) / fps:.1f} s at {fps:g} fps)")
     runs, previous = [], None
     for entry in edit.schedule:

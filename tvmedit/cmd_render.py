@@ -6,8 +6,12 @@ contact sheet PNG of that motion's texton (what you look at when choosing key mo
 
 The camera frames the person automatically; --camera AZ,EL,DIST sets azimuth and elevation
 in degrees and distance in metres (0 keeps the automatic distance), --orbit turns it
-slowly during playback. With --node, --size is the size of each tile and --orbit, --fps and
---loops do not apply.
+slowly during playback. With --node, --size is the size of each tile and --orbit, --fps,
+--loops and the lengths do not apply.
+
+--durations, --at and --hold set how long the legs last, as for `tvmedit path`; the video has
+exactly as many frames as that schedule (at --fps other than the library's, it plays faster
+or slower, frame for frame).
 """
 
 import dataclasses
@@ -27,6 +31,7 @@ def add_arguments(parser):
     options.add_forbid(parser)
     parser.add_argument("--loops", type=options.cycles, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
+    options.add_timing(parser)
     parser.add_argument("--size", type=options.size, default=None, metavar="WxH",
                         help="frame size (default 640x480); with --node the size of each tile (default 160x120)")
     parser.add_argument("--camera", type=options.camera, metavar="AZ,EL,DIST",
@@ -59,6 +64,7 @@ def run(args):
     from engine.library import Library
     import player
 
+    timing = options.check_timing(args) if args.node is None and len(args.keys) >= 2 else {}
     library = Library.open(args.library)
     try:
         if args.node is not None:
@@ -81,8 +87,8 @@ def run(args):
             return 0
         if len(args.keys) < 2:
             raise TvmError("give two or more key motions to render an edit, or --node NAME for a contact sheet.")
-        edit = library.edit(args.keys, forbid=args.forbid, loops=args.loops)
-        fps = args.fps or library.sequence(edit.schedule[0].sequence).fps
+        edit = library.edit(args.keys, forbid=args.forbid, loops=args.loops, **timing)
+        fps = args.fps or edit.fps
         size = args.size or (640, 480)
         camera = camera_for(library, size, args.camera, args.orbit) if args.camera else None
         out = player.render(edit, args.out, size=size, fps=fps, camera=camera,

@@ -74,6 +74,73 @@ def cycles(text):
     return value
 
 
+def _second(text, what):
+    from engine.timing import MAX_SECONDS
+
+    value = _number(text)
+    if not (math.isfinite(value) and 0 <= value <= MAX_SECONDS):
+        raise argparse.ArgumentTypeError(f"should be {what} in seconds from 0 to {MAX_SECONDS:g}, not {text!r}")
+    return value
+
+
+def durations(text):
+    """``"4,6.5"`` -> ``[4.0, 6.5]``, for --durations; an empty item (``"4,,6"``) leaves that leg free."""
+    return [None if not item.strip() else _second(item, "each leg's length") for item in text.split(",")]
+
+
+def times(text):
+    """``"0,4,10.5"`` -> ``[0.0, 4.0, 10.5]``, for --at."""
+    return [_second(item, "each key motion's start") for item in text.split(",")]
+
+
+def hold(text):
+    """``"gym/03=2.5"`` -> ``("gym/03", 2.5)``, for --hold KEY=SECONDS."""
+    key, sep, seconds = text.rpartition("=")
+    if not sep or not key.strip():
+        raise argparse.ArgumentTypeError(f"should be KEY=SECONDS, like gym/03=2.5, not {text!r}")
+    return key.strip(), _second(seconds, "the hold")
+
+
+def add_timing(parser):
+    """--durations, --at, --hold and --strict: lengths in seconds (engine.timing), for path, export and render."""
+    group = parser.add_argument_group("lengths (seconds at the library's frame rate)")
+    lengths = group.add_mutually_exclusive_group()
+    lengths.add_argument("--durations", type=durations, metavar="S,S,...",
+                         help="how long each leg lasts, from one key motion's start to the next's "
+                              "(one a leg; leave one empty, as in 4,,6, to keep it as short as it plays)")
+    lengths.add_argument("--at", type=times, metavar="T,T,...",
+                         help="when each key motion begins (one a key motion, starting with 0)")
+    group.add_argument("--hold", type=hold, action="append", default=[], metavar="KEY=SECONDS",
+                       help="keep key motion KEY looping this long once it begins, before the path to "
+                            "the next (repeatable; within that leg's time when one is given)")
+    group.add_argument("--strict", action="store_true",
+                       help="a length no schedule makes within one frame is an error (exit 3), "
+                            "not a warning and the nearest length")
+
+
+def check_timing(args):
+    """The counts of --durations and --at and the keys of --hold, against the KEYs given."""
+    from engine.errors import TvmError
+
+    legs = len(args.keys) - 1
+    for option, values, needed, unit in (("--durations", args.durations, legs, "one for each leg"),
+                                         ("--at", args.at, len(args.keys), "one for each key motion")):
+        if values is not None and len(values) != needed:
+            raise TvmError(f"{option} has {len(values)} value{'s' * (len(values) != 1)}, but "
+                           f"{len(args.keys)} key motions need {needed}, {unit}.")
+    if args.at is not None and args.at[0] != 0:
+        raise TvmError(f"--at starts at {args.at[0]:g}, but the first key motion begins at 0; start the list with 0.")
+    for i in range(1, len(args.at or ())):
+        if args.at[i] < args.at[i - 1]:
+            raise TvmError(f"--at goes back in time: key motion {i + 1} at {args.at[i]:g} s comes before "
+                           f"key motion {i} at {args.at[i - 1]:g} s; give the times in order.")
+    for key, _ in args.hold:
+        if key not in args.keys:
+            raise TvmError(f"--hold {key}=... names a motion that is not among the key motions "
+                           f"({', '.join(args.keys)}); hold one of them, written as among the KEYs.")
+    return dict(durations=args.durations, at=args.at, holds=dict(args.hold) or None, strict=args.strict)
+
+
 def up_axis(text):
     """``+x`` ... ``-z`` (a bare ``y`` means ``+y``), for --up."""
     key = text.strip().lower()
