@@ -133,7 +133,10 @@ def test_build_and_check_with_random_options(world, data):
         shutil.rmtree(out)
 
 
-EDIT = [("--loops", NUMBERS), ("--forbid", NAMES)]
+EDIT = [("--loops", NUMBERS), ("--forbid", NAMES), ("--strict", []),
+        ("--durations", ["2,3", "0.1,0.2", "nan,1", "1", ",", "-1,2", "x", "30,", "0,0"]),
+        ("--at", ["0,2,5", "1,2,3", "0,-1", "", "0,inf,2"]),
+        ("--hold", ["gym/01=1", "x=1", "=", "gym/01=nan", "gym/02=1e9", "0=0.5"])]
 RENDER = [("--size", SIZES), ("--fps", NUMBERS), ("--orbit", NUMBERS), ("--loops", ["1", "0", "x", "1e9"]),
           ("--camera", ["0,0,0", "nan,0,0", "1,2", "-90,10,-1", "1e300,0,0"]), ("--node", NAMES)]
 
