@@ -56,6 +56,17 @@ def tvmedit(*args, **kwargs):
                           text=True, **kwargs)
 
 
+def refused(library, a, b):
+    """Whether ``library`` refuses an edit from motion ``a`` to motion ``b`` (no path)."""
+    from engine.errors import NoPath
+
+    try:
+        library.edit([a, b])
+    except NoPath:
+        return True
+    return False
+
+
 def reachable_pair(library):
     """Two different motions of ``library`` with a path between them, and the edit through them."""
     from engine.errors import NoPath

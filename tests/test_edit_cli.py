@@ -11,10 +11,9 @@ import pytest
 from engine import Library, NoPath
 from engine.load import load_sequence
 from interrupt import reachable_pair as _reachable_pair
-from interrupt import tvmedit
+from interrupt import refused, tvmedit
 
 ROOT = Path(__file__).resolve().parents[1]
-
 
 def _unreachable_pair(library):
     for a in library.nodes:
@@ -25,7 +24,6 @@ def _unreachable_pair(library):
                 except NoPath:
                     return a, b
     return None
-
 
 def test_path_json_is_the_edit_with_info_ids(small_library):
     library = Library.open(small_library)
@@ -40,7 +38,6 @@ def test_path_json_is_the_edit_with_info_ids(small_library):
     assert {entry["node"] for entry in data["schedule"]} <= info_ids
     assert [(e["sequence"], e["frame"]) for e in data["schedule"]] == [(e.sequence, e.frame) for e in edit.schedule]
 
-
 def test_path_prints_legs_and_schedule(small_library):
     library = Library.open(small_library)
     a, b, edit = _reachable_pair(library)
@@ -49,7 +46,6 @@ def test_path_prints_legs_and_schedule(small_library):
     assert f"{a.name} -> {b.name}:" in result.stdout
     assert f"schedule: {len(library.edit([a.id, b.id], loops=2).schedule)} frames" in result.stdout
 
-
 def test_unknown_motion_lists_the_known_names(small_library):
     library = Library.open(small_library)
     result = tvmedit("path", small_library, library.nodes[0].name, "no-such-motion")
@@ -57,10 +53,8 @@ def test_unknown_motion_lists_the_known_names(small_library):
     assert "no-such-motion" in result.stderr
     assert all(node.name in result.stderr for node in library.nodes)
 
-
 def test_every_pair_is_reachable_by_default(small_library):
     assert _unreachable_pair(Library.open(small_library)) is None
-
 
 def test_unreachable_pair_exits_3_naming_the_mu_that_connects(paper_library):
     library = Library.open(paper_library)
@@ -72,14 +66,13 @@ def test_unreachable_pair_exits_3_naming_the_mu_that_connects(paper_library):
     assert a.name in result.stderr and b.name in result.stderr and "mu" in result.stderr
     assert result.stderr.count("\n") == 1
 
-
 def test_forbid_is_repeatable_and_forbidden_motions_are_never_used(small_library):
     library = Library.open(small_library)
     names = [n.name for n in library.nodes]
     checked = 0
     for a in names:
         for b in names:
-            if a == b or _unreachable(library, a, b):
+            if a == b or refused(library, a, b):
                 continue
             checked += 1
             others = [n for n in names if n not in (a, b)]
@@ -91,15 +84,6 @@ def test_forbid_is_repeatable_and_forbidden_motions_are_never_used(small_library
             else:
                 assert result.returncode == 3 and "forbidden" in result.stderr
     assert checked
-
-
-def _unreachable(library, a, b):
-    try:
-        library.edit([a, b])
-    except NoPath:
-        return True
-    return False
-
 
 def test_export_round_trip_frames_colours_and_edit_json(small_library, tmp_path):
     library = Library.open(small_library)
@@ -121,7 +105,6 @@ def test_export_round_trip_frames_colours_and_edit_json(small_library, tmp_path)
     again = tvmedit("export", small_library, a.name, b.name, "-o", out, "-q")
     assert again.returncode == 2 and "--force" in again.stderr
 
-
 @pytest.mark.parametrize("script", ["there_and_back.py", "tour.py", "forbidden.py"])
 def test_example_scripts_run(small_library, tmp_path, script):
     result = subprocess.run([sys.executable, str(ROOT / "examples" / script), str(small_library)],
@@ -137,7 +120,6 @@ def test_example_scripts_run(small_library, tmp_path, script):
         tour = result.stdout.splitlines()[0].removeprefix("tour: ").split(" -> ")
         assert len(tour) >= 2
         assert len(load_sequence(tmp_path / "tour").frames) == int(result.stdout.split("exported ")[1].split()[0])
-
 
 def test_export_force_replaces_only_a_previous_export(small_library, tmp_path):
     library = Library.open(small_library)
@@ -169,7 +151,6 @@ def test_export_force_replaces_only_a_previous_export(small_library, tmp_path):
     result = tvmedit("export", small_library, a.name, b.name, "-o", ".", "-q", "--force", cwd=out)
     assert result.returncode == 2 and "current folder" in result.stderr
     assert (out / "edit.json").exists()
-
 
 def test_edit_json_traces_each_frame_to_its_capture_file(small_library, tmp_path):
     library = Library.open(small_library)

@@ -238,58 +238,80 @@ def _runs(frames):
     return runs
 
 
+class _Window:
+    """``tvmedit play ARGS`` in a real window under Xvfb, driven with xdotool keys."""
+
+    def __init__(self, display, args, tmp_path):
+        self.env = {**os.environ, "DISPLAY": display, "PYTHONPATH": str(ROOT)}
+        self.log_path = tmp_path / "play.jsonl"
+        self.player = subprocess.Popen([sys.executable, "-m", "tvmedit", "play", *map(str, args),
+                                        "--log", str(self.log_path)], cwd=tmp_path, env=self.env,
+                                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def __enter__(self):
+        found = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=self.env,
+                               capture_output=True, text=True, timeout=20).stdout.split()
+        assert found, f"no player window; player: {self._finish()}"
+        self.window = found[0]
+        subprocess.run(["xdotool", "windowfocus", "--sync", self.window], env=self.env, check=True, timeout=10)
+        assert _wait_for(lambda rows: _frames(rows), self.log_path, 20), "no frame was shown"
+        return self
+
+    def __exit__(self, *exc):
+        self._finish()
+
+    def _finish(self):
+        if self.player.poll() is None:
+            self.player.kill()
+        return self.player.communicate()
+
+    def press(self, *keys):
+        for key in keys:
+            sent = subprocess.run(["xdotool", "key", "--window", self.window, key], env=self.env, timeout=10,
+                                  capture_output=True, text=True)
+            assert sent.returncode == 0, f"xdotool: {sent.stderr}; player: {self._finish()}"
+            time.sleep(0.15)
+
+    def quit(self):
+        """Press Q; returns (stdout, stderr) once the player has quit by itself."""
+        # The player may close its window between xdotool's key press and release, which
+        # xdotool reports as an error: what counts is that the player quits.
+        subprocess.run(["xdotool", "key", "--window", self.window, "q"], env=self.env, capture_output=True,
+                       timeout=10)
+        out, err = self.player.communicate(timeout=20)
+        assert self.player.returncode == 0, err
+        return out, err
+
+    def rows(self):
+        return _rows(self.log_path)
+
+
 def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, paper_library, tmp_path):
     # The paper's graph (--connect off) still cuts motions off: refusals are checked on it.
     from engine.library import Library
 
-    small_library = paper_library
-    library = Library.open(small_library)
+    library = Library.open(paper_library)
     graph = library.graph
     order = [node.id for node in library.nodes]
     key_of = dict(zip(order, motion_keys(len(order))))
     s, a, b, c, u = _plan(graph)
     forbid = next((n for n in order if n not in (s, a, b, c, u) and n not in best_path(graph, s, a)
                    and n not in best_path(graph, a, b)), None)
-    log_path = tmp_path / "play.jsonl"
-    env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
-    command = [sys.executable, "-m", "tvmedit", "play", str(small_library), str(s),
-               "--log", str(log_path), "--seconds", "40", "--size", "640x480"]
+    args = [paper_library, s, "--seconds", "40", "--size", "640x480"]
     if forbid is not None:
-        command += ["--forbid", str(forbid)]
-    player = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              text=True)
-    try:
-        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=env,
-                                capture_output=True, text=True, timeout=20).stdout.split()[0]
-        subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
-        assert _wait_for(lambda rows: _frames(rows), log_path, 20), "no frame was shown"
-
-        def press(*keys):
-            for key in keys:
-                sent = subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10,
-                                      capture_output=True, text=True)
-                assert sent.returncode == 0, f"xdotool: {sent.stderr}; player: {player.communicate()}"
-                time.sleep(0.15)
-
-        press(key_of[a], key_of[b], key_of[c], "BackSpace", key_of[u])
+        args += ["--forbid", forbid]
+    with _Window(xdisplay, args, tmp_path) as window:
+        window.press(key_of[a], key_of[b], key_of[c], "BackSpace", key_of[u])
         if forbid is not None:
-            press(key_of[forbid])
-        press("s")
+            window.press(key_of[forbid])
+        window.press("s")
         # Q quits once B has been reached and shown for a second.
         assert _wait_for(lambda rows: any(r.get("node") == b and not r["queue"] for r in _frames(rows)),
-                         log_path, 30), "the second key motion was never reached"
+                         window.log_path, 30), "the second key motion was never reached"
         time.sleep(1.0)
-        # The player may close its window between xdotool's key press and release, which
-        # xdotool reports as an error: what counts is that the player quits.
-        subprocess.run(["xdotool", "key", "--window", window, "q"], env=env, capture_output=True, timeout=10)
-        out, err = player.communicate(timeout=20)
-    finally:
-        if player.poll() is None:
-            player.kill()
-            player.communicate()
-    assert player.returncode == 0, err
+        out, err = window.quit()
 
-    rows = _rows(log_path)
+    rows = window.rows()
     frames = _frames(rows)
     assert rows[0]["event"] == "start" and rows[-1]["event"] == "stop"
     assert rows[-1]["t"] < 40, "Q did not quit the player"
@@ -393,32 +415,14 @@ def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdispl
     from engine import Library
 
     order = [node.id for node in Library.open(small_library).nodes]
-    keys = motion_keys(len(order))
-    log_path = tmp_path / "play.jsonl"
-    env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
-    player = subprocess.Popen([sys.executable, "-m", "tvmedit", "play", str(small_library), "--log", str(log_path),
-                               "--seconds", "60", "--size", "320x240", "--fps", "40"],
-                              cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=env,
-                                capture_output=True, text=True, timeout=20).stdout.split()[0]
-        subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
-        assert _wait_for(lambda rows: _frames(rows), log_path, 20), "no frame was shown"
-        for key in keys:                               # the first is the motion playing: ignored
-            subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10, check=True)
-            time.sleep(0.15)
+    with _Window(xdisplay, [small_library, "--seconds", "60", "--size", "320x240", "--fps", "40"],
+                 tmp_path) as window:
+        window.press(*motion_keys(len(order)))         # the first is the motion playing: ignored
         assert _wait_for(lambda rows: any(r.get("node") == order[-1] and not r["queue"] for r in _frames(rows)),
-                         log_path, 40), "the last motion was never reached"
-        subprocess.run(["xdotool", "key", "--window", window, "q"], env=env, capture_output=True, timeout=10)
-        out, err = player.communicate(timeout=20)
-    finally:
-        if player.poll() is None:
-            player.kill()
-            player.communicate()
-    assert player.returncode == 0, err
-    rows = _rows(log_path)
+                         window.log_path, 40), "the last motion was never reached"
+        _, err = window.quit()
+    rows = window.rows()
     assert not [row for row in rows if row.get("event") == "refused"], err
     assert [row["node"] for row in rows if row.get("event") == "queued"] == order[1:]
-    nodes = [node for node, _ in _runs(_frames(rows))]
-    reached = iter(nodes)
-    assert all(any(node == key for node in reached) for key in order), nodes   # in order
+    reached = iter(node for node, _ in _runs(_frames(rows)))
+    assert all(any(node == key for node in reached) for key in order)       # in this order
