@@ -219,7 +219,8 @@ class Corrections:
         """Write ``corrections.json`` to ``path`` atomically."""
         from . import atomic
 
-        atomic.write_text(path, json.dumps(self.to_json(), indent=1) + "\n")
+        entries = [f"  {json.dumps(name)}: {json.dumps(entry)}" for name, entry in self.to_json()["sequences"].items()]
+        atomic.write_text(path, "{\"sequences\": {\n" + ",\n".join(entries) + "\n}}\n")
 
     @classmethod
     def load(cls, path):

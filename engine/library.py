@@ -388,6 +388,21 @@ class Library:
                                                           "match its vertex and face counts"))
         return a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
 
+    def source_mesh(self, key):
+        """:meth:`frame_mesh` of any frame of a sequence: the stored one, else read from its frame
+        file as the build read it (slower; InputError when the file is gone)."""
+        from .load import read_frame
+        from .normals import vertex_normals
+        from .orientation import Orientation
+
+        sequence, frame = key
+        if (sequence, int(frame)) in self._frame_rows:
+            return self.frame_mesh(key)
+        record = self.manifest["sequences"][self._sequence_index[self.sequence(sequence).name]]
+        where = record.get("orientation")
+        mesh = read_frame(self.sequence(sequence).paths[int(frame)], Orientation.from_json(where) if where else None)
+        return mesh.positions, mesh.colours, mesh.faces, vertex_normals(mesh.positions, mesh.faces)
+
     @cached_property
     @_reads_format
     def _textures(self):

@@ -125,3 +125,26 @@ def _basis(azimuth, elevation):
     right = np.array([-math.sin(az), math.cos(az), 0.0])
     up = np.cross(back, right)
     return right, up, back
+
+
+class CameraControls:
+    """Orbit, zoom and reset for an app with a ``camera`` framed on ``_bounds`` (the player's
+    and the inspector's)."""
+
+    def home_camera(self, aspect):
+        # Framed for every azimuth, so orbiting never cuts the actor.
+        return Camera.framing(self._bounds, aspect, all_azimuths=True)
+
+    def reset_camera(self):
+        self.camera = self.home_camera(self.camera.aspect)
+
+    def set_aspect(self, aspect):
+        self.camera = self.camera.with_aspect(aspect)
+
+    def orbit(self, azimuth_deg, elevation_deg=0.0):
+        elevation = min(max(self.camera.elevation + elevation_deg, -85.0), 85.0)
+        self.camera = dataclasses.replace(self.camera.orbit(azimuth_deg), elevation=elevation)
+
+    def zoom(self, factor):
+        distance = min(max(self.camera.distance * factor, 0.2 * self.camera.radius), 50.0 * self.camera.radius)
+        self.camera = dataclasses.replace(self.camera, distance=distance)

@@ -14,7 +14,6 @@ on screen, the ``--log``) and runs without a window or GL, so it is tested with 
 ``Window`` is the glfw plumbing around it and the only code here that touches glfw.
 """
 
-import dataclasses
 import json
 import math
 import sys
@@ -26,7 +25,7 @@ import networkx as nx
 
 from engine.compose import Playhead
 from engine.errors import NoPath, TvmError
-from player.camera import Camera
+from player.camera import CameraControls
 from player.overlay import Label
 from player.source import check_shading, texture_of
 
@@ -61,7 +60,7 @@ def motion_keys(count):
     return keys[:count]
 
 
-class PlayerApp:
+class PlayerApp(CameraControls):
     """Player state and logic, with no window: what each key does and when frames change.
 
     Parameters
@@ -239,24 +238,6 @@ class PlayerApp:
         if echo:
             self.print(text)
 
-
-    def home_camera(self, aspect):
-        # Framed for every azimuth, so orbiting never cuts the actor.
-        return Camera.framing(self._bounds, aspect, all_azimuths=True)
-
-    def reset_camera(self):
-        self.camera = self.home_camera(self.camera.aspect)
-
-    def set_aspect(self, aspect):
-        self.camera = self.camera.with_aspect(aspect)
-
-    def orbit(self, azimuth_deg, elevation_deg=0.0):
-        elevation = min(max(self.camera.elevation + elevation_deg, -85.0), 85.0)
-        self.camera = dataclasses.replace(self.camera.orbit(azimuth_deg), elevation=elevation)
-
-    def zoom(self, factor):
-        distance = min(max(self.camera.distance * factor, 0.2 * self.camera.radius), 50.0 * self.camera.radius)
-        self.camera = dataclasses.replace(self.camera, distance=distance)
 
 
     def label(self, node):

@@ -17,7 +17,7 @@ from . import options
 
 
 # Order is the order ``tvmedit --help`` lists them: the pipeline from data to pictures.
-COMMANDS = ["synth", "check", "build", "correct", "info", "rename", "path", "export", "render", "play", "report"]
+COMMANDS = ["synth", "check", "build", "correct", "info", "rename", "path", "export", "render", "play", "inspect", "report"]
 
 
 def _parser(argv):

@@ -1,0 +1,122 @@
+"""The inspector: its timeline as numbers, its actions as Python calls, then a real window under Xvfb.
+
+The window test starts ``python -m tvmedit inspect`` on a copy of the synthetic gym library
+in its own Xvfb (the ``xdisplay`` fixture of the player's tests), presses keys with xdotool
+and reads back what the user would find: the saved ``corrections.json``, the rebuilt
+library and a screenshot.
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+from engine import Library
+from engine.timeline import COLOURS, timeline
+from player.inspect import InspectorApp, graph_summary
+from test_player_window import xdisplay  # noqa: F401 - the session's Xvfb
+
+NAME = "gym"
+
+
+@pytest.fixture
+def library(small_library, tmp_path):
+    out = tmp_path / "gym.tvmlib"
+    shutil.copytree(small_library, out)
+    return Library.open(out)
+
+
+def _splittable(library):
+    """A frame two frames after which a texton start leaves both parts longer than the atom window."""
+    texton = max(library.structure(NAME).textons, key=len)
+    return texton.start + len(texton) // 2 - 2
+
+
+def test_the_timeline_lays_out_clusters_representatives_and_marks(library):
+    structure = library.structure(NAME)
+    line = timeline(NAME, structure, library.parse(NAME), library.nodes)
+    assert line.clusters == structure.clusters and len(line.representatives) == len(library.nodes)
+    box = (0, 100, 1000, 200)
+    shapes = line.shapes(box, playhead=50)
+    # one background, one band per cluster, one highlight per motion, a tick per texton,
+    # a line per boundary and the playhead
+    expected = 1 + len(line.clusters) + len(line.representatives) + len(line.textons) + len(line.boundaries) + 1
+    assert shapes.rects.shape == (expected, 4) and len(shapes.curve) == line.frames
+    reps = shapes.rects[np.isclose(shapes.colours, COLOURS["representative"]).all(axis=1)]
+    first = library.nodes[0]
+    assert reps[0][0] == pytest.approx(1000 * first.start / line.frames)
+    assert line.frame_at(line.x_of(123, box) + 0.1, box) == 123
+    assert shapes.curve[:, 1].min() >= 100 and shapes.curve[:, 1].max() <= 300
+
+
+def test_every_action_is_a_python_call(library, tmp_path):
+    app = InspectorApp(library, tmp_path / "fix.json", print_=lambda text: None)
+    frame = _splittable(library)
+    app.seek(frame)
+    app.press("right")
+    app.press("right")
+    assert app.frame == frame + 2
+    assert app.press("t") == app.press("s") is None
+    saved = json.loads((tmp_path / "fix.json").read_text())
+    assert saved == {"sequences": {NAME: {"textons": {"add": [frame + 2]}}}}
+    assert frame + 2 in app.timeline.texton_starts
+    app.press("u")
+    assert frame + 2 not in app.timeline.texton_starts and not app.corrections
+
+    start = app.timeline.texton_starts[3]
+    app.seek(start + 1)
+    app.press("t")                                  # one frame after a start: too short, refused
+    assert app.message.startswith("refused") and "atom window" in app.message and not app.corrections
+    app.press("m")                                  # the nearest start moves onto the playhead
+    assert start + 1 in app.timeline.texton_starts and start not in app.timeline.texton_starts
+    boundary = app.timeline.boundaries[0]
+    app.seek(boundary + 1)
+    app.press("d")                                  # the nearest marker is that boundary
+    assert boundary not in app.timeline.boundaries and boundary in app.timeline.removed
+    summary = app.rebuild()
+    assert summary == graph_summary(Library.open(library.path).graph)
+    assert summary["motions"] == len(library.nodes) - 1
+    assert Library.open(library.path).corrections() == app.corrections
+
+
+def test_keys_in_a_real_window_edit_rebuild_save_and_show_the_person(xdisplay, library, tmp_path):  # noqa: F811
+    frame = _splittable(library)
+    fix = tmp_path / "corrections.json"
+    env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
+    command = [sys.executable, "-m", "tvmedit", "inspect", str(library.path), "--corrections", str(fix),
+               "--frame", str(frame), "--seconds", "60", "--size", "800x600"]
+    window_app = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True)
+    try:
+        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit inspect"], env=env,
+                                capture_output=True, text=True, timeout=30).stdout.split()[0]
+        subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
+        for key in ("Right", "Right", "t", "Return", "s", "c", "q"):
+            subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10, capture_output=True)
+        out, err = window_app.communicate(timeout=60)
+    finally:
+        window_app.kill()
+    assert window_app.returncode == 0, err
+    assert json.loads(fix.read_text()) == {"sequences": {NAME: {"textons": {"add": [frame + 2]}}}}, err
+    rebuilt = Library.open(library.path)
+    assert frame + 2 in rebuilt.structure(NAME).texton_starts and rebuilt.corrections().to_json() == json.loads(fix.read_text())
+    assert "rebuilt" in err and "reachable pairs" in err
+
+    import imageio.v3 as iio
+
+    shot = [line.split(" saved to ")[-1] for line in out.splitlines() if "screenshot saved to" in line]
+    image = iio.imread(tmp_path / shot[0]).astype(np.float64)
+    assert image.shape[:2] == (600, 800)
+    view, strip = image[:400], image[462:]          # above the timeline (from y 420), and its curve
+    background = np.median(view.reshape(-1, 3), axis=0)
+    person = np.abs(view - background).sum(axis=2) > 80
+    assert 0.01 < person.mean() < 0.5
+    for row, colour in ((425, COLOURS["bands"][0]), (445, COLOURS["representative"])):
+        assert (np.abs(image[row] - 255 * np.array(colour[:3])).sum(axis=1) < 30).any()
+    curve = np.abs(strip - 255 * np.array(COLOURS["curve"][:3])).sum(axis=2) < 60
+    assert curve.any(axis=0).mean() > 0.5          # the curve runs across the timeline
