@@ -38,13 +38,11 @@ How many in-between frames: enough that no displayed step (vertex Chamfer) excee
 """
 
 import numpy as np
-from scipy import sparse
-from scipy.spatial import cKDTree
 
 from .normals import vertex_normals
 
 __all__ = ["MAX_FRAMES", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
-           "BlendRun", "blend", "frame_count", "side"]
+           "BlendRun", "blend", "frame_count", "side", "check_count", "blend_library"]
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
@@ -57,6 +55,14 @@ SIGMAS = (0.20, 0.12, 0.08, 0.05, 0.03)
 STEPS = 5
 #: Nearest nodes a vertex follows.
 FOLLOW = 6
+
+
+def _kdtree(points):
+    """scipy's k-d tree of ``points``, imported on first use: an edit's schedule needs
+    :func:`side` from this module, and the player must start without loading scipy."""
+    from scipy.spatial import cKDTree
+
+    return cKDTree(points)
 
 
 def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
@@ -82,8 +88,8 @@ def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
     >>> chamfer(a, b)
     0.5
     """
-    tree_a = cKDTree(a) if tree_a is None else tree_a
-    tree_b = cKDTree(b) if tree_b is None else tree_b
+    tree_a = _kdtree(a) if tree_a is None else tree_a
+    tree_b = _kdtree(b) if tree_b is None else tree_b
     a_part, b_part = np.asarray(a)[::stride], np.asarray(b)[::stride]
     return 0.5 * float(tree_b.query(a_part)[0].mean() + tree_a.query(b_part)[0].mean())
 
@@ -102,7 +108,7 @@ def texton_steps(frames):
         ``len(frames) - 1`` steps; their median over every texton of a library is its
         *natural step* (:func:`natural_step`).
     """
-    trees = [cKDTree(np.asarray(p)) for p in frames]
+    trees = [_kdtree(np.asarray(p)) for p in frames]
     return [chamfer(frames[k], frames[k + 1], trees[k], trees[k + 1], stride=4)
             for k in range(len(frames) - 1)]
 
@@ -138,7 +144,9 @@ def _sample(points, count, seed):
 
 def _smoother(nodes, sigma):
     """The (n, n) sparse Gaussian kernel between nodes, rows normalised to sum to one."""
-    tree = cKDTree(nodes)
+    from scipy import sparse
+
+    tree = _kdtree(nodes)
     pairs = tree.sparse_distance_matrix(tree, 2.5 * sigma, output_type="coo_matrix")
     weights = np.exp(-0.5 * (pairs.data / sigma) ** 2)
     kernel = sparse.csr_matrix((weights, (pairs.row, pairs.col)), shape=(len(nodes),) * 2)
@@ -170,14 +178,14 @@ def align(moving, still, seed=0):
     still = np.asarray(still, dtype=np.float64)
     nodes = moving[_sample(moving, NODES, seed)]
     pulls = still[_sample(still, TARGET_POINTS, seed + 1)]
-    still_tree = cKDTree(still)
+    still_tree = _kdtree(still)
     shift = np.zeros_like(nodes)
     for sigma in SIGMAS:
         kernel = _smoother(nodes, sigma)
         for _ in range(STEPS):
             warped = nodes + shift
             force = still[still_tree.query(warped)[1]] - warped
-            nearest = cKDTree(warped).query(pulls)[1]
+            nearest = _kdtree(warped).query(pulls)[1]
             count = np.bincount(nearest, minlength=len(nodes)).astype(np.float64)
             for axis in range(3):
                 back = np.bincount(nearest, weights=pulls[:, axis] - warped[nearest, axis],
@@ -190,7 +198,7 @@ def align(moving, still, seed=0):
 def _follow(vertices, nodes, shift):
     """The nodes' displacement carried to every vertex: a Gaussian average of its nearest nodes."""
     k = min(FOLLOW, len(nodes))
-    distance, index = cKDTree(nodes).query(vertices, k=k)
+    distance, index = _kdtree(nodes).query(vertices, k=k)
     distance, index = distance.reshape(len(vertices), k), index.reshape(len(vertices), k)
     scale = np.maximum(distance[:, -1:], 1e-9)
     weights = np.exp(-2.0 * (distance / scale) ** 2)
@@ -209,7 +217,7 @@ class BlendRun:
         from the outgoing frame, 1 from the incoming one.
     steps : list of float
         Chamfer distance of every displayed step from the exit frame to the entry frame
-        (``len(frames) + 1`` of them).
+        (``len(frames) + 1`` of them, every 4th vertex averaged as in :func:`texton_steps`).
     jump : float
         Chamfer distance of the cut itself (exit frame to entry frame).
     """
@@ -252,8 +260,22 @@ def _run(outgoing, incoming, fields, count):
 
 def _steps(outgoing, incoming, frames):
     points = [np.asarray(outgoing[0]), *(f[0] for f in frames), np.asarray(incoming[0])]
-    trees = [cKDTree(p) for p in points]
-    return [chamfer(points[i], points[i + 1], trees[i], trees[i + 1]) for i in range(len(points) - 1)]
+    trees = [_kdtree(p) for p in points]
+    return [chamfer(points[i], points[i + 1], trees[i], trees[i + 1], stride=4) for i in range(len(points) - 1)]
+
+
+def check_count(count):
+    """``count`` in-between frames per transition as given (None: as each needs), checked.
+
+    >>> check_count(None), check_count(3.0)
+    (None, 3)
+    """
+    if count is None:
+        return None
+    from .params import whole
+
+    return whole("blend_frames", count, at_least=0, at_most=MAX_FRAMES,
+                 hint=" (None: as many as each transition needs)")
 
 
 def frame_count(jump, natural):
@@ -291,10 +313,139 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
     if count == 0 or (count is None and jump <= natural):
         return BlendRun([], [jump], jump)
     fields = (align(a, b, seed), align(b, a, seed))
-    n = frame_count(jump, natural) if count is None else count
+    n = max(frame_count(jump, natural), 1) if count is None else count
+    previous = None
     while True:
-        frames = _run(outgoing, incoming, fields, max(n, 1))
-        steps = _steps(outgoing, incoming, frames)
-        if count is not None or max(steps) <= natural or n >= MAX_FRAMES:
-            return BlendRun(frames, steps, jump)
-        n += 1
+        frames = _run(outgoing, incoming, fields, n)
+        run = BlendRun(frames, _steps(outgoing, incoming, frames), jump)
+        if previous is not None and max(run.steps) >= 0.95 * max(previous.steps):
+            return previous  # the cut's own residual dominates: more frames would not help
+        if count is not None or max(run.steps) <= natural or n >= MAX_FRAMES:
+            return run
+        previous, n = run, n + 1
+
+
+# --- every transition of a library being built ------------------------------------------
+
+def _steps_task(task):
+    """Steps inside one texton of the unfinished library: ``(folder, rows)`` -> list of float."""
+    from .libformat import stored_frame
+
+    folder, rows = task
+    return texton_steps([np.asarray(stored_frame(folder, row)[0]) for row in rows])
+
+
+def _blend_task(task):
+    """One edge's run: ``(folder, exit row, entry row, natural, count)`` ->
+    ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
+    import time
+
+    from .libformat import stored_frame
+
+    folder, exit_row, entry_row, natural, count = task
+    started = time.process_time()
+    ends = [tuple(np.asarray(a) for a in stored_frame(folder, row)[:3]) for row in (exit_row, entry_row)]
+    run = blend(*ends, natural, count)
+    return run.frames, run.steps, run.jump, time.process_time() - started
+
+
+def blend_library(folder, writer, rows, graph, count, keys, pool, bar=None, old=None):
+    """Make and store the in-between frames of every edge of ``graph`` (a build's last stage).
+
+    Parameters
+    ----------
+    folder : Path
+        The library being written; its texton frames are stored.
+    writer : engine.libformat.MeshWriter
+        Holds the texton frames; appends the in-between frames after them.
+    rows : dict
+        ``(sequence, frame) -> row`` of every stored texton frame.
+    graph : networkx.DiGraph
+        The final motion graph; nodes carry ``sequence``, ``start``, ``end``, edges
+        ``exit_frame`` and ``entry_frame``.
+    count : int or None
+        In-between frames per transition; None: as many as each needs (:func:`blend`).
+    keys : dict
+        ``sequence -> feature key`` (which frame files it was read from).
+    pool : engine.parallel.Workers
+        Where the work runs, one task per texton then one per edge.
+    bar : callable or None
+        ``bar(total, desc, unit=...)`` makes a progress bar, advanced once per edge.
+    old : engine.library.Library or None
+        The library being replaced: a run it holds for the same frames of the same files, the
+        same natural step and count, is copied instead of made again.
+
+    Returns
+    -------
+    dict
+        ``data``: what ``blends.json`` holds (see :mod:`engine.libformat`); ``frames``: the
+        in-between frames stored; ``seconds``: CPU seconds the runs took in all.
+    """
+    from .libformat import frame_offsets, mesh_arrays
+
+    writer.pause()
+    textons = [[rows[data["sequence"], f] for f in range(data["start"], data["end"] + 1)]
+               for _, data in sorted(graph.nodes(data=True))]
+    natural = natural_step(pool.map(_steps_task, ((str(folder), texton) for texton in textons)))
+    arrays = mesh_arrays(folder)
+    offsets = frame_offsets(folder, arrays).tolist()
+    uvs = _uvs(folder, len(arrays["positions"]), len(offsets))
+    reuse = _old_runs(old, keys, natural, count)
+    edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
+             for u, v, d in sorted(graph.edges(data=True))]
+    tasks = ((str(folder), rows[a], rows[b], natural, count) for _, _, a, b in edges if (a, b) not in reuse)
+    made = pool.map(_blend_task, tasks)
+    writer.resume()
+    progress = bar(len(edges), "blends", unit="transition") if bar is not None else None
+    records, seconds, total = [], 0.0, 0
+    try:
+        for u, v, a, b in edges:
+            frames, steps, jump, cpu = _copied(old, reuse[a, b]) if (a, b) in reuse else next(made)
+            first = writer.frames
+            for index, (positions, colours, faces, normals, side_) in enumerate(frames):
+                source = rows[(a, b)[side_]]
+                uv = None if uvs is None else uvs[offsets[source][0]:offsets[source][0] + offsets[source][1]]
+                writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_of=source)
+            records.append({"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
+                            "steps": steps, "exit": list(a), "entry": list(b)})
+            seconds, total = seconds + cpu, total + len(frames)
+            if progress is not None:
+                progress.update()
+    finally:
+        if progress is not None:
+            progress.close()
+    data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records}
+    return {"data": data, "frames": total, "seconds": seconds}
+
+
+def _uvs(folder, vertices, frames):
+    """The texture coordinates of the stored frames (memory-mapped), or None when untextured."""
+    from pathlib import Path
+
+    from .libformat import texture_arrays
+
+    return texture_arrays(folder, vertices, frames)[0] if (Path(folder) / "uvs.npy").exists() else None
+
+
+def _old_runs(old, keys, natural, count):
+    """``{(exit, entry): (first row, count, jump, steps)}`` of the runs ``old`` holds that a new
+    build would make the same: same frame files, natural step and count option."""
+    if old is None or not hasattr(old, "blend_data"):
+        return {}
+    data = old.blend_data()
+    if data.get("natural_step") != natural or data.get("blend_frames") != count:
+        return {}
+    same = {name for name, key in data.get("feature_keys", {}).items() if keys.get(name) == key}
+    return {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
+            for e in data["edges"] if e["exit"][0] in same and e["entry"][0] in same}
+
+
+def _copied(old, run):
+    """A run of ``old`` as :func:`_blend_task` returns one (no CPU time spent)."""
+    first, count, jump, steps = run
+    frames = []
+    for index in range(count):
+        positions, colours, faces, normals = old.stored_row(first + index)
+        frames.append((np.array(positions), np.array(colours), np.array(faces), np.array(normals),
+                       side(index, count)))
+    return frames, steps, jump, 0.0

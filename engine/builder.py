@@ -13,7 +13,11 @@
 3. **Meshes.** Only the frames of database textons can ever be played, so only they are
    stored; which ones is known only now, and those files are read a second time and
    streamed to flat arrays on disk with their vertex normals, never all held in memory.
-4. **Write** the rest of the library; its format is owned by :mod:`engine.libformat`.
+4. **Blends.** For every edge of the final graph, in-between frames from the exit frame to
+   the entry frame (:mod:`engine.blend`), one task per edge on the same workers, appended
+   to the flat arrays after the texton frames. They depend on the stored meshes and the
+   graph only, so a rebuild with other blend options reuses the features as any rebuild does.
+5. **Write** the rest of the library; its format is owned by :mod:`engine.libformat`.
 
 Everything is written into a temporary folder beside the target and renamed into place at
 the end (:mod:`engine.atomic`): an interrupted build leaves the previous library (or none),
@@ -30,6 +34,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import atomic, featcache, libformat, params
+from .blend import blend_library
 from .errors import InputError, ParameterError, TvmError
 from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
 from .load import expand_inputs, open_sequence, read_frame
@@ -281,9 +286,11 @@ def _stored(old, sequences, computed):
     return {(index[name], frame): (name, frame) for name, frame in old.stored_frames() if name in index}
 
 
-def _write_meshes(tmp, needed, pool, run, old=None, stored=None):
+def _write_meshes(tmp, needed, pool, run, old=None, stored=None, blends=None):
     """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh
-    arrays: copied from ``old`` where ``stored`` (:func:`_stored`) has them, else read."""
+    arrays: copied from ``old`` where ``stored`` (:func:`_stored`) has them, else read; then
+    the in-between frames: ``blends`` are the arguments of :func:`engine.blend.blend_library`
+    after ``writer``."""
     stored = stored or {}
     bar = run.bar(len(needed), "meshes")
     missing = [item for item in needed if item[:2] not in stored]
@@ -307,6 +314,8 @@ def _write_meshes(tmp, needed, pool, run, old=None, stored=None):
                         mesh = next(read)
                     writer.add(seq_index, frame, *mesh)
                 bar.update()
+            if blends is not None:
+                run.blends = run.stage("blends", blend_library, tmp, writer, *blends, pool, run.bar, old)
     finally:
         bar.close()
     run.read_frames = len(missing)
@@ -315,6 +324,7 @@ def _write_meshes(tmp, needed, pool, run, old=None, stored=None):
 
 def _write_library(tmp, old, sequences, computed, padded, settings, analysis, meshes, run):
     """Everything but the meshes: features, structure, database, graph, names, manifest last."""
+    libformat.write_json(tmp / "blends.json", run.blends["data"])
     bins = settings.bins
     structures, nodes, graph = analysis.structures, analysis.nodes, analysis.graph
     features_all = (np.concatenate([f.vectors for f in padded]) if padded
@@ -344,10 +354,11 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
     libformat.write_manifest(tmp, libformat.manifest(
         records,
         params={"bins": bins.to_json(), "structure": settings.params, "mu": settings.mu,
-                "skip_bad_frames": settings.skip_bad_frames, "connect": settings.connect},
+                "skip_bad_frames": settings.skip_bad_frames, "connect": settings.connect,
+                "blend_frames": settings.blend_frames},
         feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
         counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
-                "stored_frames": meshes.frames},
+                "stored_frames": meshes.frames, "blend_frames": run.blends["frames"]},
         bounds=meshes.bounds, max_counts=meshes.max_counts))
 
 
@@ -393,7 +404,7 @@ def _open_old(out):
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None, connect="auto", corrections=None):
+          units=None, mirror=None, connect="auto", corrections=None, blend_frames=None):
     """Build a library from TVM sequences and return it opened.
 
     Parameters
@@ -435,6 +446,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     corrections : Corrections, dict, str, Path or None
         Corrections by hand applied on top of the parse (:mod:`engine.corrections`), or the
         file holding them; None keeps those of the library being replaced, if any.
+    blend_frames : int or None
+        In-between frames at every transition (:mod:`engine.blend`), 0 to
+        ``engine.blend.MAX_FRAMES``; None (default): as many as keep every step at or below
+        the natural step; 0 keeps the paper's cut.
 
     Returns
     -------
@@ -445,7 +460,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
 
     run = _Run(progress, log)
     out = Path(out).absolute()
-    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect)
+    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames)
     given = None if corrections is None else Corrections.coerce(corrections)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -492,7 +507,10 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     needed = sorted({(index[node.sequence], frame)
                      for node in analysis.nodes for frame in range(node.start, node.end + 1)})
     needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
-    meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run, old, _stored(old, sequences, computed))
+    rows = {(sequences[s].name, f): row for row, (s, f, _, _) in enumerate(needed)}
+    keys = {seq.name: entry.key for seq, entry in zip(sequences, computed)}
+    meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run, old, _stored(old, sequences, computed),
+                       (rows, analysis.graph, settings.blend_frames, keys))
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 
@@ -512,7 +530,9 @@ def opened(out, derived):
         "nodes": len(analysis.nodes),
         "edges": analysis.graph.number_of_edges(),
         "added": analysis.graph.graph["connect"]["added"],
-        "stored_frames": meshes.frames,
+        "stored_frames": meshes.frames - run.blends["frames"],
+        "blend_frames": run.blends["frames"],
+        "blend_seconds": run.blends["seconds"],
         "read_frames": run.read_frames,
         "corrected": sorted(name for name, c in analysis.corrections.sequences.items() if c),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)
@@ -535,17 +555,20 @@ class Settings(NamedTuple):
     mu: float
     skip_bad_frames: bool
     connect: str = "auto"
+    blend_frames: int | None = None
 
     @classmethod
-    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto"):
+    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None):
         from . import structure as structure_module
+        from .blend import check_count
         from .connect import MODES
         from .graph import MU
 
         if connect not in MODES:
             raise params.ParameterError(f"connect={connect!r} is not one of {', '.join(map(repr, MODES))}.")
         return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
-                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect)
+                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect,
+                   check_count(blend_frames))
 
 
 def _pass_on(caught, log):

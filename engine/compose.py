@@ -19,6 +19,12 @@ once to its exit frame x, which lies in its last part (:func:`engine.graph.exit_
 it shows n = ((x - e) mod L) + 1 frames, the first arrival at x. As the last key motion, or
 while the player rests in it, it plays whole and starts again.
 
+Where the library holds in-between frames for an edge (:mod:`engine.blend`; the graph's edge
+attribute ``blend`` counts them), they are played between the exit frame and the entry frame:
+they replace the cut and shorten no texton. Each is a :class:`ScheduleEntry` with ``blend``
+set to ``((from, to), i)``; its node, sequence and frame are those of the frame it was
+warped from (the exit frame for the first half of the run, the entry frame for the rest).
+
 A leg whose two key motions are the same motion is empty: path ``[key]``, cost 0, no edges,
 no frames. The motion simply continues, and the next leg starts where it would have.
 
@@ -45,7 +51,8 @@ __all__ = ["ScheduleEntry", "Transition", "Leg", "Composition", "Playhead", "com
 
 
 class ScheduleEntry(NamedTuple):
-    """One frame of the edited sequence: frame ``frame`` of ``sequence``, inside texton ``node``.
+    """One frame of the edited sequence: frame ``frame`` of ``sequence``, inside texton ``node``,
+    or with ``blend = ((from, to), i)`` the ``i``-th in-between frame of that edge.
 
     A named tuple rather than a dataclass: an edit has thousands of them and a tuple is
     several times cheaper to make.
@@ -54,14 +61,25 @@ class ScheduleEntry(NamedTuple):
     node: int
     sequence: str
     frame: int
+    blend: tuple | None = None
+
+    @property
+    def key(self):
+        """The mesh to show, as ``MeshSource.frame_mesh`` takes it: ``(sequence, frame)``, or
+        ``(sequence, frame, blend)`` for an in-between frame."""
+        return (self.sequence, self.frame) if self.blend is None else (self.sequence, self.frame, self.blend)
 
     def to_json(self):
-        return {"node": self.node, "sequence": self.sequence, "frame": self.frame}
+        data = {"node": self.node, "sequence": self.sequence, "frame": self.frame}
+        if self.blend is not None:
+            data["blend"] = [list(self.blend[0]), self.blend[1]]
+        return data
 
 
 @dataclass(frozen=True)
 class Transition:
-    """An edge taken: the texton ``target`` starts at schedule position ``index``."""
+    """An edge taken: the texton ``target`` starts at schedule position ``index``, after
+    ``blend`` in-between frames (positions ``index - blend`` to ``index - 1``)."""
 
     index: int
     source: int
@@ -69,10 +87,11 @@ class Transition:
     weight: float
     exit_frame: int
     entry_frame: int
+    blend: int = 0
 
     def to_json(self):
         return {"index": self.index, "from": self.source, "to": self.target, "weight": self.weight,
-                "exit_frame": self.exit_frame, "entry_frame": self.entry_frame}
+                "exit_frame": self.exit_frame, "entry_frame": self.entry_frame, "blend_frames": self.blend}
 
 
 @dataclass(frozen=True)
@@ -179,7 +198,17 @@ _new_entry = partial(tuple.__new__, ScheduleEntry)
 
 
 def _entries(node, sequence, frames):
-    return list(map(_new_entry, zip(repeat(node), repeat(sequence), frames)))
+    return list(map(_new_entry, zip(repeat(node), repeat(sequence), frames, repeat(None))))
+
+
+def _blend_entries(graph, u, v):
+    """The in-between frames the library holds for edge ``u -> v`` (none without a run)."""
+    from .blend import side
+
+    data = graph.edges[u, v]
+    count = data.get("blend", 0)
+    ends = ((u, graph.nodes[u]["sequence"], data["exit_frame"]), (v, graph.nodes[v]["sequence"], data["entry_frame"]))
+    return [ScheduleEntry(*ends[side(i, count)], ((u, v), i)) for i in range(count)]
 
 
 def _texton(graph, node):
@@ -288,7 +317,9 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
             cost = max(cost, w)
             count = play_length(start, end, entry, exit_frame, _once(graph, u)) + k * (end - start + 1)
             schedule += _entries(u, sequence, _cycle(start, end, entry, count))
-            transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame))
+            blend = _blend_entries(graph, u, v)
+            schedule += blend
+            transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame, len(blend)))
             sequence, start, end = _texton(graph, v)
             entry = entry_frame
         frames = len(schedule) - began
@@ -384,6 +415,7 @@ class Playhead:
         sequence, start, end = _texton(graph, node)
         self._visit = _Visit(node, sequence, start, end, start, once=_once(graph, node))
         self._plan = deque()
+        self._blending = deque()    # in-between frames still to play before the current visit
         self._queue = []            # (key node, leg serial), in play order
         self._serial = itertools.count()
         self.played = 0             # frames returned so far: the schedule index of the next one
@@ -447,8 +479,9 @@ class Playhead:
         """
         if not self._queue:
             return None
-        total = self._visit.remaining()
+        total = len(self._blending) + self._visit.remaining()
         for visit in self._plan:
+            total += self.graph.edges[visit.arrival.source, visit.arrival.target].get("blend", 0)
             if visit.key:
                 return total
             total += play_length(visit.start, visit.end, visit.entry, visit.exit, visit.once)
@@ -456,15 +489,23 @@ class Playhead:
 
     def advance(self):
         """The next frame of the edited sequence."""
+        if self._blending:
+            self.played += 1
+            return self._blending.popleft()
         visit = self._visit
         if visit.remaining() == 0:
             visit = self._plan.popleft()
             a = visit.arrival
-            self.transitions.append(Transition(self.played, a.source, a.target, a.weight,
-                                               a.exit_frame, a.entry_frame))
+            blend = _blend_entries(self.graph, a.source, a.target)
+            self.transitions.append(Transition(self.played + len(blend), a.source, a.target, a.weight,
+                                               a.exit_frame, a.entry_frame, len(blend)))
             if visit.key:
                 self._queue.pop(0)
             self._visit = visit
+            if blend:
+                self._blending.extend(blend[1:])
+                self.played += 1
+                return blend[0]
         frame = visit.start + (visit.entry - visit.start + visit.shown) % visit.length
         visit.shown += 1
         self.played += 1

@@ -5,7 +5,9 @@ it. ``edit.json`` records, for each output frame, its file, its source sequence 
 the capture's frame file it came from (``source_file``, as the library's manifest records it,
 so frames skipped at build time do not shift it), and for each transition the edge taken and
 its weight, so the edit can be traced back to the capture; ``key_starts`` gives the frame at
-which each key motion begins and each leg its ``asked_s`` and ``achieved_s`` seconds. The folder is written under a
+which each key motion begins and each leg its ``asked_s`` and ``achieved_s`` seconds. An
+in-between frame made at a transition (:mod:`engine.blend`) is marked
+``"blend": [[from, to], i]``; its source is the captured frame it was warped from. The folder is written under a
 temporary name and renamed into place, so a failure never leaves a half-written export.
 
 Replacing an existing folder (``force``) is allowed only where that folder is a previous
@@ -67,11 +69,10 @@ def export_edit(edit, out, force=False, progress=False):
             from tqdm import tqdm
             iterator = tqdm(schedule, desc="export", unit="frame", leave=False)
         for index, entry in enumerate(iterator):
-            positions, colours, faces, _ = library.frame_mesh((entry.sequence, entry.frame))
+            positions, colours, faces, _ = library.frame_mesh(entry.key)
             name = f"frame_{index:05d}.ply"
             write_ply(tmp / name, positions, faces, colours)
-            frames.append({"index": index, "file": name, "node": int(entry.node),
-                           "sequence": entry.sequence, "frame": int(entry.frame),
+            frames.append({"index": index, "file": name, **entry.to_json(),
                            "source_file": _source_file(library, entry.sequence, entry.frame)})
         record = {
             "library": str(Path(library.path).resolve()),

@@ -27,9 +27,16 @@ A library is a directory written by :func:`engine.build` and opened by
 ``faces.npy``
     (F, 3) uint32, indices local to each frame.
 ``frames.npy``
-    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
+    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count. The
+    texton frames come first, then the in-between frames of every transition.
 ``frame_keys.npy``
-    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
+    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number; for an
+    in-between frame -1 and its index within its transition's run.
+``blends.json``
+    the in-between frames (:mod:`engine.blend`): ``natural_step`` (metres), the
+    ``blend_frames`` option (null: as many as needed) and per graph edge with a run
+    ``{"from", "to", "first", "count", "jump", "steps"}``: its first row in ``frames.npy``,
+    how many frames, the Chamfer distance of the cut and of every step of the run (metres).
 ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     only where some stored frame is textured: (V, 2) float32 texture coordinates beside
     ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
@@ -42,7 +49,7 @@ A library is a directory written by :func:`engine.build` and opened by
     and the automatic parse they were applied to (as ``structure.json``, which then holds the
     corrected one).
 
-Only the frames of database textons are stored. Every array opens with
+Only the frames of database textons and the in-between frames are stored. Every array opens with
 ``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
 """
 
@@ -60,15 +67,16 @@ __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", 
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
            "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
-           "read_parse"]
+           "read_parse", "read_blends"]
 
 #: On-disk format version; a library of another version must be rebuilt.
-FORMAT = 1
+FORMAT = 2
 
 #: Files whose sizes the manifest records and :func:`read_manifest` checks.
 CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
                  "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
-                 "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json")
+                 "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json",
+                 "blends.json")
 
 #: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
 MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
@@ -121,12 +129,19 @@ class NpyStream:
         self.handle = open(path, "wb")
         self.handle.write(b"\0" * self.HEADER)
 
+    def reopen(self):
+        """Append more rows to a stream closed before (its file is a whole .npy meanwhile)."""
+        self.handle = open(self.path, "r+b")
+        self.handle.seek(0, 2)
+
     def append(self, array):
         array = np.ascontiguousarray(array, dtype=self.dtype)
         self.handle.write(memoryview(array).cast("B"))
         self.rows += len(array)
 
     def close(self):
+        if self.handle.closed:
+            return
         header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
                   "shape": (self.rows, self.width)}
         text = repr(header).encode("latin1")
@@ -143,6 +158,8 @@ class MeshWriter:
     """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
 
     ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
+    :meth:`pause` makes the arrays written so far readable (:func:`mesh_arrays`) and
+    :meth:`resume` goes on appending: the in-between frames are made from the texton frames.
     """
 
     def __init__(self, folder):
@@ -160,14 +177,23 @@ class MeshWriter:
         self.frames = 0
         self.max_counts = (0, 0)
 
-    def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None):
+    def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None,
+            texture_of=None):
         """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
-        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured."""
+        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured.
+
+        An in-between frame has ``sequence_index`` -1 and ``frame`` its index in its run;
+        with ``texture_of``, the row of a stored frame, it shares that frame's texture image
+        (``uv`` its own coordinates) instead of storing one."""
         for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
                             ("faces", faces)):
             self._arrays[name].append(array)
         v0, f0 = self._starts
-        if uv is not None and texture is not None:
+        shared = texture_of is not None and uv is not None and self._texture_rows[texture_of][1] > 0
+        if shared:
+            self._uvs.append(uv)
+            self._texture_rows.append(list(self._texture_rows[texture_of]))
+        elif uv is not None and texture is not None:
             if self._uvs is None:
                 self._uvs = NpyStream(self._folder / "uvs.npy", np.float32, 2)
                 self._texels = NpyStream(self._folder / "textures.npy", np.uint8, 3)
@@ -195,16 +221,27 @@ class MeshWriter:
             return [0.0] * 3, [0.0] * 3
         return self._low.tolist(), self._high.tolist()
 
+    def _streams(self):
+        textures = () if self._uvs is None else (self._uvs, self._texels)
+        return (*self._arrays.values(), self._offsets, self._keys, *textures)
+
+    def pause(self):
+        """Close the files so far (whole .npy files that :func:`mesh_arrays` reads)."""
+        for stream in self._streams():
+            stream.close()
+        if self._uvs is not None:
+            np.save(self._folder / "texture_frames.npy", np.array(self._texture_rows, np.int64).reshape(-1, 3))
+
+    def resume(self):
+        """Go on appending frames after :meth:`pause`."""
+        for stream in self._streams():
+            stream.reopen()
+
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
-        for stream in (*self._arrays.values(), self._offsets, self._keys):
-            stream.close()
-        if self._uvs is not None:
-            self._uvs.close()
-            self._texels.close()
-            np.save(self._folder / "texture_frames.npy", np.array(self._texture_rows, np.int64).reshape(-1, 3))
+        self.pause()
 
 
 def graph_to_json(graph):
@@ -436,11 +473,26 @@ def frame_offsets(path, arrays):
     return offsets
 
 
+def frame_slices(arrays, offsets, row):
+    """``(positions, colours, faces, normals)`` of stored frame ``row``: views of ``arrays``
+    (:func:`mesh_arrays`) through ``offsets`` (:func:`frame_offsets`)."""
+    v0, nv, f0, nf = (int(x) for x in offsets[row])
+    return (arrays["positions"][v0:v0 + nv], arrays["colours"][v0:v0 + nv], arrays["faces"][f0:f0 + nf],
+            arrays["normals"][v0:v0 + nv])
+
+
+def stored_frame(path, row):
+    """Stored frame ``row`` of the (possibly unfinished: see :meth:`MeshWriter.pause`) library
+    folder ``path``: ``(positions, colours, faces, normals)``, memory-mapped."""
+    arrays = mesh_arrays(path)
+    return frame_slices(arrays, frame_offsets(path, arrays), row)
+
+
 def frame_keys(path, frames, sequences):
     """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
     keys = np.asarray(load_array(path, "frame_keys.npy"))
     ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
-    if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
+    if not ok or (len(keys) and not ((keys[:, 0] >= -1) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
         raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))
     return keys
 
@@ -465,6 +517,22 @@ def read_graph(path):
     unpruned = {(i, j): w for i, j, w in data["unpruned"]}
     transitions = {(i, j): (a, b) for i, j, a, b in data["transitions"]}
     return unpruned, transitions, float(data["mu"])
+
+
+def read_blends(path, frames):
+    """``(natural_step, {(from, to): (first row, count)}, data)`` from ``blends.json``, checked
+    against the ``frames`` rows of ``frames.npy``; no runs when the file is absent."""
+    if not (Path(path) / "blends.json").exists():
+        return 0.0, {}, {"natural_step": 0.0, "blend_frames": None, "edges": []}
+    data = read_json(path, "blends.json")
+    try:
+        runs = {(int(e["from"]), int(e["to"])): (int(e["first"]), int(e["count"])) for e in data["edges"]}
+        natural = float(data["natural_step"])
+    except (KeyError, TypeError, ValueError) as error:
+        raise damaged(path, error) from None
+    if any(first < 0 or count < 0 or first + count > frames for first, count in runs.values()):
+        raise damaged(path, ValueError("blends.json names rows beyond frames.npy"))
+    return natural, runs, data
 
 
 def read_names(path):

@@ -33,6 +33,8 @@ INFO_SCHEMA = {
     "required": ["format", "params", "sequences", "nodes", "edges"],
     "properties": {
         "format": {"type": "integer", "description": "on-disk format version"},
+        "natural_step": {"type": "number", "description": "median Chamfer distance between "
+                                                          "consecutive texton frames, metres"},
         "tvmedit": {"type": "string", "description": "version that built the library"},
         "params": {
             "type": "object",
@@ -91,7 +93,10 @@ INFO_SCHEMA = {
                                "exit_frame": _INT, "entry_frame": _INT,
                                "added": {"type": "boolean",
                                          "description": "put back from the complete graph so that every "
-                                                        "motion reaches every other (engine.connect)"}},
+                                                        "motion reaches every other (engine.connect)"},
+                               "blend_frames": {**_INT, "description": "in-between frames stored "
+                                                "for this transition (engine.blend)"},
+                               "jump": {**_NUM, "description": "Chamfer distance of the cut, metres"}},
             },
         },
         "connect": {
@@ -316,7 +321,33 @@ class Library:
         from .graph import graph_from
 
         unpruned, transitions, stored_mu = self._graph_data
-        return graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else mu, self.connect)
+        graph = graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else mu, self.connect)
+        for (i, j), (_, count) in self._blends[1].items():
+            if count and graph.has_edge(i, j):
+                graph.edges[i, j]["blend"] = count
+        return graph
+
+    @cached_property
+    @_reads_format
+    def _blends(self):
+        return libformat.read_blends(self.path, int(self.manifest["counts"]["stored_frames"]))
+
+    @property
+    def natural_step(self):
+        """The median step between consecutive texton frames (Chamfer, metres), as the build
+        measured it (:func:`engine.blend.natural_step`); 0 for a library without textons."""
+        return self._blends[0]
+
+    def blend_data(self):
+        """The contents of ``blends.json`` (see :mod:`engine.libformat`)."""
+        return self._blends[2]
+
+    def blend_runs(self):
+        """Per graph edge ``(from, to)``: ``{"count", "jump", "steps"}`` of its in-between frames
+        (:mod:`engine.blend`; count 0 where the cut is kept)."""
+        return {(int(e["from"]), int(e["to"])): {"count": int(e["count"]), "jump": float(e["jump"]),
+                                                 "steps": [float(x) for x in e["steps"]]}
+                for e in self._blends[2]["edges"]}
 
     def rename(self, node, name):
         """Give a node a new, unique name, stored at once in ``names.json``; returns the node."""
@@ -353,7 +384,7 @@ class Library:
     def _frame_rows(self):
         keys = libformat.frame_keys(self.path, len(self._offsets), len(self.sequences))
         names = [s.name for s in self.sequences]
-        return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist())}
+        return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist()) if s >= 0}
 
     def sources(self):
         """The library's folder and its sequences' folders: no output may go inside them."""
@@ -361,10 +392,13 @@ class Library:
         return [self.path, *sorted(folders)]
 
     def stored_frames(self):
-        """Keys ``(sequence, frame)`` of every stored frame, in storage order."""
+        """Keys ``(sequence, frame)`` of every stored texton frame, in storage order (the
+        in-between frames follow them; an edit's schedule names those by their ``key``)."""
         return list(self._frame_rows)
 
-    def _row(self, sequence, frame):
+    def _row(self, sequence, frame, blend=None):
+        if blend is not None:
+            return self._blend_row(blend)
         try:
             return self._frame_rows[sequence, int(frame)]
         except KeyError:
@@ -372,19 +406,35 @@ class Library:
             raise LibraryError(f"frame {frame} of {sequence} is not stored in library {self.path}: "
                                "only the frames of database motions are.") from None
 
-    def frame_mesh(self, key):
-        """``(positions, colours, faces, normals)`` of frame ``key = (sequence, frame)``.
+    def _blend_row(self, blend):
+        (i, j), index = blend
+        first, count = self._blends[1].get((int(i), int(j)), (0, 0))
+        if not 0 <= int(index) < count:
+            raise LibraryError(f"library {self.path} holds {count} in-between frame(s) for transition "
+                               f"{i} -> {j}, so it has no in-between frame {index}; compose the edit "
+                               "from this library.")
+        return first + int(index)
 
-        (N, 3) float32, (N, 3) uint8, (M, 3) uint32 and (N, 3) float32, memory-mapped; only
-        the frames of database motions are stored (:meth:`stored_frames`).
+    def frame_mesh(self, key):
+        """``(positions, colours, faces, normals)`` of frame ``key``.
+
+        ``key`` is ``(sequence, frame)``, or ``(sequence, frame, ((from, to), i))`` for the
+        ``i``-th in-between frame of a transition (``ScheduleEntry.key``). (N, 3) float32,
+        (N, 3) uint8, (M, 3) uint32 and (N, 3) float32, memory-mapped; only the frames of
+        database motions (:meth:`stored_frames`) and the in-between frames are stored.
         """
-        sequence, frame = key
-        v0, nv, f0, nf = self._offsets[self._row(sequence, frame)].tolist()
+        sequence, frame, *blend = key
+        return self.stored_row(self._row(sequence, frame, *blend), f"frame {frame} of {sequence}")
+
+    def stored_row(self, row, label=None):
+        """:meth:`frame_mesh` of the ``row``-th stored frame, in storage order (texton frames,
+        then in-between frames); ``label`` names it in an error."""
+        v0, nv, f0, nf = self._offsets[row].tolist()
         a = self._arrays
         faces = a["faces"][f0:f0 + nf]
         most_v, most_f = self.max_counts()
         if nv > most_v or nf > most_f or (nf and int(faces.max()) >= nv):
-            raise libformat.damaged(self.path, ValueError(f"frame {frame} of {sequence} does not "
+            raise libformat.damaged(self.path, ValueError(f"{label or f'stored frame {row}'} does not "
                                                           "match its vertex and face counts"))
         return a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
 
@@ -421,8 +471,8 @@ class Library:
         when the frame has no texture (the player then draws its vertex colours)."""
         if self._textures is None:
             return None
-        sequence, frame = key
-        row = self._row(sequence, frame)
+        sequence, frame, *blend = key
+        row = self._row(sequence, frame, *blend)
         uvs, texels, rows = self._textures
         start, height, width = rows[row].tolist()
         if not height:
@@ -464,13 +514,15 @@ class Library:
                   "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity,
                   "kind": n.kind}
                  for n in self._nodes]
+        runs = self.blend_runs()
         edges = [{"from": int(i), "to": int(j), "weight": float(d["weight"]),
                   "exit_frame": int(d["exit_frame"]), "entry_frame": int(d["entry_frame"]),
-                  "added": bool(d.get("added", False))}
+                  "added": bool(d.get("added", False)), "blend_frames": int(d.get("blend", 0)),
+                  **({"jump": runs[i, j]["jump"]} if (i, j) in runs else {})}
                  for i, j, d in sorted(self.graph.edges(data=True))]
         return {"format": self.manifest["format"], "tvmedit": self.manifest.get("tvmedit", ""),
-                "params": self.params, "sequences": sequences, "nodes": nodes, "edges": edges,
-                "connect": self.graph.graph["connect"]}
+                "params": self.params, "natural_step": self.natural_step, "sequences": sequences,
+                "nodes": nodes, "edges": edges, "connect": self.graph.graph["connect"]}
 
     def edit(self, keys, forbid=(), loops=1, durations=None, at=None, holds=None, strict=False):
         """Compose an edit through the key motions ``keys`` (ids or names), sections 7-8.

@@ -65,7 +65,7 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     params = library.params
     settings = Settings.of(BinSizes(**params["bins"]), params["structure"],
                            params["mu"] if mu is None else mu, params.get("skip_bad_frames", False),
-                           params.get("connect", "auto"))
+                           params.get("connect", "auto"), params.get("blend_frames"))
     corrections = library.corrections() if corrections is None else Corrections.coerce(corrections)
     sequences, computed = [], []
     for record in library.manifest["sequences"]:

@@ -181,6 +181,11 @@ class TimingIndex:
             return (exit - entry) % length + 1
         return length + (exit - entry + 1) % length
 
+    def leave(self, node, entry, exit, target):
+        """:meth:`play` and then the in-between frames the library holds for the edge to
+        ``target`` (:mod:`engine.blend`): the frames from entering ``node`` to entering ``target``."""
+        return self.play(node, entry, exit) + self.graph[node][target].get("blend", 0)
+
     def cycle(self, node):
         """Frames of one extra loop of ``node``; 0 for a one-shot, which cannot loop."""
         start, end, once = self.texton[node]
@@ -240,7 +245,7 @@ class _Layers:
                     break
                 if v in blocked:
                     continue
-                shifted = (bits << index.play(node, entry, exit)) & mask
+                shifted = (bits << index.leave(node, entry, exit, v)) & mask
                 if not shifted:
                     continue
                 into = hits if v == target else frontier
@@ -272,7 +277,7 @@ class _Layers:
                         break
                     if v != node or next_entry != entry:
                         continue
-                    left = time - index.play(u, e, exit)
+                    left = time - index.leave(u, e, exit, v)
                     if left >= 0 and bits >> left & 1:
                         found = (u, e, left)
                         break

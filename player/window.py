@@ -147,12 +147,13 @@ class PlayerApp(CameraControls):
             self._restarted = False
         self._write({"t": round(now - self.clock_zero, 6), "node": _plain(self.entry.node),
                      "sequence": self.entry.sequence, "frame": int(self.entry.frame),
+                     **({} if self.entry.blend is None else {"blend": self.entry.to_json()["blend"]}),
                      "queue": [_plain(n) for n in self.playhead.queue_list]})
 
     def mesh(self):
         """The mesh of the frame on screen, fetched once per sequence frame."""
         if self._mesh is None and self.entry is not None:
-            key = (self.entry.sequence, self.entry.frame)
+            key = self.entry.key
             self._mesh = self.source.frame_mesh(key)
             self._texture = texture_of(self.source, key, self.shading)
         return self._mesh

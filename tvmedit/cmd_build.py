@@ -8,13 +8,18 @@ name it yourself, e.g. ``tvmedit build walk=capture/A/walk run=capture/A/run -o 
 The library is written beside LIB under a temporary name and renamed into place when
 complete, so an interrupted build never leaves half a library. Features, the expensive
 part, are cached by frame files and bin sizes: rebuilding with other parsing or pruning
-parameters reuses them (and says so). --workers and --dask spread the reading of frames;
-the library is the same whichever is used.
+parameters reuses them (and says so). --workers and --dask spread the reading of frames
+and the blending; the library is the same whichever is used.
 
 --corrections FILE applies corrections by hand on top of the automatic parse (cluster
 boundaries and texton starts to add, remove or move, representatives to force, motions to
 drop; see ``engine.corrections``) and stores them in the library, so a later rebuild with
 other parameters applies them again; --no-corrections leaves them out.
+
+At every transition of the motion graph the build makes in-between frames that carry the
+exit frame smoothly onto the entry frame (a different reconstruction, so otherwise a pop):
+as many as keep every displayed step at or below the natural motion between captured frames
+(at most 8), or --blend-frames N; --blend-frames 0 keeps the paper's cut.
 """
 
 import argparse
@@ -114,6 +119,11 @@ def add_arguments(parser):
     group.add_argument("--mu", type=float, default=MU,
                        help="pruning parameter of eq. (14); larger keeps more edges (default: %(default)g)")
 
+    group.add_argument("--blend-frames", type=int, default=None, metavar="N",
+                       help="in-between frames at every transition, 0-8, warped from the exit frame "
+                            "onto the entry frame; 0 keeps the paper's cut (default: as many as keep "
+                            "every step at or below the natural step between captured frames)")
+
     group = parser.add_argument_group("speed")
     group.add_argument("--workers", type=int, default=None, metavar="N",
                        help="local worker processes reading frames (default: all cores; 1: none)")
@@ -153,7 +163,8 @@ def run(args):
                     connect=args.connect, skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
                     workers=args.workers, dask=args.dask, force=args.force,
                     cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror,
-                    corrections={} if args.no_corrections else args.corrections)
+                    corrections={} if args.no_corrections else args.corrections,
+                    blend_frames=args.blend_frames)
     if args.quiet:
         return 0
     report = library.report
@@ -162,7 +173,7 @@ def run(args):
         f"{report['clusters']} clusters, {report['nodes']} database motions, "
         f"{report['edges']} graph edges"
         + (f" ({report['added']} added so every motion reaches every other)" if report.get("added") else "")
-        + f", {report['stored_frames']} frames stored, "
+        + f", {report['stored_frames']} frames stored (+{report['blend_frames']} in-between), "
         f"in {report['seconds']:.1f} s ({report['workers']})"
         + (f"; features reused for {len(reused)} of {report['sequences']} sequence(s)" if reused else "")
         + (f"; corrections by hand applied to {', '.join(report['corrected'])}" if report["corrected"] else ""))

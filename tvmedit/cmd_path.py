@@ -18,7 +18,8 @@ last key motion still plays --loops cycles.
 
 --json prints {"legs": [{"from", "to", "path", "cost", "edges", "frames", "asked_s",
 "achieved_s"}], "key_starts": [frame each key motion begins at], "fps", "schedule": [{"node",
-"sequence", "frame"}], "transitions": [...]} with node ids as in `tvmedit info --json`; a leg
+"sequence", "frame"}, with "blend": [[from, to], i] on in-between frames], "transitions":
+[...]} with node ids as in `tvmedit info --json`; a leg
 asked a length also has "goal_frames" and "loops" (extra cycles of each motion on its path).
 An unknown motion is refused with the list of known names; an unreachable pair exits with
 status 3 and says at which --mu a path would exist.
@@ -72,13 +73,17 @@ def run(args):
     print(f"schedule: {len(edit.schedule)} frames ({len(edit.schedule) / fps:.1f} s at {fps:g} fps)")
     runs, previous = [], None
     for entry in edit.schedule:
-        if entry.node != previous:
-            runs.append([entry.node, entry.sequence, [entry.frame]])
-            previous = entry.node
+        if (entry.node, entry.blend is None) != previous:
+            runs.append([entry.node, entry.sequence, [entry.frame], entry.blend])
+            previous = (entry.node, entry.blend is None)
         else:
             runs[-1][2].append(entry.frame)
-    for node, sequence, frames in runs:
-        print(f"  {name(node):>16}  {sequence} frames {_ranges(frames)}")
+    for node, sequence, frames, blend in runs:
+        if blend is None:
+            print(f"  {name(node):>16}  {sequence} frames {_ranges(frames)}")
+        else:
+            print(f"  {'':>16}  {len(frames)} in-between frame{'s' * (len(frames) != 1)} "
+                  f"warped from {sequence} frame {frames[0]}")
     return 0
 
 
