@@ -143,7 +143,7 @@ def _sample(points, count, seed):
 
 
 def _smoother(nodes, sigma):
-    """The (n, n) sparse Gaussian kernel between nodes, rows normalised to sum to one."""
+    """The (n, n) sparse Gaussian kernel between nodes (unnormalised)."""
     from scipy import sparse
 
     tree = _kdtree(nodes)
@@ -151,7 +151,7 @@ def _smoother(nodes, sigma):
     weights = np.exp(-0.5 * (pairs.data / sigma) ** 2)
     kernel = sparse.csr_matrix((weights, (pairs.row, pairs.col)), shape=(len(nodes),) * 2)
     kernel.setdiag(1.0)
-    return sparse.diags(1.0 / np.asarray(kernel.sum(axis=1)).ravel()) @ kernel
+    return kernel
 
 
 def align(moving, still, seed=0):
@@ -184,14 +184,15 @@ def align(moving, still, seed=0):
         kernel = _smoother(nodes, sigma)
         for _ in range(STEPS):
             warped = nodes + shift
-            force = still[still_tree.query(warped)[1]] - warped
+            pull = still[still_tree.query(warped)[1]] - warped
             nearest = _kdtree(warped).query(pulls)[1]
-            count = np.bincount(nearest, minlength=len(nodes)).astype(np.float64)
+            weight = 1.0 + np.bincount(nearest, minlength=len(nodes))
             for axis in range(3):
-                back = np.bincount(nearest, weights=pulls[:, axis] - warped[nearest, axis],
-                                   minlength=len(nodes))
-                force[:, axis] = (force[:, axis] + back) / (1.0 + count)
-            shift += kernel @ force
+                pull[:, axis] += np.bincount(nearest, weights=pulls[:, axis] - warped[nearest, axis],
+                                             minlength=len(nodes))
+            # Normalised convolution: every pull counts once, so the many points of a limb
+            # that moved away outweigh the few nodes nearest to them and drag the limb along.
+            shift += (kernel @ pull) / (kernel @ weight)[:, None]
     return _follow(moving, nodes, shift)
 
 

@@ -108,7 +108,8 @@ def render(edit, out, size=(640, 480), **options):
     ``edit.library`` is a MeshSource; ``edit.schedule`` lists frames as ``(sequence, frame)``
     pairs or as schedule entries (their ``.key``, which names in-between frames too).
     """
-    keys = [item.key if hasattr(item, "key") else tuple(item) for item in edit.schedule]
+    keys = [item.key if hasattr(item, "key") else (item.sequence, item.frame) if hasattr(item, "sequence")
+            else tuple(item) for item in edit.schedule]
     return render_frames(edit.library, keys, out, size=size, **options)
 
 

@@ -16,6 +16,9 @@ What a build found, in the order of the paper:
   faint with ``show_pruned``.
 * **Transitions**: every kept edge with its transition frames (eq. (10)), cheapest first, and
   the two frames side by side for the cheapest and the costliest.
+* **Blending** (:mod:`engine.blend`), per transition: a filmstrip of the frames around it as
+  an edit plays them, with the in-between frames and with the paper's cut, and the step curve
+  (Chamfer distance between consecutive displayed frames) with the natural step marked.
 
 The page is self-contained: ``index.html`` with PNG files beside it, referenced relatively,
 no script and no external style. ``report.json`` holds the same numbers (the texton starts
@@ -46,6 +49,8 @@ SHEET_FRAMES = 8
 PAIRS_EACH_END = 3
 
 CURVE_SIZE = (960, 300)
+STEP_SIZE = (420, 200)
+STRIP_TILE = (90, 120)
 GRAPH_SIZE = (900, 900)
 SHEET_TILE = (120, 160)
 THUMB_SIZE = (84, 112)
@@ -354,6 +359,7 @@ class _Report:
             self.database_section(nodes, summary),
             self.graph_section(graph, nodes, show_pruned, summary),
             self.transitions_section(graph, nodes, summary),
+            self.blending_section(graph, nodes, summary),
         ]
         summary["images"] = sorted(p.name for p in self.folder.glob("*.png"))
         title = (f"Library {self.library.path}: {len(self.library.sequences)} sequences, "
@@ -506,11 +512,93 @@ class _Report:
                 "<table><tr><th>#</th><th>from</th><th>to</th><th>weight</th><th>exit frame</th>"
                 "<th>entry frame</th><th>exit | entry</th></tr>" + "\n".join(rows) + "</table>")
 
+    def blending_section(self, graph, nodes, summary):
+        from player.headless import contact_sheet
+
+        natural = getattr(self.library, "natural_step", 0.0)
+        runs = self.library.blend_runs() if hasattr(self.library, "blend_runs") else {}
+        summary["blending"] = {"natural_step": natural, "transitions": []}
+        parts = ["<h2 id='blending'>Blending</h2>",
+                 f"<p>Each transition as an edit plays it: the frame before the exit frame, the exit "
+                 f"frame, the in-between frames the build made (marked <i>b</i>), the entry frame and "
+                 f"the one after; below, the paper's cut. The curve shows the Chamfer distance between "
+                 f"consecutive displayed frames (vertex positions) with and without the in-between "
+                 f"frames; the dashed line is the natural step, the median step between consecutive "
+                 f"texton frames ({natural * 1000:.1f} mm).</p>"]
+        by_id = {node.id: node for node in nodes}
+        for i, j, data in sorted(graph.edges(data=True)):
+            if (i, j) not in runs:
+                continue
+            self.say(f"report: blending {by_id[i].name} -> {by_id[j].name}")
+            window = _blend_window(by_id[i], by_id[j], data)
+            stem = f"blend-{i:03d}-{j:03d}"
+            row = {"from": i, "to": j, **runs[i, j], "images": [f"{stem}.png", f"{stem}-cut.png",
+                                                                f"{stem}-steps.png"]}
+            sizes = [(STRIP_TILE[0] * len(window["blended"]), STRIP_TILE[1]),
+                     (STRIP_TILE[0] * len(window["cut"]), STRIP_TILE[1]), STEP_SIZE]
+            for keys, png in ((window["blended"], row["images"][0]), (window["cut"], row["images"][1])):
+                contact_sheet(self.source, [k for k, _ in keys], self.folder / png, columns=len(keys),
+                              tile=STRIP_TILE, labels=[label for _, label in keys])
+            row.update(_window_steps(self.source, window, runs[i, j]))
+            step_figure(row, natural, self.folder / row["images"][2])
+            summary["blending"]["transitions"].append(row)
+            worst = max(row["blended_steps"]) / natural if natural else float("nan")
+            cut = max(row["cut_steps"]) / natural if natural else float("nan")
+            parts.append(f"<h3>{_e(by_id[i].name)} &rarr; {_e(by_id[j].name)}</h3>"
+                         f"<p>{runs[i, j]['count']} in-between frame(s); largest step "
+                         f"{worst:.2f} natural steps (cut: {cut:.2f})</p>"
+                         + "".join(f"<img src='{png}' width='{w}' height='{h}' alt='{png}'><br>"
+                                   for png, (w, h) in zip(row["images"], sizes)))
+        if not summary["blending"]["transitions"]:
+            parts.append("<p>This library holds no transitions to blend.</p>")
+        return "\n".join(parts)
+
     def _framing(self, key, size):
         from player.camera import Camera
 
         positions = self.source.frame_mesh(key)[0]
         return Camera.framing((positions.min(axis=0), positions.max(axis=0)), size[0] / size[1])
+
+
+def _blend_window(source, target, data):
+    """Keys and labels of the frames around edge ``source -> target``, with and without blending."""
+    def step(node, frame, by):
+        return node.start + (frame - node.start + by) % (node.end - node.start + 1)
+
+    x, e = data["exit_frame"], data["entry_frame"]
+    before = [((source.sequence, step(source, x, -1)), f"{step(source, x, -1)}"), ((source.sequence, x), f"exit {x}")]
+    after = [((target.sequence, e), f"entry {e}"), ((target.sequence, step(target, e, 1)), f"{step(target, e, 1)}")]
+    edge = (source.id, target.id)
+    between = [((source.sequence, x, (edge, k)), f"b{k + 1}") for k in range(data.get("blend", 0))]
+    return {"blended": before + between + after, "cut": before + after}
+
+
+def _window_steps(source, window, run):
+    """Steps across the window (metres): the texton steps at either end are measured here."""
+    from engine.blend import chamfer
+
+    mesh = lambda key: np.asarray(source.frame_mesh(key)[0])  # noqa: E731
+    (first, _), (exit_key, _), (entry_key, _), (last, _) = window["cut"]
+    before = chamfer(mesh(first), mesh(exit_key), stride=4)
+    after = chamfer(mesh(entry_key), mesh(last), stride=4)
+    steps = run["steps"] if run["count"] else [run["jump"]]
+    return {"blended_steps": [before, *steps, after], "cut_steps": [before, run["jump"], after]}
+
+
+def step_figure(row, natural, out_png, size=STEP_SIZE):
+    """The step curve of one transition: Chamfer per displayed frame, blended and cut, in mm."""
+    fig = _figure(size)
+    ax = fig.add_axes([0.13, 0.2, 0.84, 0.7])
+    blended = np.array(row["blended_steps"]) * 1000
+    ax.plot(np.arange(1, len(blended) + 1), blended, "o-", color="#1f77b4", label="blended")
+    ax.plot([1, 2, 3], np.array(row["cut_steps"]) * 1000, "s--", color="#d62728", label="cut")
+    if natural:
+        ax.axhline(natural * 1000, color="black", linestyle=":", label="natural step")
+    ax.set_xlabel("displayed step across the transition")
+    ax.set_ylabel("Chamfer (mm)")
+    ax.set_ylim(bottom=0)
+    ax.legend(loc="upper right", fontsize=7)
+    _save(fig, out_png)
 
 
 def _truth_beside(sequence):
@@ -563,7 +651,7 @@ p.score { font-weight: bold; }
 def _page(title, sections):
     nav = " | ".join(f"<a href='#{a}'>{t}</a>" for a, t in [
         ("structure", "Motion structure"), ("database", "Motion database"),
-        ("graph", "Motion graph"), ("transitions", "Transitions")])
+        ("graph", "Motion graph"), ("transitions", "Transitions"), ("blending", "Blending")])
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             f"<title>tvmedit report</title><style>{_STYLE}</style></head><body>"
             f"<h1>tvmedit report</h1><p>{_e(title)}</p><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")

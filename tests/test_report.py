@@ -23,7 +23,7 @@ from tvmedit.cli import main
 
 pytestmark = pytest.mark.gl
 
-SECTIONS = ["Motion structure", "Motion database", "Motion graph", "Transitions"]
+SECTIONS = ["Motion structure", "Motion database", "Motion graph", "Transitions", "Blending"]
 
 
 @pytest.fixture(scope="module")
