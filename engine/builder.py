@@ -33,13 +33,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import atomic, featcache, libformat, params
+from . import atomic, featcache, libformat
 from .blend import blend_library
-from .errors import InputError, ParameterError, TvmError
-from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
+from .errors import InputError, TvmError
+from .features import FeatureAccumulator, Features, frame_histograms
 from .load import expand_inputs, open_sequence, read_frame
 from .normals import vertex_normals
 from .parallel import Workers
+from .settings import Settings
 
 __all__ = ["build", "derive", "opened", "check_target", "library_features", "Settings", "expand_inputs"]
 
@@ -546,31 +547,6 @@ def opened(out, derived):
     return library
 
 
-class Settings(NamedTuple):
-    """The build parameters that shape the library, with defaults filled in and checked
-    (:meth:`of`)."""
-
-    bins: BinSizes
-    params: object
-    mu: float
-    skip_bad_frames: bool
-    connect: str = "auto"
-    blend_frames: int | None = None
-
-    @classmethod
-    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None):
-        from . import structure as structure_module
-        from .blend import check_count
-        from .connect import MODES
-        from .graph import MU
-
-        if connect not in MODES:
-            raise params.ParameterError(f"connect={connect!r} is not one of {', '.join(map(repr, MODES))}.")
-        return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
-                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect,
-                   check_count(blend_frames))
-
-
 def _pass_on(caught, log):
     """Warnings caught during the build go to ``log`` as ``warning: ...`` lines, if given."""
     for warning in caught:
@@ -578,19 +554,6 @@ def _pass_on(caught, log):
             warnings.warn(warning.message, warning.category, stacklevel=3)
         else:
             log(f"warning: {warning.message}")
-
-
-def _check_mu(mu):
-    """``mu`` as a float, or one sentence: JSON (manifest, graph) cannot hold inf or NaN.
-
-    >>> _check_mu("inf")
-    Traceback (most recent call last):
-    ...
-    engine.errors.ParameterError: mu=inf is out of range: it must be a finite number above 0 (the default is 0.9).
-    """
-    from .graph import MU
-
-    return params.number("mu", mu, above=0, hint=f" (the default is {MU:g})")
 
 
 def _carry_names(old, nodes, tmp):
@@ -609,15 +572,3 @@ def _carry_names(old, nodes, tmp):
     if names:
         libformat.write_json(tmp / "names.json", names)
     return names
-
-
-def _structure_params(module, structure):
-    if structure is None:
-        return module.StructureParams()
-    if isinstance(structure, dict):
-        known = [f.name for f in dataclasses.fields(module.StructureParams)]
-        unknown = sorted(set(structure) - set(known))
-        if unknown:
-            raise ParameterError(f"structure has no parameter {unknown[0]!r}; it has {', '.join(known)}.")
-        return module.StructureParams(**structure)
-    return structure

@@ -12,9 +12,10 @@ from pathlib import Path
 from typing import NamedTuple
 
 from . import atomic
-from .builder import Settings, check_target, derive, library_features, opened
+from .builder import check_target, derive, library_features, opened
 from .features import BinSizes
 from .parallel import Workers
+from .settings import Settings
 
 __all__ = ["rebuild"]
 

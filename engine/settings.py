@@ -1,0 +1,64 @@
+"""The parameters of a build that shape the library: defaults filled in, each checked at the door.
+
+:class:`Settings` is what :func:`engine.build` and :func:`engine.rebuild.rebuild` derive a
+library with; the manifest records it (``params``).
+"""
+
+import dataclasses
+from typing import NamedTuple
+
+from . import params
+from .errors import ParameterError
+from .features import BinSizes
+
+__all__ = ["Settings"]
+
+
+class Settings(NamedTuple):
+    """The build parameters that shape the library, with defaults filled in and checked
+    (:meth:`of`)."""
+
+    bins: BinSizes
+    params: object
+    mu: float
+    skip_bad_frames: bool
+    connect: str = "auto"
+    blend_frames: int | None = None
+
+    @classmethod
+    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None):
+        from . import structure as structure_module
+        from .blend import check_count
+        from .connect import MODES
+        from .graph import MU
+
+        if connect not in MODES:
+            raise params.ParameterError(f"connect={connect!r} is not one of {', '.join(map(repr, MODES))}.")
+        return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
+                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect,
+                   check_count(blend_frames))
+
+
+def _check_mu(mu):
+    """``mu`` as a float, or one sentence: JSON (manifest, graph) cannot hold inf or NaN.
+
+    >>> _check_mu("inf")
+    Traceback (most recent call last):
+    ...
+    engine.errors.ParameterError: mu=inf is out of range: it must be a finite number above 0 (the default is 0.9).
+    """
+    from .graph import MU
+
+    return params.number("mu", mu, above=0, hint=f" (the default is {MU:g})")
+
+
+def _structure_params(module, structure):
+    if structure is None:
+        return module.StructureParams()
+    if isinstance(structure, dict):
+        known = [f.name for f in dataclasses.fields(module.StructureParams)]
+        unknown = sorted(set(structure) - set(known))
+        if unknown:
+            raise ParameterError(f"structure has no parameter {unknown[0]!r}; it has {', '.join(known)}.")
+        return module.StructureParams(**structure)
+    return structure
