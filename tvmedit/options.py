@@ -83,6 +83,14 @@ def _second(text, what):
     return value
 
 
+def hold_seconds(text):
+    """Seconds above 0 and at most an hour, for play --hold-seconds."""
+    value = _second(text, "the hold")
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"should be the hold in seconds above 0, not {text!r}")
+    return value
+
+
 def durations(text):
     """``"4,6.5"`` -> ``[4.0, 6.5]``, for --durations; an empty item (``"4,,6"``) leaves that leg free."""
     return [None if not item.strip() else _second(item, "each leg's length") for item in text.split(",")]
