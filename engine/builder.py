@@ -29,11 +29,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import atomic, featcache, libformat, params
+from . import atomic, featcache, libformat, meshstore, params
 from .errors import InputError, ParameterError, TvmError
 from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
 from .load import expand_inputs, open_sequence, read_frame
-from .normals import vertex_normals
 from .parallel import Workers
 
 __all__ = ["build", "derive", "opened", "check_target", "library_features", "Settings", "expand_inputs"]
@@ -41,8 +40,7 @@ __all__ = ["build", "derive", "opened", "check_target", "library_features", "Set
 #: Frames per feature task: large enough to amortise a task's overhead, small enough to
 #: keep every worker busy on short sequences.
 FEATURE_CHUNK = 32
-#: Frames per mesh task; each frame is about 1 MB on its way back, so chunks stay small.
-MESH_CHUNK = 4
+
 
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
@@ -76,21 +74,6 @@ def _feature_task(task):
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return rows, read_s, compute_s
-
-
-def _mesh_task(paths):
-    """Meshes of a chunk of ``(path, orientation)`` with their normals and textures:
-    ``(meshes, read_s, compute_s)``."""
-    meshes, read_s, compute_s = [], 0.0, 0.0
-    for path, orientation in paths:
-        t0 = time.perf_counter()
-        frame = read_frame(path, orientation)
-        t1 = time.perf_counter()
-        normals = vertex_normals(frame.positions, frame.faces)
-        meshes.append((frame.positions, frame.colours, frame.faces, normals, frame.uv, frame.texture))
-        read_s += t1 - t0
-        compute_s += time.perf_counter() - t1
-    return meshes, read_s, compute_s
 
 
 class _Run:
@@ -271,48 +254,6 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
 
 # --- meshes and the rest of the library ---------------------------------------------------
 
-def _stored(old, sequences, computed):
-    """``{(sequence index, frame): (old name, frame)}`` for every frame the library being
-    replaced stores from the same frame files (same feature key): copied, not read again."""
-    if old is None:
-        return {}
-    names = {record.get("feature_key"): record["name"] for record in old.manifest["sequences"]}
-    index = {names[entry.key]: s for s, entry in enumerate(computed) if entry.key in names}
-    return {(index[name], frame): (name, frame) for name, frame in old.stored_frames() if name in index}
-
-
-def _write_meshes(tmp, needed, pool, run, old=None, stored=None):
-    """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh
-    arrays: copied from ``old`` where ``stored`` (:func:`_stored`) has them, else read."""
-    stored = stored or {}
-    bar = run.bar(len(needed), "meshes")
-    missing = [item for item in needed if item[:2] not in stored]
-    chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
-    tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
-    read = iter(())
-    try:
-        with libformat.MeshWriter(tmp) as writer:
-            results = pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)
-            for seq_index, frame, _, _ in needed:
-                key = stored.get((seq_index, frame))
-                if key is not None:
-                    texture = old.frame_texture(key)
-                    writer.add(seq_index, frame, *old.frame_mesh(key), *(texture or (None, None)))
-                else:
-                    mesh = next(read, None)
-                    if mesh is None:
-                        meshes, read_s, compute_s = next(results)
-                        run.add_times(read_s, compute_s)
-                        read = iter(meshes)
-                        mesh = next(read)
-                    writer.add(seq_index, frame, *mesh)
-                bar.update()
-    finally:
-        bar.close()
-    run.read_frames = len(missing)
-    return writer
-
-
 def _write_library(tmp, old, sequences, computed, padded, settings, analysis, meshes, run):
     """Everything but the meshes: features, structure, database, graph, names, manifest last."""
     bins = settings.bins
@@ -492,7 +433,7 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     needed = sorted({(index[node.sequence], frame)
                      for node in analysis.nodes for frame in range(node.start, node.end + 1)})
     needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
-    meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run, old, _stored(old, sequences, computed))
+    meshes = run.stage("meshes", meshstore.write, tmp, needed, pool, run, old, meshstore.reusable(old, computed))
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 

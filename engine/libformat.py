@@ -42,7 +42,8 @@ A library is a directory written by :func:`engine.build` and opened by
     and the automatic parse they were applied to (as ``structure.json``, which then holds the
     corrected one).
 
-Only the frames of database textons are stored. Every array opens with
+Only the frames of database textons are stored (after a correction by hand, possibly
+some more: :mod:`engine.meshstore` keeps a library's arrays rather than copy them). Every array opens with
 ``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
 """
 
@@ -60,7 +61,7 @@ __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", 
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
            "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
-           "read_parse"]
+           "read_parse", "link_meshes"]
 
 #: On-disk format version; a library of another version must be rebuilt.
 FORMAT = 1
@@ -205,6 +206,31 @@ class MeshWriter:
             self._uvs.close()
             self._texels.close()
             np.save(self._folder / "texture_frames.npy", np.array(self._texture_rows, np.int64).reshape(-1, 3))
+
+
+#: The files of the stored meshes (:class:`MeshWriter` writes them).
+MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
+              "uvs.npy", "textures.npy", "texture_frames.npy")
+
+
+def link_meshes(library, folder):
+    """Give ``folder`` the stored meshes of ``library`` (a :class:`engine.library.Library`) as
+    they are: hard links, copies where links cannot be made. Nothing in a library is changed in
+    place, so the two may share them. Returns what :class:`MeshWriter` would: an object with
+    ``frames``, ``bounds`` and ``max_counts``."""
+    import os
+    import shutil
+    from types import SimpleNamespace
+
+    for name in MESH_FILES:
+        source = Path(library.path) / name
+        if name in library.manifest.get("files", {}):
+            try:
+                os.link(source, Path(folder) / name)
+            except OSError:
+                shutil.copyfile(source, Path(folder) / name)
+    return SimpleNamespace(frames=int(library.manifest["counts"]["stored_frames"]),
+                           bounds=library.manifest["bounds"], max_counts=library.manifest["max_counts"])
 
 
 def graph_to_json(graph):
