@@ -131,6 +131,8 @@ def check_timing(args):
     from engine.errors import TvmError
 
     legs = len(args.keys) - 1
+    if legs < 1:
+        return {}  # the engine says an edit needs two key motions
     for option, values, needed, unit in (("--durations", args.durations, legs, "one for each leg"),
                                          ("--at", args.at, len(args.keys), "one for each key motion")):
         if values is not None and len(values) != needed:
