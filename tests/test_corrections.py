@@ -207,3 +207,16 @@ def test_a_texton_shorter_than_the_atom_window_is_refused(base):
     c.add_texton(NAME, texton.start + 2)
     with pytest.raises(CorrectionError, match=r"textons.add\[0\] = .* shorter than the 5-frame atom window"):
         base.correct(c, base.path.with_name("short.tvmlib"))
+
+
+def test_the_report_marks_corrected_boundaries_and_shows_the_parse_before_and_after(base, tmp_path):
+    auto = base.structure(NAME).clusters
+    c = Corrections()
+    c.remove_boundary(NAME, auto[1][0])
+    fixed = base.correct(c, tmp_path / "fixed.tvmlib")
+    assert main(["report", str(fixed.path), "-o", str(tmp_path / "report")]) == 0
+    row = json.loads((tmp_path / "report" / "report.json").read_text())["sequences"][0]
+    assert row["corrections"] == c.to_json()["sequences"][NAME]
+    assert row["automatic_clusters"] == [list(x) for x in auto] and len(row["clusters"]) == len(auto) - 1
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert "Corrected by hand" in page and f"{auto[0][0]}-{auto[0][1]} {auto[1][0]}-{auto[1][1]}" in page
