@@ -222,6 +222,11 @@ def test_card_renders_its_texture_not_just_vertex_colours(card_library, tmp_path
     result = _tvmedit("render", card_library, "--node", library.nodes[0].name, "-o", tmp_path / "sheet.png",
                       "--shading", "texture")
     assert result.returncode == 0 and (tmp_path / "sheet.png").exists(), result.stderr
+    # A long one-shot stretch: 12 frames spread over it, in tiles large enough to read the card.
+    import imageio.v3 as iio
+
+    assert iio.imread(tmp_path / "sheet.png").shape[:2] == (3 * 480, 4 * 640)
+    assert "12 of them shown" in result.stdout
 
 
 def test_second_capture_in_the_other_layout_checks_builds_renders_and_plays(tmp_path):
