@@ -74,6 +74,10 @@ def test_at_is_durations_from_zero_and_a_hold_loops_the_motion(small_library):
     by_times = tvmedit("path", small_library, *keys, "--at", "0,5,12", "--json")
     assert by_durations.returncode == by_times.returncode == 0
     assert json.loads(by_durations.stdout)["schedule"] == json.loads(by_times.stdout)["schedule"]
+    # An empty item leaves its leg as short as it plays; the next leg's time counts from its end.
+    free = json.loads(tvmedit("path", small_library, *keys, "--durations", ",7", "--json").stdout)
+    assert free["key_starts"][1] == library.edit(keys).starts[1] and free["legs"][0]["asked_s"] is None
+    assert free["legs"][1]["asked_s"] == 7 and free["legs"][1]["goal_frames"] == 70
 
     # A hold of whole cycles leaves the motion where it was: the leg after it is made as before.
     motion = library.node(keys[1])
