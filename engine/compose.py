@@ -20,7 +20,10 @@ it shows n = ((x - e) mod L) + 1 frames, the first arrival at x. As the last key
 while the player rests in it, it plays whole and starts again.
 
 A leg whose two key motions are the same motion is empty: path ``[key]``, cost 0, no edges,
-no frames. The motion simply continues, and the next leg starts where it would have.
+no frames. The motion simply continues, and the next leg starts where it would have. With a
+time asked (``timing``, :mod:`engine.timing`) it is a hold: the motion plays on cyclically for
+that many frames, and the next leg starts from the frame it has reached. A leg between two
+motions with a time asked takes the path and extra loops :func:`engine.timing.plan_leg` picks.
 
 :func:`compose` plans a whole edit at once; :class:`Playhead` plays the same schedule one
 frame at a time while key motions are queued and unqueued, for the realtime player.
@@ -37,11 +40,11 @@ from typing import NamedTuple
 
 from .errors import LibraryError, TvmError
 from .params import MAX_LOOPS, whole
+from .graph import node_by_key
+from .search import SearchIndex, best_path, motion_label
 
 #: Most frames a key motion of the player may be held for (an hour at 1,000 fps).
 MAX_HOLD = 3_600_000
-from .graph import node_by_key
-from .search import SearchIndex, best_path, motion_label
 
 __all__ = ["ScheduleEntry", "Transition", "Leg", "Composition", "Playhead", "compose",
            "play_length"]

@@ -341,7 +341,7 @@ def _spread(visits, index):
         length = lengths[i]
         if not length:
             continue
-        share = left * length / max(1, sum(lengths[:i + 1])) / length
+        share = left / max(1, sum(lengths[:i + 1]))  # loops each texton left would play if even
         choices = [k for k in range(low + 1) if k * length <= left and table[i] >> (left - k * length) & 1]
         k = min(choices, key=lambda c: (abs(c - share), c))
         loops[i], left = k, left - k * length
