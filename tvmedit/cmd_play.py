@@ -21,8 +21,8 @@ display rate in between. With --log every displayed sequence frame is written as
 line, {"t", "node", "sequence", "frame", "queue"} (t in seconds since start, node ids as in
 `tvmedit info --json`). Lines with an "event" key are not frames: "start" (first line),
 "queued" (with "hold" in seconds for Shift+key), "unqueued" and "refused" (with the queue
-after the key press), and "stop"
-(last line, with the redraw rate); skip them to read frames only.
+after the key press), and "stop" (last line, with the redraw rate); skip them to read frames
+only.
 The first motion played is the first key motion, or the first motion that is not forbidden.
 Needs a display: set DISPLAY, or run under xvfb-run; for video files use `tvmedit render`.
 """
