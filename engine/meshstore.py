@@ -16,6 +16,7 @@ a build or a rebuild takes them from the library being replaced wherever it can:
 import time
 
 from . import libformat
+from .errors import InputError
 from .load import read_frame
 from .normals import vertex_normals
 
@@ -61,6 +62,16 @@ def _linkable(old, keys, stored):
             and len(stored) <= (1 + SPARE_SHARE) * len(keys))
 
 
+def _next_read(results, missing):
+    """The next chunk of frames read; a frame that cannot be read says why it was needed."""
+    try:
+        return next(results)
+    except InputError as error:
+        raise InputError(f"{str(error).rstrip('.')}; the library needs {missing} frame(s) it did not "
+                         "store before, for motions that changed, so put the sequence's frame files "
+                         "back where it was built from.") from None
+
+
 def write(tmp, needed, pool, run, old=None, stored=None):
     """Store the ``needed`` frames ``(sequence index, frame, path, orientation)`` in the library
     folder ``tmp``: linked or copied from ``old`` where ``stored`` (:func:`reusable`) has them,
@@ -86,7 +97,7 @@ def write(tmp, needed, pool, run, old=None, stored=None):
                 else:
                     mesh = next(read, None)
                     if mesh is None:
-                        meshes, read_s, compute_s = next(results)
+                        meshes, read_s, compute_s = _next_read(results, len(missing))
                         run.add_times(read_s, compute_s)
                         read = iter(meshes)
                         mesh = next(read)

@@ -139,6 +139,21 @@ def test_a_correction_of_stored_motions_only_reads_no_frame_file_at_all(base, ta
         assert (fixed.frame_mesh((NAME, node.start))[0] == base.frame_mesh((NAME, node.start))[0]).all()
 
 
+def test_a_correction_needing_frames_that_are_gone_is_one_sentence(base, take, tmp_path, capsys):
+    auto = base.structure(NAME).clusters
+    fix = tmp_path / "c.json"
+    fix.write_text(json.dumps({"sequences": {NAME: {"boundaries": {"remove": [auto[1][0]]}}}}))
+    restore = _away(take)
+    try:
+        capsys.readouterr()
+        assert main(["correct", str(base.path), str(fix), "-o", str(tmp_path / "x")]) == 2
+    finally:
+        restore()
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: frame ") and "put the sequence's frame files back" in err and "\n" not in err
+    assert not (tmp_path / "x").exists()
+
+
 def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base, take, tmp_path, capsys):
     out = tmp_path / "lib.tvmlib"
     shutil.copytree(base.path, out)
