@@ -375,7 +375,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         given is detected per sequence (:func:`engine.orientation.detect`).
     corrections : Corrections, dict, str, Path or None
         Corrections by hand applied on top of the parse (:mod:`engine.corrections`), or the
-        file holding them; None keeps those of the library being replaced, if any.
+        file holding them; None keeps those of the library being replaced, if any; False
+        builds from the automatic parse alone.
 
     Returns
     -------
@@ -387,19 +388,21 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     run = _Run(progress, log)
     out = Path(out).absolute()
     settings = Settings.of(bins, structure, mu, skip_bad_frames, connect)
-    given = None if corrections is None else Corrections.coerce(corrections)
+    given = None if corrections is None else Corrections.coerce(corrections or None)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
     check_target(out, force, sequences)
     old = _open_old(out)
-    corrections = given if given is not None else (old.corrections() if old is not None else Corrections())
+    corrections = given if given is not None else _kept_corrections(old, sequences, run)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
             computed = run.stage("features", lambda: [
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)
                 for seq in sequences])
+            if given is None and corrections:
+                _check_kept(corrections, sequences, computed)
             derived = derive(tmp, old, sequences, computed, settings, corrections, pool=pool, run=run)
     return opened(out, derived)
 
@@ -487,6 +490,28 @@ class Settings(NamedTuple):
             raise params.ParameterError(f"connect={connect!r} is not one of {', '.join(map(repr, MODES))}.")
         return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
                    MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect)
+
+
+def _kept_corrections(old, sequences, run):
+    """The corrections by hand of the library being replaced, for the sequences still built."""
+    from .corrections import Corrections
+
+    kept = old.corrections() if old is not None else Corrections()
+    gone = sorted(name for name, entry in kept.sequences.items() if entry and name not in {s.name for s in sequences})
+    if gone:
+        run.say(f"warning: the corrections by hand of {', '.join(gone)} are left out: this build has no such sequence")
+    return Corrections({n: e for n, e in kept.sequences.items() if n not in gone}, kept.source)
+
+
+def _check_kept(corrections, sequences, computed):
+    """Kept corrections that no longer fit the frames (a shorter take) say how to drop them."""
+    from .corrections import CorrectionError
+
+    try:
+        corrections.check_sequences({seq.name: len(entry.features) for seq, entry in zip(sequences, computed)})
+    except CorrectionError as error:
+        raise CorrectionError(f"the corrections by hand kept from the library being replaced no longer fit "
+                              f"({str(error).rstrip('.')}); build with corrections=False to drop them.") from None
 
 
 def _pass_on(caught, log):

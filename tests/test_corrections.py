@@ -235,3 +235,18 @@ def test_the_report_marks_corrected_boundaries_and_shows_the_parse_before_and_af
     assert row["automatic_clusters"] == [list(x) for x in auto] and len(row["clusters"]) == len(auto) - 1
     page = (tmp_path / "report" / "index.html").read_text()
     assert "Corrected by hand" in page and f"{auto[0][0]}-{auto[0][1]} {auto[1][0]}-{auto[1][1]}" in page
+
+
+def test_kept_corrections_that_no_longer_fit_say_how_to_drop_them(base, take, tmp_path, capsys):
+    out = tmp_path / "lib.tvmlib"
+    shutil.copytree(base.path, out)
+    frames = len(base.sequence(NAME))
+    c = Corrections()
+    c.add_boundary(NAME, frames - 20)
+    Library.open(out).correct(c)
+    shorter = f"{NAME}=" + str(take / "frame_000[0-9]?.ply")          # the first 100 frames only
+    capsys.readouterr()
+    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "no longer fit" in err and "--no-corrections" in err and err.count("\n") == 1
+    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--no-corrections"]) == 0

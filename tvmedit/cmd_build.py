@@ -153,7 +153,7 @@ def run(args):
                     connect=args.connect, skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
                     workers=args.workers, dask=args.dask, force=args.force,
                     cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror,
-                    corrections={} if args.no_corrections else args.corrections)
+                    corrections=False if args.no_corrections else args.corrections)
     if args.quiet:
         return 0
     report = library.report

@@ -193,6 +193,9 @@ def as_flags(message, parser=None):
     'x is damaged; rebuild it with `tvmedit build INPUT... -o x --force`.'
     >>> as_flags("try a shorter min_cluster or a lower novelty_threshold.")
     'try a shorter --min-cluster or a lower --novelty-threshold.'
+    >>> _ = p.add_argument("--no-corrections", action="store_true")
+    >>> as_flags("build with corrections=False to drop them.", p)
+    'build with --no-corrections to drop them.'
     """
     if not message:
         return message
@@ -205,6 +208,8 @@ def as_flags(message, parser=None):
 
     def flag(match):
         name, value = match.group(1), match.group(2)
+        if value == "False" and f"no_{name}" in options:  # corrections=False is --no-corrections
+            return options[f"no_{name}"][0]
         found = options.get(name)
         if found is None:
             return match.group(0)
