@@ -31,7 +31,8 @@ import numpy as np
 
 from . import atomic, featcache, libformat, meshstore, params
 from .errors import InputError, ParameterError, TvmError
-from .features import BinSizes, FeatureAccumulator, Features, frame_histograms
+from .features import (SAMPLE_FRAMES, BinSizes, FeatureAccumulator, Features, frame_histograms, frame_origin,
+                       moves_across)
 from .load import expand_inputs, open_sequence, read_frame
 from .parallel import Workers
 
@@ -61,7 +62,7 @@ def _feature_task(task):
     A row is ``(h_r, h_theta, h_phi)`` as float32 (what :class:`Features` stores), or the
     reason the frame was skipped.
     """
-    paths, origin, bins, skip_bad_frames, orientation = task
+    paths, origin, bins, skip_bad_frames, orientation, follow = task
     rows, read_s, compute_s = [], 0.0, 0.0
     for path in paths:
         t0 = time.perf_counter()
@@ -70,7 +71,8 @@ def _feature_task(task):
             rows.append(reason)
             continue
         t1 = time.perf_counter()
-        rows.append(tuple(h.astype(np.float32) for h in frame_histograms(frame.positions, origin, bins)))
+        at = frame_origin(frame.positions, origin, follow)
+        rows.append(tuple(h.astype(np.float32) for h in frame_histograms(frame.positions, at, bins)))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return rows, read_s, compute_s
@@ -129,6 +131,25 @@ class _SequenceFeatures:
     stats: dict = dataclasses.field(default_factory=dict)   # resolved path -> [path, size, mtime_ns]
 
 
+def origin_follows(paths, orientation=None, first=None):
+    """Whether the feature origin follows the person in the take of ``paths`` (eq. (1)).
+
+    :data:`engine.features.SAMPLE_FRAMES` frames spread over the take are read (``first``:
+    the first frame's positions, when already read) and :func:`engine.features.moves_across`
+    decides; unreadable frames are left out of the sample.
+    """
+    picks = np.unique(np.linspace(0, len(paths) - 1, SAMPLE_FRAMES).round().astype(int)) if paths else []
+    centroids = []
+    for k in picks:
+        if k == 0 and first is not None:
+            centroids.append(np.asarray(first).mean(axis=0))
+            continue
+        frame, _ = _read(paths[k], True, orientation, "geometry")
+        if frame is not None:
+            centroids.append(frame.positions.mean(axis=0))
+    return moves_across(centroids)
+
+
 def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     paths = list(sequence.paths)
     skipped, first = [], None
@@ -146,14 +167,15 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     if first is None:
         raise InputError(f"no usable frames in sequence {sequence.name!r}: all {len(paths)} were bad.")
     t0 = time.perf_counter()
-    accumulator = FeatureAccumulator(bins)
+    follow = origin_follows(paths[first:], sequence.orientation, frame.positions)
+    accumulator = FeatureAccumulator(bins, follow=follow)
     accumulator.add(frame.positions)
     run.add_times(0.0, time.perf_counter() - t0)
     bar.update()
     kept = [str(Path(paths[first]).resolve())]
     rest = paths[first + 1:]
     chunks = [rest[i:i + FEATURE_CHUNK] for i in range(0, len(rest), FEATURE_CHUNK)]
-    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation) for chunk in chunks)
+    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation, follow) for chunk in chunks)
     for chunk, (rows, read_s, compute_s) in zip(chunks, pool.map(_feature_task, tasks)):
         for path, row in zip(chunk, rows):
             if isinstance(row, str):
