@@ -500,7 +500,10 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
             raise CorrectionError(f"{where(f'representatives[{k}]')} = {frame} lies in no texton; "
                                   "add a texton start before it first.")
     curve = texton_curve(v, clusters, out, fps, params)
-    return Structure(clusters, out, curve, fps, dict(structure.params))
+    # A boundary kept from the automatic parse keeps its confidence; one drawn by hand is sure.
+    sure = dict(zip((cs for cs, _ in structure.clusters), structure.boundary_confidence))
+    return Structure(clusters, out, curve, fps, dict(structure.params),
+                     [sure.get(cs, 1.0) if k else 1.0 for k, (cs, _) in enumerate(clusters)])
 
 
 def apply_structures(parses, vectors, corrections, thetas=None, say=None):

@@ -22,6 +22,9 @@ __all__ = ["Library", "LibrarySequence", "FORMAT", "INFO_SCHEMA"]
 _INT = {"type": "integer", "minimum": 0}
 _NUM = {"type": "number"}
 _RANGE = {"start": _INT, "end": _INT}
+#: How sure the parse is of a cluster's starting boundary or of a texton, 0-1 (engine.confidence);
+#: null for a library built before confidences were recorded.
+_CONFIDENCE = {"type": ["number", "null"], "minimum": 0, "maximum": 1}
 
 #: JSON schema of ``tvmedit info --json`` (:meth:`Library.info`). Frame ranges are inclusive
 #: and 0-based within their sequence, exit and entry frames likewise; edges are those of the
@@ -59,10 +62,11 @@ INFO_SCHEMA = {
                     "frames": _INT,
                     "fps": {"type": "number", "exclusiveMinimum": 0},
                     "clusters": {"type": "array", "items": {
-                        "type": "object", "required": ["start", "end"], "properties": _RANGE}},
+                        "type": "object", "required": ["start", "end"],
+                        "properties": {**_RANGE, "confidence": _CONFIDENCE}}},
                     "textons": {"type": "array", "items": {
                         "type": "object", "required": ["start", "end", "cluster"],
-                        "properties": {**_RANGE, "cluster": _INT, "distance": _NUM}}},
+                        "properties": {**_RANGE, "cluster": _INT, "distance": _NUM, "confidence": _CONFIDENCE}}},
                     "corrections": {"type": "object", "description": "corrections by hand applied "
                                     "on top of the automatic parse, as in corrections.json "
                                     "(engine.corrections); absent when none"},
@@ -453,11 +457,13 @@ class Library:
         for seq in self.sequences:
             s = self.structure(seq.name)
             fixes = {"corrections": corrections[seq.name]} if seq.name in corrections else {}
+            sure = list(s.boundary_confidence) + [None] * (len(s.clusters) - len(s.boundary_confidence))
             sequences.append({
                 "name": seq.name, "frames": seq.frames, "fps": seq.fps,
-                "clusters": [{"start": int(a), "end": int(b)} for a, b in s.clusters],
+                "clusters": [{"start": int(a), "end": int(b), "confidence": c}
+                             for (a, b), c in zip(s.clusters, sure)],
                 "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
-                             "distance": float(t.distance)} for t in s.textons],
+                             "distance": float(t.distance), "confidence": float(t.confidence)} for t in s.textons],
                 **fixes,
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,

@@ -374,27 +374,42 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
+#: A short cluster that changes pose less than this fraction as fast as the exercise it leads
+#: into is a transition even where noise shows a period in it (standing still).
+STILL_RATIO = 0.5
+
+
 def _cyclic(v, cluster, P, w):
     # A cluster repeats when it shows a period and holds at least one whole one as a texton.
     return P is not None and len(_textons_by_period(v, cluster[0], cluster[1], P, w, 0)) >= 1
+
+
+def _activity(v, cluster, fps):
+    # How fast the pose changes: mean frame distance over half a second within the cluster.
+    cs, ce = cluster
+    k = max(1, int(round(0.5 * fps)))
+    if ce - cs + 1 <= k:
+        return 0.0
+    d = v[cs + k: ce + 1] - v[cs: ce + 1 - k]
+    return float(np.sqrt(np.einsum("nd,nd->n", d, d)).mean())
 
 
 def _absorb_transitions(v, fps, p, w, theta, clusters):
     # A short stretch that does not repeat between (or before, or after) exercises is the way
     # from one to the next: standing still, or a slow change of pose. Its own novelty peaks
     # make it a cluster; it joins the exercise it leads into (the one before it at the end of
-    # the take), so the boundary stays where the person stopped the old exercise.
+    # the take), so the boundary stays where the person stopped the old exercise. Standing
+    # still can show a period of noise; a stretch that moves much slower than its neighbour
+    # is a transition too.
     periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
     cyclic = [_cyclic(v, c, P, w) for c, P in zip(clusters, periods)]
     limit = p.max_transition * fps
     i = 0
     while i < len(clusters) and len(clusters) > 1:
         cs, ce = clusters[i]
-        if cyclic[i] or ce - cs + 1 > limit:
-            i += 1
-            continue
         j = i + 1 if i + 1 < len(clusters) and cyclic[i + 1] else i - 1 if i > 0 and cyclic[i - 1] else None
-        if j is None:
+        still = j is not None and _activity(v, clusters[i], fps) < STILL_RATIO * _activity(v, clusters[j], fps)
+        if ce - cs + 1 > limit or j is None or (cyclic[i] and not still):
             i += 1
             continue
         a, b = min(i, j), max(i, j)

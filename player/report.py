@@ -408,6 +408,7 @@ class _Report:
                          f"alt='atom distance of {_e(seq.name)}'>")
             if fixes:
                 parts.append(_corrections_paragraph(fixes, automatic, structure.clusters))
+            parts.append(_confidence_paragraph(structure, row))
             if scored is not None:
                 parts.append(self._score_paragraph(seq, structure, scored, row))
             summary["sequences"].append(row)
@@ -604,3 +605,18 @@ def _page(title, sections):
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             f"<title>tvmedit report</title><style>{_STYLE}</style></head><body>"
             f"<h1>tvmedit report</h1><p>{_e(title)}</p><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")
+
+
+def _confidence_paragraph(structure, row):
+    """How sure the parse is of each boundary and of its least sure textons (engine.confidence)."""
+    bounds = [(int(c[0]), float(v)) for c, v in zip(structure.clusters[1:], structure.boundary_confidence[1:])]
+    textons = sorted(((float(t.confidence), int(t.start), int(t.end)) for t in structure.textons))[:3]
+    row.update(boundary_confidence=[v for _, v in bounds],
+               texton_confidence=[float(t.confidence) for t in structure.textons])
+    if not bounds and not textons:
+        return ""
+    text = "Confidence (0-1, low first deserves a look): "
+    text += ("boundaries " + ", ".join(f"frame {f} {v:.2f}" for f, v in bounds)) if bounds else "no boundaries"
+    if textons:
+        text += "; least sure textons " + ", ".join(f"{a}-{b} {v:.2f}" for v, a, b in textons)
+    return f"<p class='confidence'>{_e(text)}.</p>"

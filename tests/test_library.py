@@ -62,7 +62,9 @@ def _in_memory(take):
         features[sequence.name] = acc.result()
     width = max(f.r.shape[1] for f in features.values())
     vectors = {name: f.pad_r(width).vectors for name, f in features.items()}
-    structures = {s.name: parse(vectors[s.name], s.fps, StructureParams()) for s in sequences}
+    # As the builder does: with the azimuth columns, which tell a half period from a whole one.
+    structures = {s.name: parse(vectors[s.name], s.fps, StructureParams(),
+                                theta=features[s.name].pad_r(width).theta_columns) for s in sequences}
     graph = build_graph(build_database(structures), vectors)
     return sequences, features, vectors, structures, graph
 
