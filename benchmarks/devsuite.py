@@ -36,6 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
+from engine.features import SAMPLE_FRAMES
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
 CACHE = Path(os.environ.get("TVMEDIT_TEST_CACHE", ROOT / ".cache" / "testdata")).parent / "devsuite"
@@ -132,15 +134,17 @@ def generate_sources():
     return folders
 
 
-#: How each frame's origin is placed: "first" (the paper: the first frame's centroid for
-#: every frame) or "follow" (see :class:`engine.features.FeatureAccumulator`).
-ORIGIN = os.environ.get("TVMEDIT_DEV_ORIGIN", "first")
+#: How each frame's origin is placed: "auto" (the engine's rule: it follows a person who
+#: strays, :func:`engine.builder.origin_follows`), "first" (the paper: the first frame's
+#: centroid for every frame) or "follow" (always; see :func:`engine.features.frame_origin`).
+ORIGIN = os.environ.get("TVMEDIT_DEV_ORIGIN", "auto")
 
 
-def _accumulator():
-    from engine.features import FeatureAccumulator
+def _accumulator(centroids):
+    from engine.features import FeatureAccumulator, moves_across
 
-    return FeatureAccumulator(follow=True) if ORIGIN == "follow" else FeatureAccumulator()
+    follow = moves_across(centroids) if ORIGIN == "auto" else ORIGIN == "follow"
+    return FeatureAccumulator(follow=follow)
 
 
 def _frames_features(folder, start=0, stop=None):
@@ -153,8 +157,12 @@ def _frames_features(folder, start=0, stop=None):
     if path.exists():
         with np.load(path) as z:
             return z["vectors"], slice(*z["theta"])
-    acc = _accumulator()
-    for _, frame in iter_frames(sequence.paths[start:stop], orientation=sequence.orientation, detail="geometry"):
+    from engine.builder import origin_follows
+
+    paths = sequence.paths[start:stop]
+    follows = origin_follows(paths, sequence.orientation)
+    acc = _accumulator([[0, 0, 0], [1, 0, 0]] if follows else [])
+    for _, frame in iter_frames(paths, orientation=sequence.orientation, detail="geometry"):
         acc.add(frame.positions)
     f = acc.result()
     theta = f.theta_columns
@@ -298,14 +306,18 @@ def synth_take(group, name, options, vertices=6000):
             return Take(group, name, z["vectors"], slice(*z["theta"]), fps, truth)
     rng = np.random.default_rng(opts.get("seed", 0))
     shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
-    acc = _accumulator()
     voxel = float(synth.voxel_size(vertices))
+    frames = []
     for k, pose in enumerate(poses):
         verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
         verts = verts * extra.get("height", 1.0) + shift[k]
         if rng.random() < extra.get("holes", 0.0):
             centre = verts[rng.integers(len(verts))]
             verts = verts[np.linalg.norm(verts - centre, axis=1) > 0.15]
+        frames.append(verts)
+    picks = np.unique(np.linspace(0, len(frames) - 1, SAMPLE_FRAMES).round().astype(int))
+    acc = _accumulator([frames[k].mean(axis=0) for k in picks])
+    for verts in frames:
         acc.add(verts)
     f = acc.result()
     path.parent.mkdir(parents=True, exist_ok=True)

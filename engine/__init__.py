@@ -6,10 +6,11 @@ compose -> library. The player consumes what this package produces.
 
 from .errors import InputError, LibraryError, NoPath, TvmError, UnknownMotion
 
-__all__ = ["InputError", "Library", "LibraryError", "NoPath", "TvmError", "UnknownMotion", "build"]
+__all__ = ["Corrections", "InputError", "Library", "LibraryError", "NoPath", "TvmError", "UnknownMotion", "build"]
 
 # Loaded on first use, so ``import engine`` stays light (no networkx, no trimesh).
-_LAZY = {"Library": ("library", "Library"), "build": ("builder", "build")}
+_LAZY = {"Library": ("library", "Library"), "build": ("builder", "build"),
+         "Corrections": ("corrections", "Corrections")}
 
 
 def __getattr__(name):

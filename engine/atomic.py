@@ -232,6 +232,12 @@ def _foreign(folder):
 def refuse_inside(out, inputs=()):
     """Refuse an output inside another tvmedit output or inside one of ``inputs``."""
     resolved = Path(os.path.abspath(out))
+    # An input the user named is said as such (a synthetic take is one, though tvmedit wrote
+    # it), except a library, whose rebuild is what would lose the output.
+    for source in inputs:
+        source = Path(os.path.abspath(source))
+        if (resolved == source or source in resolved.parents) and owner(source) != "library":
+            raise OutputError(f"{out} is inside the input {source}; choose an output outside it.")
     for parent in resolved.parents:
         kind = owner(parent)
         if kind is not None:

@@ -329,7 +329,7 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
 # --- every transition of a library being built ------------------------------------------
 
 def _steps_task(task):
-    """Steps inside one texton of the unfinished library: ``(folder, rows)`` -> list of float."""
+    """Steps inside one texton of the library being written: ``(folder, rows)`` -> list of float."""
     from .libformat import stored_frame
 
     folder, rows = task
@@ -350,17 +350,16 @@ def _blend_task(task):
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
-def blend_library(folder, writer, rows, graph, count, keys, pool, bar=None, old=None):
-    """Make and store the in-between frames of every edge of ``graph`` (a build's last stage).
+def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
+    """Make and store the in-between frames of every edge of ``graph`` (a build's stage after
+    the meshes): ``blend_*.npy`` in ``folder`` (see :mod:`engine.libformat`).
 
     Parameters
     ----------
     folder : Path
         The library being written; its texton frames are stored.
-    writer : engine.libformat.MeshWriter
-        Holds the texton frames; appends the in-between frames after them.
-    rows : dict
-        ``(sequence, frame) -> row`` of every stored texton frame.
+    names : list of str
+        The sequences in manifest order (``frame_keys.npy`` indexes them).
     graph : networkx.DiGraph
         The final motion graph; nodes carry ``sequence``, ``start``, ``end``, edges
         ``exit_frame`` and ``entry_frame``.
@@ -379,53 +378,55 @@ def blend_library(folder, writer, rows, graph, count, keys, pool, bar=None, old=
     Returns
     -------
     dict
-        ``data``: what ``blends.json`` holds (see :mod:`engine.libformat`); ``frames``: the
-        in-between frames stored; ``seconds``: CPU seconds the runs took in all.
+        ``data``: what ``blends.json`` holds; ``frames``: the in-between frames stored;
+        ``seconds``: CPU seconds the runs took in all; ``bounds`` and ``max_counts`` of them.
     """
-    from .libformat import frame_offsets, mesh_arrays
+    from .libformat import MeshWriter, frame_keys, frame_offsets, mesh_arrays
 
-    writer.pause()
+    arrays = mesh_arrays(folder)
+    offsets = frame_offsets(folder, arrays).tolist()
+    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
     textons = [[rows[data["sequence"], f] for f in range(data["start"], data["end"] + 1)]
                for _, data in sorted(graph.nodes(data=True))]
     natural = natural_step(pool.map(_steps_task, ((str(folder), texton) for texton in textons)))
-    arrays = mesh_arrays(folder)
-    offsets = frame_offsets(folder, arrays).tolist()
-    uvs = _uvs(folder, len(arrays["positions"]), len(offsets))
+    textures = _textures(folder, len(arrays["positions"]), len(offsets))
     reuse = _old_runs(old, keys, natural, count)
     edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
              for u, v, d in sorted(graph.edges(data=True))]
-    tasks = ((str(folder), rows[a], rows[b], natural, count) for _, _, a, b in edges if (a, b) not in reuse)
-    made = pool.map(_blend_task, tasks)
-    writer.resume()
+    made = pool.map(_blend_task, ((str(folder), rows[a], rows[b], natural, count)
+                                  for _, _, a, b in edges if (a, b) not in reuse))
     progress = bar(len(edges), "blends", unit="transition") if bar is not None else None
-    records, seconds, total = [], 0.0, 0
+    records, seconds = [], 0.0
     try:
-        for u, v, a, b in edges:
-            frames, steps, jump, cpu = _copied(old, reuse[a, b]) if (a, b) in reuse else next(made)
-            first = writer.frames
-            for index, (positions, colours, faces, normals, side_) in enumerate(frames):
-                source = rows[(a, b)[side_]]
-                uv = None if uvs is None else uvs[offsets[source][0]:offsets[source][0] + offsets[source][1]]
-                writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_of=source)
-            records.append({"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
-                            "steps": steps, "exit": list(a), "entry": list(b)})
-            seconds, total = seconds + cpu, total + len(frames)
-            if progress is not None:
-                progress.update()
+        with MeshWriter(folder, prefix="blend_") as writer:
+            for u, v, a, b in edges:
+                frames, steps, jump, cpu = _copied(old, reuse[a, b]) if (a, b) in reuse else next(made)
+                first = writer.frames
+                for index, (positions, colours, faces, normals, side_) in enumerate(frames):
+                    source = rows[(a, b)[side_]]
+                    uv, texture_row = (None, None) if textures is None else (
+                        textures[0][offsets[source][0]:offsets[source][0] + offsets[source][1]], textures[2][source])
+                    writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_row=texture_row)
+                records.append({"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
+                                "steps": steps, "exit": list(a), "entry": list(b)})
+                seconds += cpu
+                if progress is not None:
+                    progress.update()
     finally:
         if progress is not None:
             progress.close()
     data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records}
-    return {"data": data, "frames": total, "seconds": seconds}
+    return {"data": data, "frames": writer.frames, "seconds": seconds, "bounds": writer.bounds,
+            "max_counts": writer.max_counts}
 
 
-def _uvs(folder, vertices, frames):
-    """The texture coordinates of the stored frames (memory-mapped), or None when untextured."""
+def _textures(folder, vertices, frames):
+    """The texton frames' ``(uvs, texels, rows)`` (memory-mapped), or None when untextured."""
     from pathlib import Path
 
     from .libformat import texture_arrays
 
-    return texture_arrays(folder, vertices, frames)[0] if (Path(folder) / "uvs.npy").exists() else None
+    return texture_arrays(folder, vertices, frames) if (Path(folder) / "uvs.npy").exists() else None
 
 
 def _old_runs(old, keys, natural, count):
@@ -446,7 +447,7 @@ def _copied(old, run):
     first, count, jump, steps = run
     frames = []
     for index in range(count):
-        positions, colours, faces, normals = old.stored_row(first + index)
+        positions, colours, faces, normals = old.blend_row(first + index)
         frames.append((np.array(positions), np.array(colours), np.array(faces), np.array(normals),
                        side(index, count)))
     return frames, steps, jump, 0.0

@@ -14,9 +14,9 @@
    stored; which ones is known only now, and those files are read a second time and
    streamed to flat arrays on disk with their vertex normals, never all held in memory.
 4. **Blends.** For every edge of the final graph, in-between frames from the exit frame to
-   the entry frame (:mod:`engine.blend`), one task per edge on the same workers, appended
-   to the flat arrays after the texton frames. They depend on the stored meshes and the
-   graph only, so a rebuild with other blend options reuses the features as any rebuild does.
+   the entry frame (:mod:`engine.blend`), one task per edge on the same workers, in flat
+   arrays of their own beside the texton frames'. A rebuild with other blend options keeps
+   the features and the texton frames, and copies the runs that come out the same.
 5. **Write** the rest of the library; its format is owned by :mod:`engine.libformat`.
 
 Everything is written into a temporary folder beside the target and renamed into place at
@@ -33,12 +33,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import atomic, featcache, libformat
+from . import atomic, featcache, libformat, meshstore
 from .blend import blend_library
 from .errors import InputError, TvmError
-from .features import FeatureAccumulator, Features, frame_histograms
+from .features import SAMPLE_FRAMES, FeatureAccumulator, Features, frame_histograms, frame_origin, moves_across
 from .load import expand_inputs, open_sequence, read_frame
-from .normals import vertex_normals
 from .parallel import Workers
 from .settings import Settings
 
@@ -47,8 +46,7 @@ __all__ = ["build", "derive", "opened", "check_target", "library_features", "Set
 #: Frames per feature task: large enough to amortise a task's overhead, small enough to
 #: keep every worker busy on short sequences.
 FEATURE_CHUNK = 32
-#: Frames per mesh task; each frame is about 1 MB on its way back, so chunks stay small.
-MESH_CHUNK = 4
+
 
 
 # --- worker tasks: module-level so that processes and dask can run them -----------------
@@ -69,7 +67,7 @@ def _feature_task(task):
     A row is ``(h_r, h_theta, h_phi)`` as float32 (what :class:`Features` stores), or the
     reason the frame was skipped.
     """
-    paths, origin, bins, skip_bad_frames, orientation = task
+    paths, origin, bins, skip_bad_frames, orientation, follow = task
     rows, read_s, compute_s = [], 0.0, 0.0
     for path in paths:
         t0 = time.perf_counter()
@@ -78,25 +76,11 @@ def _feature_task(task):
             rows.append(reason)
             continue
         t1 = time.perf_counter()
-        rows.append(tuple(h.astype(np.float32) for h in frame_histograms(frame.positions, origin, bins)))
+        at = frame_origin(frame.positions, origin, follow)
+        rows.append(tuple(h.astype(np.float32) for h in frame_histograms(frame.positions, at, bins)))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return rows, read_s, compute_s
-
-
-def _mesh_task(paths):
-    """Meshes of a chunk of ``(path, orientation)`` with their normals and textures:
-    ``(meshes, read_s, compute_s)``."""
-    meshes, read_s, compute_s = [], 0.0, 0.0
-    for path, orientation in paths:
-        t0 = time.perf_counter()
-        frame = read_frame(path, orientation)
-        t1 = time.perf_counter()
-        normals = vertex_normals(frame.positions, frame.faces)
-        meshes.append((frame.positions, frame.colours, frame.faces, normals, frame.uv, frame.texture))
-        read_s += t1 - t0
-        compute_s += time.perf_counter() - t1
-    return meshes, read_s, compute_s
 
 
 class _Run:
@@ -152,6 +136,25 @@ class _SequenceFeatures:
     stats: dict = dataclasses.field(default_factory=dict)   # resolved path -> [path, size, mtime_ns]
 
 
+def origin_follows(paths, orientation=None, first=None):
+    """Whether the feature origin follows the person in the take of ``paths`` (eq. (1)).
+
+    :data:`engine.features.SAMPLE_FRAMES` frames spread over the take are read (``first``:
+    the first frame's positions, when already read) and :func:`engine.features.moves_across`
+    decides; unreadable frames are left out of the sample.
+    """
+    picks = np.unique(np.linspace(0, len(paths) - 1, SAMPLE_FRAMES).round().astype(int)) if paths else []
+    centroids = []
+    for k in picks:
+        if k == 0 and first is not None:
+            centroids.append(np.asarray(first).mean(axis=0))
+            continue
+        frame, _ = _read(paths[k], True, orientation, "geometry")
+        if frame is not None:
+            centroids.append(frame.positions.mean(axis=0))
+    return moves_across(centroids)
+
+
 def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     paths = list(sequence.paths)
     skipped, first = [], None
@@ -169,14 +172,15 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     if first is None:
         raise InputError(f"no usable frames in sequence {sequence.name!r}: all {len(paths)} were bad.")
     t0 = time.perf_counter()
-    accumulator = FeatureAccumulator(bins)
+    follow = origin_follows(paths[first:], sequence.orientation, frame.positions)
+    accumulator = FeatureAccumulator(bins, follow=follow)
     accumulator.add(frame.positions)
     run.add_times(0.0, time.perf_counter() - t0)
     bar.update()
     kept = [str(Path(paths[first]).resolve())]
     rest = paths[first + 1:]
     chunks = [rest[i:i + FEATURE_CHUNK] for i in range(0, len(rest), FEATURE_CHUNK)]
-    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation) for chunk in chunks)
+    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation, follow) for chunk in chunks)
     for chunk, (rows, read_s, compute_s) in zip(chunks, pool.map(_feature_task, tasks)):
         for path, row in zip(chunk, rows):
             if isinstance(row, str):
@@ -277,52 +281,6 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
 
 # --- meshes and the rest of the library ---------------------------------------------------
 
-def _stored(old, sequences, computed):
-    """``{(sequence index, frame): (old name, frame)}`` for every frame the library being
-    replaced stores from the same frame files (same feature key): copied, not read again."""
-    if old is None:
-        return {}
-    names = {record.get("feature_key"): record["name"] for record in old.manifest["sequences"]}
-    index = {names[entry.key]: s for s, entry in enumerate(computed) if entry.key in names}
-    return {(index[name], frame): (name, frame) for name, frame in old.stored_frames() if name in index}
-
-
-def _write_meshes(tmp, needed, pool, run, old=None, stored=None, blends=None):
-    """Stream the ``needed`` frames ``(sequence index, frame, path, orientation)`` to the flat mesh
-    arrays: copied from ``old`` where ``stored`` (:func:`_stored`) has them, else read; then
-    the in-between frames: ``blends`` are the arguments of :func:`engine.blend.blend_library`
-    after ``writer``."""
-    stored = stored or {}
-    bar = run.bar(len(needed), "meshes")
-    missing = [item for item in needed if item[:2] not in stored]
-    chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
-    tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
-    read = iter(())
-    try:
-        with libformat.MeshWriter(tmp) as writer:
-            results = pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)
-            for seq_index, frame, _, _ in needed:
-                key = stored.get((seq_index, frame))
-                if key is not None:
-                    texture = old.frame_texture(key)
-                    writer.add(seq_index, frame, *old.frame_mesh(key), *(texture or (None, None)))
-                else:
-                    mesh = next(read, None)
-                    if mesh is None:
-                        meshes, read_s, compute_s = next(results)
-                        run.add_times(read_s, compute_s)
-                        read = iter(meshes)
-                        mesh = next(read)
-                    writer.add(seq_index, frame, *mesh)
-                bar.update()
-            if blends is not None:
-                run.blends = run.stage("blends", blend_library, tmp, writer, *blends, pool, run.bar, old)
-    finally:
-        bar.close()
-    run.read_frames = len(missing)
-    return writer
-
-
 def _write_library(tmp, old, sequences, computed, padded, settings, analysis, meshes, run):
     """Everything but the meshes: features, structure, database, graph, names, manifest last."""
     libformat.write_json(tmp / "blends.json", run.blends["data"])
@@ -360,7 +318,13 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
         feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
         counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
                 "stored_frames": meshes.frames, "blend_frames": run.blends["frames"]},
-        bounds=meshes.bounds, max_counts=meshes.max_counts))
+        bounds=_union(meshes.bounds, run.blends["bounds"] if run.blends["frames"] else meshes.bounds),
+        max_counts=np.maximum(meshes.max_counts, run.blends["max_counts"]).tolist()))
+
+
+def _union(a, b):
+    """The box ``(low, high)`` around the boxes ``a`` and ``b``."""
+    return np.minimum(a[0], b[0]).tolist(), np.maximum(a[1], b[1]).tolist()
 
 
 # --- the build ----------------------------------------------------------------------------
@@ -446,7 +410,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         given is detected per sequence (:func:`engine.orientation.detect`).
     corrections : Corrections, dict, str, Path or None
         Corrections by hand applied on top of the parse (:mod:`engine.corrections`), or the
-        file holding them; None keeps those of the library being replaced, if any.
+        file holding them; None keeps those of the library being replaced, if any; False
+        builds from the automatic parse alone.
     blend_frames : int or None
         In-between frames at every transition (:mod:`engine.blend`), 0 to
         ``engine.blend.MAX_FRAMES``; None (default): as many as keep every step at or below
@@ -462,19 +427,21 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     run = _Run(progress, log)
     out = Path(out).absolute()
     settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames)
-    given = None if corrections is None else Corrections.coerce(corrections)
+    given = None if corrections is None else Corrections.coerce(corrections or None)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
     check_target(out, force, sequences)
     old = _open_old(out)
-    corrections = given if given is not None else (old.corrections() if old is not None else Corrections())
+    corrections = given if given is not None else _kept_corrections(old, sequences, run)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
             computed = run.stage("features", lambda: [
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)
                 for seq in sequences])
+            if given is None and corrections:
+                _check_kept(corrections, sequences, computed)
             derived = derive(tmp, old, sequences, computed, settings, corrections, pool=pool, run=run)
     return opened(out, derived)
 
@@ -508,10 +475,10 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     needed = sorted({(index[node.sequence], frame)
                      for node in analysis.nodes for frame in range(node.start, node.end + 1)})
     needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
-    rows = {(sequences[s].name, f): row for row, (s, f, _, _) in enumerate(needed)}
-    keys = {seq.name: entry.key for seq, entry in zip(sequences, computed)}
-    meshes = run.stage("meshes", _write_meshes, tmp, needed, pool, run, old, _stored(old, sequences, computed),
-                       (rows, analysis.graph, settings.blend_frames, keys))
+    meshes = run.stage("meshes", meshstore.write, tmp, needed, pool, run, old, meshstore.reusable(old, computed))
+    run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
+                           settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
+                           pool, run.bar, old)
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 
@@ -531,7 +498,7 @@ def opened(out, derived):
         "nodes": len(analysis.nodes),
         "edges": analysis.graph.number_of_edges(),
         "added": analysis.graph.graph["connect"]["added"],
-        "stored_frames": meshes.frames - run.blends["frames"],
+        "stored_frames": meshes.frames,
         "blend_frames": run.blends["frames"],
         "blend_seconds": run.blends["seconds"],
         "read_frames": run.read_frames,
@@ -545,6 +512,28 @@ def opened(out, derived):
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
     return library
+
+
+def _kept_corrections(old, sequences, run):
+    """The corrections by hand of the library being replaced, for the sequences still built."""
+    from .corrections import Corrections
+
+    kept = old.corrections() if old is not None else Corrections()
+    gone = sorted(name for name, entry in kept.sequences.items() if entry and name not in {s.name for s in sequences})
+    if gone:
+        run.say(f"warning: the corrections by hand of {', '.join(gone)} are left out: this build has no such sequence")
+    return Corrections({n: e for n, e in kept.sequences.items() if n not in gone}, kept.source)
+
+
+def _check_kept(corrections, sequences, computed):
+    """Kept corrections that no longer fit the frames (a shorter take) say how to drop them."""
+    from .corrections import CorrectionError
+
+    try:
+        corrections.check_sequences({seq.name: len(entry.features) for seq, entry in zip(sequences, computed)})
+    except CorrectionError as error:
+        raise CorrectionError(f"the corrections by hand kept from the library being replaced no longer fit "
+                              f"({str(error).rstrip('.')}); build with corrections=False to drop them.") from None
 
 
 def _pass_on(caught, log):

@@ -26,7 +26,10 @@ set to ``((from, to), i)``; its node, sequence and frame are those of the frame 
 warped from (the exit frame for the first half of the run, the entry frame for the rest).
 
 A leg whose two key motions are the same motion is empty: path ``[key]``, cost 0, no edges,
-no frames. The motion simply continues, and the next leg starts where it would have.
+no frames. The motion simply continues, and the next leg starts where it would have. With a
+time asked (``timing``, :mod:`engine.timing`) it is a hold: the motion plays on cyclically for
+that many frames, and the next leg starts from the frame it has reached. A leg between two
+motions with a time asked takes the path and extra loops :func:`engine.timing.plan_leg` picks.
 
 :func:`compose` plans a whole edit at once; :class:`Playhead` plays the same schedule one
 frame at a time while key motions are queued and unqueued, for the realtime player.
@@ -45,6 +48,9 @@ from .errors import LibraryError, TvmError
 from .params import MAX_LOOPS, whole
 from .graph import node_by_key
 from .search import SearchIndex, best_path, motion_label
+
+#: Most frames a key motion of the player may be held for (an hour at 1,000 fps).
+MAX_HOLD = 3_600_000
 
 __all__ = ["ScheduleEntry", "Transition", "Leg", "Composition", "Playhead", "compose",
            "play_length"]
@@ -365,23 +371,22 @@ class _Visit:
     leg: int | None = None        # serial of the queued key motion whose path planned it
     key: bool = False             # this visit is that key motion
     arrival: Transition | None = None  # the edge that leads in (index filled in when taken)
+    hold: int = 0                 # frames it keeps looping beyond the rule (a held key motion)
 
     @property
     def length(self):
         return self.end - self.start + 1
 
     def remaining(self):
-        """Frames still to show before leaving: the play length rule, counted from now."""
+        """Frames still to show before leaving: the play length rule, counted from now.
+
+        The visit shows at least ``hold`` frames more than the rule asks (a hold, then the
+        rule from where the hold ends, as :func:`compose` plays a hold).
+        """
         if self.exit is None:
             return None
-        if self.once:
-            target = self.exit - self.start
-            if self.shown and (self.entry - self.start + self.shown - 1) % self.length == target:
-                return 0
-            return (target - (self.entry - self.start + self.shown)) % self.length + 1
-        least = max(self.length, self.shown)
-        last = self.entry - self.start + least - 1
-        return least + (self.exit - self.start - last) % self.length - self.shown
+        least = max(self.hold + 1, self.shown, 1) if self.once else max(self.length + self.hold, self.shown)
+        return least + (self.exit - self.entry - least + 1) % self.length - self.shown
 
 
 class Playhead:
@@ -434,18 +439,24 @@ class Playhead:
     def _last_visit(self):
         return self._plan[-1] if self._plan else self._visit
 
-    def queue(self, node):
+    def queue(self, node, hold=0):
         """Plan the best path to key motion ``node`` after the ones already queued.
 
         Returns the path (node ids). Queuing the motion the plan already ends at is an
-        empty leg: nothing changes and the path is ``[node]``. Raises
+        empty leg: the path is ``[node]`` and nothing changes, unless ``hold`` is given.
+        ``hold`` frames make the key motion loop that much longer once it begins, before the
+        path to whatever is queued after it (as a hold in :func:`compose`); for the motion the
+        plan already ends at, they count from now if it is playing. Raises
         :class:`~engine.errors.NoPath` (or :class:`~engine.errors.UnknownMotion`) and leaves
         the queue unchanged when the motion cannot be reached.
         """
         node = node_by_key(self.graph, node)
+        hold = whole("hold", hold, at_least=0, at_most=MAX_HOLD)
         last = self._last_visit()
         path = best_path(self.graph, last.node, node, self.weight, self.forbidden, index=self.index)
         if len(path) == 1:
+            if hold:
+                last.hold = (last.shown if last is self._visit else 0) + hold
             return path
         edges = [_edge(self.graph, u, v, self.weight) for u, v in zip(path, path[1:])]
         serial = next(self._serial)
@@ -454,7 +465,8 @@ class Playhead:
             previous.exit = exit_frame
             sequence, start, end = _texton(self.graph, v)
             previous = _Visit(v, sequence, start, end, entry_frame, once=_once(self.graph, v), leg=serial,
-                              key=v == node, arrival=Transition(-1, u, v, w, exit_frame, entry_frame))
+                              key=v == node, arrival=Transition(-1, u, v, w, exit_frame, entry_frame),
+                              hold=hold if v == node else 0)
             self._plan.append(previous)
         self._queue.append((node, serial))
         return path
@@ -471,6 +483,10 @@ class Playhead:
             self._plan.pop()
         self._last_visit().exit = None
         return node
+
+    def holding(self):
+        """Frames the motion playing is still held for (0 when it is not held)."""
+        return max(0, self._visit.hold - self._visit.shown)
 
     def frames_until_next_key(self):
         """Frames :meth:`advance` returns before the next queued key motion's first one.

@@ -48,7 +48,7 @@ from .atoms import atom_distance, atom_window
 from .errors import InputError
 
 __all__ = ["Corrections", "SequenceCorrections", "CorrectionError", "REACH", "apply_structure",
-           "apply_structures", "apply_database", "atom_window_frames"]
+           "apply_structures", "apply_database"]
 
 #: How far (seconds) a ``remove`` or ``move`` looks for the boundary or texton start it names.
 REACH = 0.5
@@ -322,13 +322,6 @@ def _frames_of(entry):
         yield f"representatives[{k}]", frame
 
 
-def atom_window_frames(structure):
-    """Length in frames of the atom window (eq. (5)) the parse of ``structure`` used."""
-    p = structure.params
-    return len(atom_window(structure.fps, tuple(p.get("window_taps", (0.25, 0.5, 1, 0.5, 0.25))),
-                           p.get("window_fps", 10.0)))
-
-
 # --- applying: structure ------------------------------------------------------------------
 
 def _nearest(candidates, frame, reach):
@@ -493,21 +486,24 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
         else:
             textons += [replace(t, cluster=k) for t in textons_for(v, [(cs, ce)], fps, params, theta)]
     edited = _Textons(textons, clusters)
-    window = len(atom_window(fps, params.window_taps, params.window_fps))
-    changed = _texton_edits(edited, entry, reach, window, say, where)
+    w = atom_window(fps, params.window_taps, params.window_fps)
+    changed = _texton_edits(edited, entry, reach, len(w), say, where)
     old = {(t.start, t.end): t for t in textons}
     out = []
     for start, end, k in edited.items:
         if (start, end) in old and (start, end) not in changed:
             out.append(replace(old[start, end], cluster=k))
         else:
-            out.append(Texton(start, end, k, atom_distance(v, end, start, _window(params, fps))))
+            out.append(Texton(start, end, k, atom_distance(v, end, start, w)))
     for k, frame in enumerate(entry.representatives):
         if not any(t.start <= frame <= t.end for t in out):
             raise CorrectionError(f"{where(f'representatives[{k}]')} = {frame} lies in no texton; "
                                   "add a texton start before it first.")
     curve = texton_curve(v, clusters, out, fps, params)
-    return Structure(clusters, out, curve, fps, dict(structure.params))
+    # A boundary kept from the automatic parse keeps its confidence; one drawn by hand is sure.
+    sure = dict(zip((cs for cs, _ in structure.clusters), structure.boundary_confidence))
+    return Structure(clusters, out, curve, fps, dict(structure.params),
+                     [sure.get(cs, 1.0) if k else 1.0 for k, (cs, _) in enumerate(clusters)])
 
 
 def apply_structures(parses, vectors, corrections, thetas=None, say=None):
@@ -519,16 +515,9 @@ def apply_structures(parses, vectors, corrections, thetas=None, say=None):
             if corrections.sequences.get(name) else parse for name, parse in parses.items()}
 
 
-def _window(params, fps):
-    return atom_window(fps, params.window_taps, params.window_fps)
-
-
 def _params(cls, data):
-    data = dict(data)
-    if "window_taps" in data:
-        data["window_taps"] = tuple(data["window_taps"])
-    known = {f for f in cls.__dataclass_fields__}
-    return cls(**{k: v for k, v in data.items() if k in known})
+    # The parse's parameters as recorded (StructureParams makes window_taps a tuple itself).
+    return cls(**{k: v for k, v in data.items() if k in cls.__dataclass_fields__})
 
 
 # --- applying: database -------------------------------------------------------------------

@@ -276,6 +276,7 @@ def sequence_features(folder, bins=None, cache_dir=None):
     code that reads frames and computes histograms all recompute.
     """
     from . import featcache
+    from .builder import origin_follows
     from .features import BinSizes, FeatureAccumulator
     from .load import iter_frames, open_sequence
 
@@ -287,7 +288,7 @@ def sequence_features(folder, bins=None, cache_dir=None):
     found = featcache.read(key, bins, cache_dir)
     if found is not None:
         return found[0]
-    acc = FeatureAccumulator(bins)
+    acc = FeatureAccumulator(bins, follow=origin_follows(paths, sequence.orientation))
     for _, frame in iter_frames(paths, orientation=sequence.orientation, detail="geometry"):
         acc.add(frame.positions)
     features = acc.result()

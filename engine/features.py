@@ -60,6 +60,9 @@ __all__ = [
     "spherical",
     "features_of",
     "frame_origin",
+    "moves_across",
+    "FOLLOW_M",
+    "SAMPLE_FRAMES",
     "frame_distance",
     "histogram_distance",
     "distance_matrix",
@@ -404,13 +407,34 @@ class Features:
         return Features(r, self.theta, self.phi, self.origin, self.bins)
 
 
+#: A person whose centre strays further than this from where the take starts (metres,
+#: horizontally, on :data:`SAMPLE_FRAMES` frames spread over the take) is followed by the
+#: origin (:func:`frame_origin`); CMU subject 13 stays within 0.3 m over whole exercise takes.
+FOLLOW_M = 0.5
+SAMPLE_FRAMES = 12
+
+
+def moves_across(centroids, limit=FOLLOW_M):
+    """Whether the origin should follow the person: some centroid lies further than ``limit``
+    from the first one horizontally.
+
+    >>> moves_across([[0, 0, 1], [0.3, 0.2, 1]]), moves_across([[0, 0, 1], [0.6, 0, 1]])
+    (False, True)
+    """
+    c = np.asarray(centroids, dtype=np.float64).reshape(-1, 3)
+    return bool(len(c) > 1 and np.linalg.norm(c[:, :2] - c[0, :2], axis=1).max() > limit)
+
+
 def frame_origin(positions, origin, follow):
     """The origin of one frame's coordinates (eq. (1)).
 
     The paper fixes it at the first frame's centroid (``follow`` False: ``origin``). A person
     who moves across the capture volume then drifts away from it, and every histogram changes
-    with the position rather than the pose. With ``follow``, the origin is the frame's own
-    centroid horizontally and ``origin``'s height vertically, so it moves with the person.
+    with the position rather than the pose: an exercise done while drifting splits into many
+    clusters. With ``follow``, the origin is the frame's own centroid horizontally and
+    ``origin``'s height vertically, so it moves with the person. It is used only for a take
+    whose person strays (:func:`moves_across`): about a moving origin the sideways shift of the
+    body's centre that tells a left-right exercise's halves apart is lost.
 
     >>> frame_origin(np.array([[2.0, 1.0, 0.0], [4.0, 1.0, 2.0]]), np.zeros(3), True).tolist()
     [3.0, 1.0, 0.0]

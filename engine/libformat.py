@@ -27,16 +27,19 @@ A library is a directory written by :func:`engine.build` and opened by
 ``faces.npy``
     (F, 3) uint32, indices local to each frame.
 ``frames.npy``
-    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count. The
-    texton frames come first, then the in-between frames of every transition.
+    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
 ``frame_keys.npy``
-    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number; for an
-    in-between frame -1 and its index within its transition's run.
+    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
+``blend_positions.npy``, ``blend_colours.npy``, ``blend_normals.npy``, ``blend_faces.npy``, ``blend_frames.npy``
+    the in-between frames of the transitions (:mod:`engine.blend`), laid out as the texton
+    frames are, run after run; ``blend_uvs.npy`` and ``blend_texture_frames.npy`` where they
+    are textured (rows into ``textures.npy``: the texture of the frame each was warped from).
 ``blends.json``
-    the in-between frames (:mod:`engine.blend`): ``natural_step`` (metres), the
-    ``blend_frames`` option (null: as many as needed) and per graph edge with a run
-    ``{"from", "to", "first", "count", "jump", "steps"}``: its first row in ``frames.npy``,
-    how many frames, the Chamfer distance of the cut and of every step of the run (metres).
+    ``natural_step`` (metres), the ``blend_frames`` option (null: as many as needed), the
+    sequences' ``feature_keys``, and per graph edge ``{"from", "to", "first", "count", "jump",
+    "steps", "exit", "entry"}``: its first row in ``blend_frames.npy``, how many frames, the
+    Chamfer distance of the cut and of every step of the run (metres), and the exit and entry
+    frames as ``[sequence, frame]``.
 ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     only where some stored frame is textured: (V, 2) float32 texture coordinates beside
     ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
@@ -49,7 +52,9 @@ A library is a directory written by :func:`engine.build` and opened by
     and the automatic parse they were applied to (as ``structure.json``, which then holds the
     corrected one).
 
-Only the frames of database textons and the in-between frames are stored. Every array opens with
+Only the frames of database textons are stored (after a correction by hand, possibly
+some more: :mod:`engine.meshstore` keeps a library's arrays rather than copy them), and
+the in-between frames of the transitions. Every array opens with
 ``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
 """
 
@@ -67,7 +72,7 @@ __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", 
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
            "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
-           "read_parse", "read_blends"]
+           "read_parse", "link_meshes", "read_blends"]
 
 #: On-disk format version; a library of another version must be rebuilt.
 FORMAT = 2
@@ -76,7 +81,8 @@ FORMAT = 2
 CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
                  "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
                  "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json",
-                 "blends.json")
+                 "blends.json", "blend_positions.npy", "blend_colours.npy", "blend_normals.npy",
+                 "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy", "blend_texture_frames.npy")
 
 #: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
 MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
@@ -129,19 +135,12 @@ class NpyStream:
         self.handle = open(path, "wb")
         self.handle.write(b"\0" * self.HEADER)
 
-    def reopen(self):
-        """Append more rows to a stream closed before (its file is a whole .npy meanwhile)."""
-        self.handle = open(self.path, "r+b")
-        self.handle.seek(0, 2)
-
     def append(self, array):
         array = np.ascontiguousarray(array, dtype=self.dtype)
         self.handle.write(memoryview(array).cast("B"))
         self.rows += len(array)
 
     def close(self):
-        if self.handle.closed:
-            return
         header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
                   "shape": (self.rows, self.width)}
         text = repr(header).encode("latin1")
@@ -158,56 +157,56 @@ class MeshWriter:
     """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
 
     ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
-    :meth:`pause` makes the arrays written so far readable (:func:`mesh_arrays`) and
-    :meth:`resume` goes on appending: the in-between frames are made from the texton frames.
+    With ``prefix="blend_"`` it writes the in-between frames' arrays instead (no frame keys:
+    ``blends.json`` says which run each row belongs to), whose textures are those of the
+    texton frames they were warped from.
     """
 
-    def __init__(self, folder):
+    def __init__(self, folder, prefix=""):
         folder = Path(folder)
-        self._folder = folder
-        self._arrays = {name: NpyStream(folder / f"{name}.npy", dtype, width)
+        self._folder, self._prefix = folder, prefix
+        self._arrays = {name: NpyStream(folder / f"{prefix}{name}.npy", dtype, width)
                         for name, dtype, width in MESH_ARRAYS}
         # Texture arrays are opened at the first textured frame: untextured libraries have none.
         self._uvs = self._texels = None
         self._texture_rows = []
-        self._offsets = NpyStream(folder / "frames.npy", np.int64, 4)
-        self._keys = NpyStream(folder / "frame_keys.npy", np.int64, 2)
+        self._offsets = NpyStream(folder / f"{prefix}frames.npy", np.int64, 4)
+        self._keys = None if prefix else NpyStream(folder / "frame_keys.npy", np.int64, 2)
         self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
         self._starts = [0, 0]
         self.frames = 0
         self.max_counts = (0, 0)
 
     def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None,
-            texture_of=None):
+            texture_row=None):
         """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
-        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured.
-
-        An in-between frame has ``sequence_index`` -1 and ``frame`` its index in its run;
-        with ``texture_of``, the row of a stored frame, it shares that frame's texture image
-        (``uv`` its own coordinates) instead of storing one."""
+        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured; or, with
+        ``texture_row`` (first texel, height, width in ``textures.npy``), coordinates into a
+        texture stored already."""
         for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
                             ("faces", faces)):
             self._arrays[name].append(array)
         v0, f0 = self._starts
-        shared = texture_of is not None and uv is not None and self._texture_rows[texture_of][1] > 0
-        if shared:
-            self._uvs.append(uv)
-            self._texture_rows.append(list(self._texture_rows[texture_of]))
-        elif uv is not None and texture is not None:
+        if uv is not None and (texture is not None or (texture_row is not None and texture_row[1])):
             if self._uvs is None:
-                self._uvs = NpyStream(self._folder / "uvs.npy", np.float32, 2)
-                self._texels = NpyStream(self._folder / "textures.npy", np.uint8, 3)
+                self._uvs = NpyStream(self._folder / f"{self._prefix}uvs.npy", np.float32, 2)
                 for start in range(0, v0, 1 << 20):
                     self._uvs.append(np.zeros((min(1 << 20, v0 - start), 2), np.float32))
             self._uvs.append(uv)
-            self._texture_rows.append([self._texels.rows, texture.shape[0], texture.shape[1]])
-            self._texels.append(np.asarray(texture).reshape(-1, 3))
+            if texture_row is not None:
+                self._texture_rows.append([int(x) for x in texture_row])
+            else:
+                if self._texels is None:
+                    self._texels = NpyStream(self._folder / "textures.npy", np.uint8, 3)
+                self._texture_rows.append([self._texels.rows, texture.shape[0], texture.shape[1]])
+                self._texels.append(np.asarray(texture).reshape(-1, 3))
         else:
             if self._uvs is not None:
                 self._uvs.append(np.zeros((len(positions), 2), np.float32))
             self._texture_rows.append([0, 0, 0])
         self._offsets.append(np.array([[v0, len(positions), f0, len(faces)]]))
-        self._keys.append(np.array([[sequence_index, frame]]))
+        if self._keys is not None:
+            self._keys.append(np.array([[sequence_index, frame]]))
         self._starts = [v0 + len(positions), f0 + len(faces)]
         self.max_counts = (max(self.max_counts[0], len(positions)), max(self.max_counts[1], len(faces)))
         np.minimum(self._low, positions.min(axis=0), out=self._low)
@@ -221,27 +220,41 @@ class MeshWriter:
             return [0.0] * 3, [0.0] * 3
         return self._low.tolist(), self._high.tolist()
 
-    def _streams(self):
-        textures = () if self._uvs is None else (self._uvs, self._texels)
-        return (*self._arrays.values(), self._offsets, self._keys, *textures)
-
-    def pause(self):
-        """Close the files so far (whole .npy files that :func:`mesh_arrays` reads)."""
-        for stream in self._streams():
-            stream.close()
-        if self._uvs is not None:
-            np.save(self._folder / "texture_frames.npy", np.array(self._texture_rows, np.int64).reshape(-1, 3))
-
-    def resume(self):
-        """Go on appending frames after :meth:`pause`."""
-        for stream in self._streams():
-            stream.reopen()
-
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
-        self.pause()
+        for stream in (*self._arrays.values(), self._offsets, self._keys, self._uvs, self._texels):
+            if stream is not None:
+                stream.close()
+        if self._uvs is not None:
+            np.save(self._folder / f"{self._prefix}texture_frames.npy",
+                    np.array(self._texture_rows, np.int64).reshape(-1, 3))
+
+
+#: The files of the stored meshes (:class:`MeshWriter` writes them).
+MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
+              "uvs.npy", "textures.npy", "texture_frames.npy")
+
+
+def link_meshes(library, folder):
+    """Give ``folder`` the stored meshes of ``library`` (a :class:`engine.library.Library`) as
+    they are: hard links, copies where links cannot be made. Nothing in a library is changed in
+    place, so the two may share them. Returns what :class:`MeshWriter` would: an object with
+    ``frames``, ``bounds`` and ``max_counts``."""
+    import os
+    import shutil
+    from types import SimpleNamespace
+
+    for name in MESH_FILES:
+        source = Path(library.path) / name
+        if name in library.manifest.get("files", {}):
+            try:
+                os.link(source, Path(folder) / name)
+            except OSError:
+                shutil.copyfile(source, Path(folder) / name)
+    return SimpleNamespace(frames=int(library.manifest["counts"]["stored_frames"]),
+                           bounds=library.manifest["bounds"], max_counts=library.manifest["max_counts"])
 
 
 def graph_to_json(graph):
@@ -448,9 +461,10 @@ def load_array(path, name):
                            f"{_rebuild_hint(path)}.") from None
 
 
-def mesh_arrays(path):
-    """The flat mesh arrays of :data:`MESH_ARRAYS`, memory-mapped, their shapes checked."""
-    arrays = {name: load_array(path, f"{name}.npy") for name, _, _ in MESH_ARRAYS}
+def mesh_arrays(path, prefix=""):
+    """The flat mesh arrays of :data:`MESH_ARRAYS` (``prefix="blend_"``: of the in-between
+    frames), memory-mapped, their shapes checked."""
+    arrays = {name: load_array(path, f"{prefix}{name}.npy") for name, _, _ in MESH_ARRAYS}
     for name, dtype, width in MESH_ARRAYS:
         array = arrays[name]
         if array.ndim != 2 or array.shape[1] != width or array.dtype != dtype:
@@ -460,16 +474,16 @@ def mesh_arrays(path):
     return arrays
 
 
-def frame_offsets(path, arrays):
+def frame_offsets(path, arrays, prefix=""):
     """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays."""
-    offsets = np.asarray(load_array(path, "frames.npy"))
+    offsets = np.asarray(load_array(path, f"{prefix}frames.npy"))
     vertices, faces = len(arrays["positions"]), len(arrays["faces"])
     ok = offsets.ndim == 2 and offsets.shape[1] == 4 and offsets.dtype == np.int64
     if ok and len(offsets):
         v0, nv, f0, nf = offsets.T
         ok = bool((offsets >= 0).all() and (v0 + nv <= vertices).all() and (f0 + nf <= faces).all())
     if not ok:
-        raise damaged(path, ValueError("frames.npy does not match the mesh arrays"))
+        raise damaged(path, ValueError(f"{prefix}frames.npy does not match the mesh arrays"))
     return offsets
 
 
@@ -482,8 +496,8 @@ def frame_slices(arrays, offsets, row):
 
 
 def stored_frame(path, row):
-    """Stored frame ``row`` of the (possibly unfinished: see :meth:`MeshWriter.pause`) library
-    folder ``path``: ``(positions, colours, faces, normals)``, memory-mapped."""
+    """Stored frame ``row`` of the library folder ``path`` (its meshes written, the rest
+    perhaps not yet): ``(positions, colours, faces, normals)``, memory-mapped."""
     arrays = mesh_arrays(path)
     return frame_slices(arrays, frame_offsets(path, arrays), row)
 
@@ -492,15 +506,15 @@ def frame_keys(path, frames, sequences):
     """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
     keys = np.asarray(load_array(path, "frame_keys.npy"))
     ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
-    if not ok or (len(keys) and not ((keys[:, 0] >= -1) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
+    if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
         raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))
     return keys
 
 
-def texture_arrays(path, vertices, frames):
+def texture_arrays(path, vertices, frames, prefix=""):
     """``(uvs (V, 2), texels (T, 3), rows (n, 3))`` memory-mapped, every frame's texels inside."""
-    uvs, texels = load_array(path, "uvs.npy"), load_array(path, "textures.npy")
-    rows = np.asarray(load_array(path, "texture_frames.npy"))
+    uvs, texels = load_array(path, f"{prefix}uvs.npy"), load_array(path, "textures.npy")
+    rows = np.asarray(load_array(path, f"{prefix}texture_frames.npy"))
     ok = (uvs.shape == (vertices, 2) and texels.ndim == 2 and texels.shape[1] == 3
           and rows.shape == (frames, 3) and rows.dtype == np.int64)
     if ok and len(rows):
@@ -521,7 +535,7 @@ def read_graph(path):
 
 def read_blends(path, frames):
     """``(natural_step, {(from, to): (first row, count)}, data)`` from ``blends.json``, checked
-    against the ``frames`` rows of ``frames.npy``; no runs when the file is absent."""
+    against the ``frames`` rows of ``blend_frames.npy``; no runs when the file is absent."""
     if not (Path(path) / "blends.json").exists():
         return 0.0, {}, {"natural_step": 0.0, "blend_frames": None, "edges": []}
     data = read_json(path, "blends.json")
@@ -531,7 +545,7 @@ def read_blends(path, frames):
     except (KeyError, TypeError, ValueError) as error:
         raise damaged(path, error) from None
     if any(first < 0 or count < 0 or first + count > frames for first, count in runs.values()):
-        raise damaged(path, ValueError("blends.json names rows beyond frames.npy"))
+        raise damaged(path, ValueError("blends.json names rows beyond blend_frames.npy"))
     return natural, runs, data
 
 

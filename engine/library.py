@@ -22,6 +22,9 @@ __all__ = ["Library", "LibrarySequence", "FORMAT", "INFO_SCHEMA"]
 _INT = {"type": "integer", "minimum": 0}
 _NUM = {"type": "number"}
 _RANGE = {"start": _INT, "end": _INT}
+#: How sure the parse is of a cluster's starting boundary or of a texton, 0-1 (engine.confidence);
+#: null for a library built before confidences were recorded.
+_CONFIDENCE = {"type": ["number", "null"], "minimum": 0, "maximum": 1}
 
 #: JSON schema of ``tvmedit info --json`` (:meth:`Library.info`). Frame ranges are inclusive
 #: and 0-based within their sequence, exit and entry frames likewise; edges are those of the
@@ -61,10 +64,11 @@ INFO_SCHEMA = {
                     "frames": _INT,
                     "fps": {"type": "number", "exclusiveMinimum": 0},
                     "clusters": {"type": "array", "items": {
-                        "type": "object", "required": ["start", "end"], "properties": _RANGE}},
+                        "type": "object", "required": ["start", "end"],
+                        "properties": {**_RANGE, "confidence": _CONFIDENCE}}},
                     "textons": {"type": "array", "items": {
                         "type": "object", "required": ["start", "end", "cluster"],
-                        "properties": {**_RANGE, "cluster": _INT, "distance": _NUM}}},
+                        "properties": {**_RANGE, "cluster": _INT, "distance": _NUM, "confidence": _CONFIDENCE}}},
                     "corrections": {"type": "object", "description": "corrections by hand applied "
                                     "on top of the automatic parse, as in corrections.json "
                                     "(engine.corrections); absent when none"},
@@ -330,7 +334,7 @@ class Library:
     @cached_property
     @_reads_format
     def _blends(self):
-        return libformat.read_blends(self.path, int(self.manifest["counts"]["stored_frames"]))
+        return libformat.read_blends(self.path, int(self.manifest["counts"].get("blend_frames", 0)))
 
     @property
     def natural_step(self):
@@ -384,7 +388,7 @@ class Library:
     def _frame_rows(self):
         keys = libformat.frame_keys(self.path, len(self._offsets), len(self.sequences))
         names = [s.name for s in self.sequences]
-        return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist()) if s >= 0}
+        return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist())}
 
     def sources(self):
         """The library's folder and its sequences' folders: no output may go inside them."""
@@ -393,18 +397,33 @@ class Library:
 
     def stored_frames(self):
         """Keys ``(sequence, frame)`` of every stored texton frame, in storage order (the
-        in-between frames follow them; an edit's schedule names those by their ``key``)."""
+        in-between frames are stored apart; an edit's schedule names them by their ``key``)."""
         return list(self._frame_rows)
 
-    def _row(self, sequence, frame, blend=None):
-        if blend is not None:
-            return self._blend_row(blend)
+    def _row(self, sequence, frame):
         try:
             return self._frame_rows[sequence, int(frame)]
         except KeyError:
             self.sequence(sequence)
             raise LibraryError(f"frame {frame} of {sequence} is not stored in library {self.path}: "
                                "only the frames of database motions are.") from None
+
+    @cached_property
+    @_reads_format
+    def _blend_arrays(self):
+        return libformat.mesh_arrays(self.path, "blend_")
+
+    @cached_property
+    @_reads_format
+    def _blend_offsets(self):
+        return libformat.frame_offsets(self.path, self._blend_arrays, "blend_")
+
+    def _locate(self, key):
+        """``(arrays, offsets, row, textures)`` of the stored frame ``key`` (see :meth:`frame_mesh`)."""
+        sequence, frame, *blend = key
+        if blend and blend[0] is not None:
+            return self._blend_arrays, self._blend_offsets, self._blend_row(blend[0]), "_blend_textures"
+        return self._arrays, self._offsets, self._row(sequence, frame), "_textures"
 
     def _blend_row(self, blend):
         (i, j), index = blend
@@ -423,19 +442,20 @@ class Library:
         (N, 3) uint8, (M, 3) uint32 and (N, 3) float32, memory-mapped; only the frames of
         database motions (:meth:`stored_frames`) and the in-between frames are stored.
         """
-        sequence, frame, *blend = key
-        return self.stored_row(self._row(sequence, frame, *blend), f"frame {frame} of {sequence}")
+        arrays, offsets, row, _ = self._locate(key)
+        return self._mesh_at(arrays, offsets, row, f"frame {key[1]} of {key[0]}")
 
-    def stored_row(self, row, label=None):
-        """:meth:`frame_mesh` of the ``row``-th stored frame, in storage order (texton frames,
-        then in-between frames); ``label`` names it in an error."""
-        v0, nv, f0, nf = self._offsets[row].tolist()
-        a = self._arrays
+    def blend_row(self, row):
+        """:meth:`frame_mesh` of the ``row``-th in-between frame stored (runs one after another,
+        as ``blends.json`` lists them)."""
+        return self._mesh_at(self._blend_arrays, self._blend_offsets, row, f"in-between frame {row}")
+
+    def _mesh_at(self, a, offsets, row, label):
+        v0, nv, f0, nf = offsets[row].tolist()
         faces = a["faces"][f0:f0 + nf]
         most_v, most_f = self.max_counts()
         if nv > most_v or nf > most_f or (nf and int(faces.max()) >= nv):
-            raise libformat.damaged(self.path, ValueError(f"{label or f'stored frame {row}'} does not "
-                                                          "match its vertex and face counts"))
+            raise libformat.damaged(self.path, ValueError(f"{label} does not match its vertex and face counts"))
         return a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
 
     def source_mesh(self, key):
@@ -460,6 +480,14 @@ class Library:
             return None
         return libformat.texture_arrays(self.path, len(self._arrays["positions"]), len(self._offsets))
 
+    @cached_property
+    @_reads_format
+    def _blend_textures(self):
+        if "blend_uvs.npy" not in self.manifest.get("files", {}):
+            return None
+        return libformat.texture_arrays(self.path, len(self._blend_arrays["positions"]),
+                                        len(self._blend_offsets), "blend_")
+
     @property
     def textured(self):
         """Whether any stored frame has a texture (then :meth:`frame_texture` gives it)."""
@@ -471,13 +499,14 @@ class Library:
         when the frame has no texture (the player then draws its vertex colours)."""
         if self._textures is None:
             return None
-        sequence, frame, *blend = key
-        row = self._row(sequence, frame, *blend)
-        uvs, texels, rows = self._textures
+        _, offsets, row, textures = self._locate(key)
+        if getattr(self, textures) is None:
+            return None
+        uvs, texels, rows = getattr(self, textures)
         start, height, width = rows[row].tolist()
         if not height:
             return None
-        v0, nv = self._offsets[row, :2].tolist()
+        v0, nv = offsets[row, :2].tolist()
         return uvs[v0:v0 + nv], texels[start:start + height * width].reshape(height, width, 3)
 
     @_reads_format
@@ -503,11 +532,13 @@ class Library:
         for seq in self.sequences:
             s = self.structure(seq.name)
             fixes = {"corrections": corrections[seq.name]} if seq.name in corrections else {}
+            sure = list(s.boundary_confidence) + [None] * (len(s.clusters) - len(s.boundary_confidence))
             sequences.append({
                 "name": seq.name, "frames": seq.frames, "fps": seq.fps,
-                "clusters": [{"start": int(a), "end": int(b)} for a, b in s.clusters],
+                "clusters": [{"start": int(a), "end": int(b), "confidence": c}
+                             for (a, b), c in zip(s.clusters, sure)],
                 "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
-                             "distance": float(t.distance)} for t in s.textons],
+                             "distance": float(t.distance), "confidence": float(t.confidence)} for t in s.textons],
                 **fixes,
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,

@@ -30,7 +30,7 @@ class _Recorded(NamedTuple):
     paths: list
 
 
-def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None):
+def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None, workers=None):
     """Derive ``library`` again from its stored features, with corrections by hand.
 
     The automatic parse is the stored one, so nothing is parsed again; corrections
@@ -51,6 +51,9 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
         Replace an existing ``out``; default: only when ``out`` is ``library`` itself.
     log : callable, optional
         Called with one-line messages (a correction that found nothing to act on).
+    workers : int, optional
+        Processes reading the frames of new motions (default: all cores, started only when
+        there are frames to read).
 
     Returns
     -------
@@ -80,7 +83,7 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     parses = {s.name: library.parse(s.name) for s in library.sequences}
     check_target(out, force, sequences)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
-    with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(1) as pool:
+    with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(workers) as pool:
         derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
                          parses=parses)
     return opened(out, derived)

@@ -40,13 +40,37 @@ Two methods are provided.
        mean atom distance mean_u d_A(u, u + L) (self-similarity), taking the shortest lag
        whose depth is within ``period_tolerance`` of the deepest, unless doubling it is
        nearly as deep (an exercise done left then right, or down then up, repeats at
-       half its period only approximately: with the theta columns given, 2L is taken when
-       the azimuth histogram alone shows no valley at L, as left and right poses share
-       their r and phi histograms; in a cluster holding a single cycle, 2L is the
-       profile's last lag, which stands for the valley when the profile falls into it).
+       half its period only approximately). :mod:`engine.periods` holds this step and its
+       two half-period tests: the *mirror test* (fixes textons of half the period for
+       left-then-right exercises, measured on the development suite: knee raises and side
+       bends of the synthetic actor, CMU toe touches and twists) takes 2L when frame u + L
+       is much nearer the mirror image of frame u than frame u itself; otherwise, with
+       the theta columns given, 2L is taken when the azimuth histogram alone shows no
+       valley at L (in a cluster holding a single cycle, 2L is the profile's last lag,
+       which stands for the valley when the profile falls into it).
        Textons then start at the most repeatable atom of the first period (the smallest
        d_A(u, u + P)) and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
+    3. **Transitions join the exercise they lead into.** Standing still between two
+       exercises, or a slow change of pose, is a stretch whose pose distribution differs
+       from both neighbours, so novelty peaks on both of its sides and it became a
+       cluster of its own, a boundary where the person starts the new exercise besides the
+       true one where they left the old (failure: precision 0.50 on the suite's synthetic
+       take with 2 s of standing still, 0.60 on the one wandering across the volume). A
+       cluster that shows no period and lasts at most ``max_transition`` seconds joins the
+       next cluster that repeats (the one before it at the end of the take), so the
+       boundary stays where the old exercise stopped, as the truth of every take in the
+       suite counts it.
+
+The features themselves (:mod:`engine.features`) place each frame's origin at the first
+frame's centroid, as the paper does, unless the person strays more than half a metre from
+it (:func:`engine.features.moves_across`), when the origin follows the person: about a fixed
+origin, an exercise done while drifting across the volume split into a cluster every
+2-3 s (precision 0.20 on the suite's drifting takes).
+
+Each boundary and texton gets a confidence (:mod:`engine.confidence`): the novelty at the
+boundary against ``novelty_threshold``, and how closely a texton's motion returns to its
+first pose.
 
 Within K frames of either end of the sequence, the atom window is cut at the end and the
 remaining weights are rescaled to the full window's total, so an atom distance keeps its
@@ -70,8 +94,10 @@ from dataclasses import asdict, dataclass, field, fields
 import numpy as np
 
 from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, atoms_along_lag,
-                    atom_window, lag_profile, novelty)
+                    atom_window, block_means, lag_profile, novelty)
+from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
+from .periods import cluster_period
 from .params import MAX_FPS, number
 
 __all__ = [
@@ -149,6 +175,9 @@ class StructureParams:
         least this fraction of its height is the boundary instead.
     analysis_fps : float
         "energy": rate to which the sequence is reduced for cluster detection.
+    max_transition : float
+        "energy": a cluster that does not repeat (fewer than two textons) and lasts at most
+        this long, seconds, is a transition and joins the exercise it leads into; 0 keeps it.
     """
 
     method: str = "energy"
@@ -166,6 +195,7 @@ class StructureParams:
     min_cluster: float = _param(2.0, above=0, at_most=3600)
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
+    max_transition: float = _param(4.0, at_least=0, at_most=3600)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):
@@ -189,12 +219,14 @@ class StructureParams:
 
 @dataclass
 class Texton:
-    """One motion texton: inclusive frame range, its cluster's index, and d_T of eq. (6)."""
+    """One motion texton: inclusive frame range, its cluster's index, d_T of eq. (6), and how
+    sure the parse is of it (:func:`engine.confidence.texton_confidence`, 0-1)."""
 
     start: int
     end: int
     cluster: int
     distance: float
+    confidence: float = 1.0
 
     def __len__(self) -> int:
         return self.end - self.start + 1
@@ -216,6 +248,9 @@ class Structure:
     fps : float
     params : dict
         The :class:`StructureParams` used, as a dict.
+    boundary_confidence : list of float
+        One per cluster: how sure the parse is of the boundary that starts it, 0-1
+        (:func:`engine.confidence.boundary_confidences`; 1 for the first cluster).
     """
 
     clusters: list
@@ -223,6 +258,7 @@ class Structure:
     curve: np.ndarray
     fps: float = PAPER_FPS
     params: dict = field(default_factory=dict)
+    boundary_confidence: list = field(default_factory=list)
 
     @property
     def texton_starts(self) -> list:
@@ -240,8 +276,9 @@ class Structure:
             "params": dict(self.params),
             "clusters": [[int(s), int(e)] for s, e in self.clusters],
             "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
-                         "distance": float(t.distance)} for t in self.textons],
+                         "distance": float(t.distance), "confidence": float(t.confidence)} for t in self.textons],
             "curve": [float(x) for x in self.curve],
+            "boundary_confidence": [float(c) for c in self.boundary_confidence],
         }
 
     @classmethod
@@ -254,35 +291,30 @@ class Structure:
             params["window_taps"] = tuple(params["window_taps"])
         return cls(
             clusters=[(int(s), int(e)) for s, e in data["clusters"]],
-            textons=[Texton(int(t["start"]), int(t["end"]), int(t["cluster"]), float(t["distance"]))
-                     for t in data["textons"]],
+            textons=[Texton(int(t["start"]), int(t["end"]), int(t["cluster"]), float(t["distance"]),
+                            float(t.get("confidence", 1.0))) for t in data["textons"]],
             curve=np.asarray(data["curve"], dtype=np.float64),
             fps=float(data.get("fps", PAPER_FPS)),
             params=params,
+            boundary_confidence=[float(c) for c in data.get("boundary_confidence", [])],
         )
 
 
-def _reduce(vectors, step):
-    # Block means of ``step`` frames: a 10 fps view of a faster capture.
-    v = np.asarray(vectors, dtype=np.float64)
-    if step == 1:
-        return v
-    T = len(v)
-    n = -(-T // step)
-    padded = np.concatenate([v, np.repeat(v[-1:], n * step - T, axis=0)])
-    return padded.reshape(n, step, -1).mean(axis=1)
-
-
-def _energy_clusters(vectors, fps, p: StructureParams):
-    T = len(vectors)
+def _novelty_curve(vectors, fps, p: StructureParams):
+    # The two-block novelty on the sequence reduced to about ``analysis_fps``, and the step.
     step = max(1, int(round(fps / p.analysis_fps)))
-    v = _reduce(vectors, step)
+    v = block_means(vectors, step)
     f = fps / step
     block = max(3, int(round(p.novelty_window * f)))
-    sep = max(2, int(round(p.min_cluster * f)))
     # A block shorter than half the shortest cluster says too little, but never ask for more
     # than the block holds: novelty() would then skip every frame and find no boundary.
-    n = novelty(v, block, min_block=min(block, max(3, int(round(0.5 * p.min_cluster * f)))))
+    return novelty(v, block, min_block=min(block, max(3, int(round(0.5 * p.min_cluster * f))))), step
+
+
+def _energy_clusters(vectors, fps, p: StructureParams, n, step):
+    T = len(vectors)
+    f = fps / step
+    sep = max(2, int(round(p.min_cluster * f)))
     # Non-maximum suppression over local maxima only (a broad peak's shoulder is not a
     # second boundary): strongest first, none closer than ``sep``. When a new motion begins
     # with poses of the old one (standing before the first squat) the peak splits in two
@@ -298,7 +330,7 @@ def _energy_clusters(vectors, fps, p: StructureParams):
         t = int(t)
         if n[t] < p.novelty_threshold:
             break
-        if not is_peak[t] or t < edge or len(v) - t < edge:
+        if not is_peak[t] or t < edge or len(n) - t < edge:
             continue
         if any(abs(t - q) < sep for q in claimed):
             continue
@@ -311,87 +343,6 @@ def _energy_clusters(vectors, fps, p: StructureParams):
     starts = [0] + [min(T - 1, t * step) for t in bounds]
     starts = sorted(set(starts))
     return [(s, e - 1) for s, e in zip(starts, starts[1:] + [T])]
-
-
-def _moving_average(v, width):
-    # Centred running mean along time, the ends padded by repeating the first/last frame.
-    half = width // 2
-    padded = np.concatenate([np.repeat(v[:1], half, axis=0), v, np.repeat(v[-1:], half, axis=0)])
-    c = np.concatenate([np.zeros((1, v.shape[1])), np.cumsum(padded, axis=0)])
-    return (c[2 * half + 1:] - c[: len(v)]) / (2 * half + 1)
-
-
-def _period(v, cs, ce, fps, w, p: StructureParams, theta=None):
-    # Period of the cluster [cs, ce] from its lag profile; None when too short to tell.
-    length = ce - cs + 1
-    lo = max(2, int(round(p.min_texton * fps)))
-    hi = min(int(round(p.max_period * fps)), int(length * 0.8))
-    if hi <= lo + 1:
-        return None
-    # The profile runs on to 0.8 of the cluster (past ``max_period``) so that the half-period
-    # test below can look at 2L and 3L.
-    top = max(hi, int(length * 0.8))
-    seg = v[cs: ce + 1]
-    # The subject drifts away from the fixed origin, which makes every histogram change
-    # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which
-    # otherwise makes long lags look like better periods than the true one.
-    seg = seg - _moving_average(seg, max(3, int(round(2.0 * fps)) | 1))
-    lags = np.arange(lo, top + 1)
-    prof = lag_profile(seg, lags, w)
-    # Candidate periods are interior local minima; a valley's prominence is measured against
-    # the highest profile values within +/- h lags on each side.
-    h = max(2, int(round(0.3 * fps)))
-    cand, prom = [], {}
-    for i in range(1, len(lags) - 1):
-        if prof[i] <= prof[i - 1] and prof[i] <= prof[i + 1]:
-            left = prof[max(0, i - h): i].max()
-            right = prof[i + 1: i + 1 + h].max()
-            depth = min(left, right) - prof[i]
-            if depth > 0:
-                cand.append(i)
-                prom[i] = depth
-    if not cand:
-        return None
-    periods = [i for i in cand if lags[i] <= hi]
-    if not periods:
-        return None
-    best = max(periods, key=lambda i: prom[i])
-    # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in the
-    # profile's level.
-    if prom[best] < p.min_periodicity * float(np.median(prof)):
-        return None
-    # A multiple of the period is a valley too, often as deep: take the shortest lag that
-    # is nearly as prominent as the most prominent one.
-    chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
-    L = int(lags[chosen])
-    # A half period (one side then the other) can pass that test: left and right poses
-    # have the same r and phi histograms and differ in theta only. Prefer 2L when the
-    # profile is lower there and either the azimuth histogram alone has no valley at L
-    # (its relative depth under half the whole vector's) or, without that information, 3L
-    # is visible and no valley (a true period's 3L is one).
-    def valley_near(target):
-        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
-        return min(near, key=lambda i: prof[i]) if near else None
-
-    k2 = valley_near(2 * L)
-    # In a cluster that holds only one whole cycle of a left-right exercise, 2L lies at the
-    # profile's end, where a valley has no far side and is no candidate. A profile still
-    # falling into its last lag, within reach of 2L, stands for that valley.
-    last = len(lags) - 1
-    if k2 is None and abs(lags[last] - 2 * L) <= max(1.0, 0.1 * 2 * L) and prof[last] < prof[last - 1]:
-        k2 = last
-    if k2 is not None and prof[k2] < prof[chosen]:
-        k3 = valley_near(3 * L) if 3 * L <= top else None
-        if theta is not None and k3 is None:
-            t_prof = lag_profile(seg[:, theta], lags[[chosen]], w)[0]
-            t_med = float(np.median(lag_profile(seg[:, theta], lags[:: max(1, len(lags) // 24)], w)))
-            rel_theta = (t_med - t_prof) / t_med if t_med > 0 else 0.0
-            rel_all = (float(np.median(prof)) - prof[chosen]) / float(np.median(prof))
-            if rel_theta < 0.5 * rel_all:
-                L = int(lags[k2])
-        elif theta is None and k3 is None and 3 * L <= top:
-            L = int(lags[k2])
-    return L
 
 
 def _textons_by_period(v, cs, ce, P, w, ci):
@@ -423,17 +374,70 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
-def _textons_of_clusters(v, clusters, fps, p, w, theta=None):
+#: A short cluster that changes pose less than this fraction as fast as the exercise it leads
+#: into is a transition even where noise shows a period in it (standing still).
+STILL_RATIO = 0.5
+
+
+def _cyclic(v, cluster, P, w):
+    # A cluster repeats when it shows a period and holds at least one whole one as a texton.
+    return P is not None and len(_textons_by_period(v, cluster[0], cluster[1], P, w, 0)) >= 1
+
+
+def _activity(v, cluster, fps):
+    # How fast the pose changes: mean frame distance over half a second within the cluster.
+    cs, ce = cluster
+    k = max(1, int(round(0.5 * fps)))
+    if ce - cs + 1 <= k:
+        return 0.0
+    d = v[cs + k: ce + 1] - v[cs: ce + 1 - k]
+    return float(np.sqrt(np.einsum("nd,nd->n", d, d)).mean())
+
+
+def _absorb_transitions(v, fps, p, w, theta, clusters):
+    # A short stretch that does not repeat between (or before, or after) exercises is the way
+    # from one to the next: standing still, or a slow change of pose. Its own novelty peaks
+    # make it a cluster; it joins the exercise it leads into (the one before it at the end of
+    # the take), so the boundary stays where the person stopped the old exercise. Standing
+    # still can show a period of noise; a stretch that moves much slower than its neighbour
+    # is a transition too.
+    periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+    cyclic = [_cyclic(v, c, P, w) for c, P in zip(clusters, periods)]
+    limit = p.max_transition * fps
+    i = 0
+    while i < len(clusters) and len(clusters) > 1:
+        cs, ce = clusters[i]
+        j = i + 1 if i + 1 < len(clusters) and cyclic[i + 1] else i - 1 if i > 0 and cyclic[i - 1] else None
+        still = j is not None and _activity(v, clusters[i], fps) < STILL_RATIO * _activity(v, clusters[j], fps)
+        if ce - cs + 1 > limit or j is None or (cyclic[i] and not still):
+            i += 1
+            continue
+        a, b = min(i, j), max(i, j)
+        merged = (clusters[a][0], clusters[b][1])
+        P = cluster_period(v, merged[0], merged[1], fps, w, p, theta)[0]
+        clusters[a: b + 1], periods[a: b + 1], cyclic[a: b + 1] = [merged], [P], [_cyclic(v, merged, P, w)]
+        i = a
+    return clusters, periods
+
+
+def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
+    # Step 2: each cluster's period (given, or from its lag profile), then whole periods as
+    # textons, each with its confidence.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
-        P = _period(v, cs, ce, fps, w, p, theta)
+        P = periods[ci] if periods is not None else cluster_period(v, cs, ce, fps, w, p, theta)[0]
         textons.extend(_textons_by_period(v, cs, ce, P, w, ci))
+    for t in textons:
+        t.confidence = texton_confidence(v, t.start, t.end, w)
     return textons
 
 
-def _parse_energy(v, fps, p, w, theta=None):
-    clusters = _energy_clusters(v, fps, p)
-    return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta)
+def _parse_energy(v, fps, p, w, theta, n, step):
+    clusters = _energy_clusters(v, fps, p, n, step)
+    periods = None
+    if p.max_transition > 0:
+        clusters, periods = _absorb_transitions(v, fps, p, w, theta, clusters)
+    return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta, periods)
 
 
 def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None = None, theta=None) -> list:
@@ -577,12 +581,16 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
     if not (fps > 0):
         raise ValueError(f"the frame rate must be positive, got {fps!r}")
     w = atom_window(fps, p.window_taps, p.window_fps)
+    curve, step = _novelty_curve(v, fps, p) if len(v) >= 2 else (np.zeros(1), 1)
     if len(v) < 2:
         clusters, textons = [(0, len(v) - 1)], []
     elif p.method == "paper":
         clusters, textons = _parse_paper(v, fps, p, w)
     else:
-        clusters, textons = _parse_energy(v, fps, p, w, theta)
+        clusters, textons = _parse_energy(v, fps, p, w, theta, curve, step)
     params = asdict(p)
     params["window_taps"] = list(p.window_taps)
-    return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params)
+    for t in textons:
+        t.confidence = texton_confidence(v, t.start, t.end, w)
+    return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params,
+                     boundary_confidences(curve, step, clusters, p.novelty_threshold))

@@ -58,8 +58,8 @@ class Timeline:
         d_A(t, t_first), Figure 4.
     clusters : list of (start, end)
     textons : list of (start, end, cluster)
-    confidence : list of float or None
-        Per texton, 0..1, where the parse gives one.
+    confidence : list of (float or None), or None
+        Per texton, 0..1, where the parse gives one (None for a texton without).
     representatives : list of (start, end)
         The texton each motion of the database plays.
     added, removed : list of int
@@ -145,7 +145,8 @@ class Timeline:
         curve_y, curve_h = rows(CURVE)
         line = max(1.0, min(2.0, unit))
         for k, (s, _, _) in enumerate(self.textons):
-            share = 1.0 if self.confidence is None else float(np.clip(self.confidence[k], 0.1, 1.0))
+            known = self.confidence is not None and self.confidence[k] is not None
+            share = float(np.clip(self.confidence[k], 0.1, 1.0)) if known else 1.0
             rects.append([self.x_of(s, box), curve_y + curve_h * (1 - share), line, curve_h * share])
             colours.append(COLOURS["texton"])
         for frames, colour in ((self.removed, "removed"), (self.boundaries, "boundary"), (self.added, "corrected")):
@@ -169,10 +170,11 @@ def timeline(sequence, structure, parse=None, nodes=()):
     boundaries = {s for s, _ in structure.clusters[1:]}
     automatic = boundaries if parse is None else {s for s, _ in parse.clusters[1:]}
     confidence = [getattr(t, "confidence", None) for t in structure.textons]
+    confidence = [None if c is None else float(c) for c in confidence]
     return Timeline(
         sequence=sequence, fps=float(structure.fps), curve=np.asarray(structure.curve, np.float64),
         clusters=[(int(s), int(e)) for s, e in structure.clusters],
         textons=[(int(t.start), int(t.end), int(t.cluster)) for t in structure.textons],
-        confidence=None if any(c is None for c in confidence) or not confidence else [float(c) for c in confidence],
+        confidence=confidence if any(c is not None for c in confidence) else None,
         representatives=[(n.start, n.end) for n in nodes if n.sequence == sequence],
         added=sorted(boundaries - automatic), removed=sorted(automatic - boundaries))

@@ -75,8 +75,9 @@ from .search import SearchIndex, best_path, motion_label, path_cost
 
 __all__ = ["LegPlan", "Timing", "TimingIndex", "plan_leg", "miss", "MAX_SECONDS"]
 
-#: The longest leg, in frames, the planner searches (about 28 hours at 10 fps).
-MAX_FRAMES = 1_000_000
+#: The longest leg, in frames, a caller may ask for or the planner searches (5.5 hours at 10
+#: fps): the programme keeps a bit set of this many bits for every state it reaches.
+MAX_FRAMES = 200_000
 #: The longest leg, hold or time a caller may ask for, in seconds (an hour).
 MAX_SECONDS = 3600.0
 
@@ -345,7 +346,7 @@ def _spread(visits, index):
         length = lengths[i]
         if not length:
             continue
-        share = left * length / max(1, sum(lengths[:i + 1])) / length
+        share = left / max(1, sum(lengths[:i + 1]))  # loops each texton left would play if even
         choices = [k for k in range(low + 1) if k * length <= left and table[i] >> (left - k * length) & 1]
         k = min(choices, key=lambda c: (abs(c - share), c))
         loops[i], left = k, left - k * length
@@ -536,8 +537,13 @@ class Timing:
                                          f"before key motion {i} at {at[i - 1]:g} s; give the times in order.")
             durations = [b - a for a, b in zip(at, at[1:])]
         durations = [None] * legs if durations is None else _seconds("durations", durations, legs, free=True)
+        fps = number("fps", fps, above=0)
         held = {node_by_key(graph, key): number(f"holds[{key!r}]", value, at_least=0, at_most=MAX_SECONDS)
                 for key, value in (holds or {}).items()}
+        for seconds in durations + list(held.values()):
+            if seconds is not None and seconds * fps > MAX_FRAMES:
+                raise ParameterError(f"{seconds:g} s is {seconds * fps:.0f} frames at {fps:g} fps; a leg or hold "
+                                     f"may last at most {MAX_FRAMES} frames ({MAX_FRAMES / fps:g} s): split it.")
         for node in held:
             if node not in keys:
                 raise ParameterError(f"holds names motion {motion_label(graph, node)}, which is not among the "
@@ -553,7 +559,7 @@ class Timing:
                 out_keys.append(keys[i + 1])
                 given = durations[i]
                 out.append(None if given is None else max(0.0, given - held.get(key, 0.0)))
-        return out_keys, cls(tuple(out), number("fps", fps, above=0), bool(strict))
+        return out_keys, cls(tuple(out), fps, bool(strict))
 
     def planned(self, leg, clock):
         """Frame (a float) at which leg ``leg``'s target should begin, from ``clock``, the one at

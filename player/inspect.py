@@ -13,9 +13,9 @@ playhead in 3D at the top, the timeline (:mod:`engine.timeline`) below.
 Keys: left/right one frame (held: repeat), up/down one second, home/end, page up/down
 the next cluster; b add a boundary, t add a texton start, d or delete removes the marker
 nearest the playhead, m moves it to the playhead, p forces the texton under the playhead as
-representative, u undoes, tab the next sequence, enter rebuilds, s saves, c screenshot, r
-resets the camera, q or escape quits. Click or drag on the timeline to scrub, drag the view
-to orbit, scroll to zoom.
+representative, x drops the motion of the cluster under it, u undoes, tab the next
+sequence, enter rebuilds, s saves, c screenshot, r resets the camera, q or escape quits.
+Click or drag on the timeline to scrub, drag the view to orbit, scroll to zoom.
 """
 
 import sys
@@ -36,7 +36,8 @@ from player.window import Window
 TIMELINE_SHARE = 0.3
 
 HELP_LINES = ["<- -> frame  up/dn 1 s  pgup/dn cluster", "b boundary  t texton  d delete  m move here",
-              "p representative  u undo  tab sequence", "enter rebuild  s save  c screenshot  q quit"]
+              "p representative  x drop motion  u undo", "tab sequence  enter rebuild  s save",
+              "c screenshot  q quit"]
 
 
 def graph_summary(graph):
@@ -147,6 +148,14 @@ class InspectorApp(CameraControls):
         return self._edit(f"texton at {self.frame} is now its cluster's representative",
                           lambda c: c.represent(self.sequence, self.frame))
 
+    def drop(self):
+        """Leave the motion of the cluster under the playhead out of the database."""
+        cluster = self.timeline.cluster_at(self.frame)
+        node = next((n for n in self.nodes if n.cluster == cluster), None)
+        if node is None:
+            return self._say("no motion to drop here")
+        return self._edit(f"motion {node.name} dropped", lambda c: c.drop(self.sequence, node.name))
+
     def undo(self):
         """Take back the last edit."""
         if not self.history:
@@ -178,7 +187,7 @@ class InspectorApp(CameraControls):
                                      theta=self.library.features(name).theta_columns, source="corrections")
                      if entry else parse)
         nodes = apply_database(build_database({name: structure}), {name: structure}, mine)
-        self.structure = structure
+        self.structure, self.nodes = structure, nodes
         self.timeline = timeline(name, structure, parse, nodes)
 
     # --- rebuild and save ------------------------------------------------------------------
@@ -233,7 +242,7 @@ class InspectorApp(CameraControls):
         """Act on a key by name; returns ``"quit"`` or ``"screenshot"`` for the window, else None."""
         moves = {"left": -1, "right": 1, "up": round(self.timeline.fps), "down": -round(self.timeline.fps)}
         actions = {"b": self.add_boundary, "t": self.add_texton, "d": self.delete_nearest,
-                   "delete": self.delete_nearest, "m": self.move_nearest, "p": self.represent,
+                   "delete": self.delete_nearest, "m": self.move_nearest, "p": self.represent, "x": self.drop,
                    "u": self.undo, "tab": self.next_sequence, "enter": self.rebuild, "s": self.save,
                    "r": self.reset_camera, "home": lambda: self.seek(0), "end": lambda: self.seek(self.frames - 1),
                    "page_up": lambda: self.next_cluster(-1), "page_down": self.next_cluster}

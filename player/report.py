@@ -8,6 +8,9 @@ What a build found, in the order of the paper:
   frames, its segments are drawn as a labelled band under the detected clusters and the
   boundary precision and recall of the clusters are printed (Figure 5's measure), computed
   by ``engine.evaluate.score``, the scorer of the tests and of ``benchmarks/accuracy.py``.
+  A sequence corrected by hand (``engine.corrections``) shows the automatic parse's clusters
+  in a strip above the corrected ones, boundaries drawn by hand as orange lines and those
+  removed by hand as dotted red ones, and its corrections under the figure.
 * **Motion database** (section 5, eq. (9)): one contact sheet of evenly spaced frames per
   node, captioned with its length, texton distance d_T (eq. (6)) and motion intensity
   (eq. (11)), as Figure 6 shows selected textons.
@@ -84,7 +87,7 @@ def _save(fig, out_png):
 
 
 def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None, fps=None,
-                         title="", size=CURVE_SIZE):
+                         title="", size=CURVE_SIZE, automatic=None):
     """Figure 4 for one sequence: d_A(t, t_first) with texton starts and cluster bands.
 
     Parameters
@@ -101,6 +104,10 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     fps : float, optional
         Named in the x-axis label.
     size : (width, height) of the PNG in pixels
+    automatic : list of (start, end), optional
+        The automatic parse's clusters where ``clusters`` were corrected by hand: drawn as a
+        strip of their own, with the boundaries added by hand marked by orange lines and
+        those removed by hand by dotted red ones.
 
     Returns
     -------
@@ -111,7 +118,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     curve = np.asarray(curve, dtype=np.float64)
     starts = sorted(int(_start_end(t)[0]) for t in textons)
     clusters = [tuple(int(v) for v in _start_end(c)) for c in clusters]
-    strips = 2 if truth_segments is not None else 1
+    strips = 1 + (truth_segments is not None) + (automatic is not None)
     fig = _figure(size)
     grid = fig.add_gridspec(1 + strips, 1, height_ratios=[6] + [1] * strips, hspace=0.08,
                             left=0.07, right=0.99, top=0.9 if title else 0.96, bottom=0.16)
@@ -122,13 +129,22 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     ax.plot(t, curve, color="#3060a0", lw=1.2, label="d_A(t, t_first)")
     ys = [curve[s] if 0 <= s < len(curve) and np.isfinite(curve[s]) else 0.0 for s in starts]
     (markers,) = ax.plot(starts, ys, "o", color="black", ms=4, label="texton start")
+    if automatic is not None:
+        now, then = {s for s, _ in clusters[1:]}, {int(_start_end(c)[0]) for c in automatic[1:]}
+        for frames, style in ((now - then, dict(color=ADDED_COLOUR_BOUNDARY, lw=1.6)),
+                              (then - now, dict(color=ADDED_COLOUR, lw=1.2, ls=":"))):
+            for b in sorted(frames):
+                ax.axvline(b - 0.5, **style)
     ax.set_xlim(-0.5, max(len(curve), 1) - 0.5)
     ax.set_ylabel("atom distance")
     ax.tick_params(labelbottom=False)
     ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
     if title:
         ax.set_title(title, fontsize=10)
-    rows = [("detected", [(s, e, f"C{k}") for k, (s, e) in enumerate(clusters)])]
+    rows = [("corrected" if automatic is not None else "detected",
+             [(s, e, f"C{k}") for k, (s, e) in enumerate(clusters)])]
+    if automatic is not None:
+        rows.insert(0, ("automatic", [(*map(int, _start_end(c)), f"C{k}") for k, c in enumerate(automatic)]))
     if truth_segments is not None:
         rows.append(("truth", [(int(g["start"]), int(g["end"]), str(g.get("label", "")))
                                for g in truth_segments]))
@@ -147,8 +163,10 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     return {"texton_starts": [int(x) for x in markers.get_xdata()], "size": list(size)}
 
 
-#: Label colour of the edges added to connect the graph.
+#: Label colour of the edges added to connect the graph (and of boundaries removed by hand).
 ADDED_COLOUR = "#c0262d"
+#: Colour of the cluster boundaries added or moved by hand.
+ADDED_COLOUR_BOUNDARY = "#e07010"
 
 
 def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_SIZE):
@@ -371,24 +389,32 @@ class _Report:
                  "<p>Atom distance d<sub>A</sub>(t, t<sub>first</sub>) from the first atom of the "
                  "current texton (Figure 4); black points mark texton starts, bands the motion "
                  "clusters.</p>"]
+        corrections = self.library.corrections().to_json()["sequences"]
         for k, seq in enumerate(self.library.sequences):
             self.say(f"report: structure of {seq.name}")
             structure = self.library.structure(seq.name)
             truth = _truth_beside(seq)
             scored = score(structure, truth, seq.fps) if truth else None
             png = f"structure-{k:02d}.png"
+            fixes = corrections.get(seq.name)
+            automatic = self.library.parse(seq.name).clusters if fixes else None
             plotted = atom_distance_figure(structure.curve, structure.textons, structure.clusters,
                                            self.folder / png,
                                            truth_segments=scored.segments if scored else None,
-                                           fps=seq.fps, title=seq.name)
+                                           fps=seq.fps, title=seq.name, automatic=automatic)
             row = {"name": seq.name, "image": png, "texton_starts": plotted["texton_starts"],
                    "clusters": [list(map(int, c)) for c in structure.clusters],
                    "textons": len(structure.textons)}
+            if fixes:
+                row.update(corrections=fixes, automatic_clusters=[list(map(int, c)) for c in automatic])
             facts = (f"{len(structure.clusters)} clusters, {len(structure.textons)} textons, "
                      f"{len(structure.curve)} frames at {seq.fps:g} fps")
             parts.append(f"<h3>{_e(seq.name)}</h3><p>{_e(facts)}</p>"
                          f"<img src='{png}' width='{CURVE_SIZE[0]}' height='{CURVE_SIZE[1]}' "
                          f"alt='atom distance of {_e(seq.name)}'>")
+            if fixes:
+                parts.append(_corrections_paragraph(fixes, automatic, structure.clusters))
+            parts.append(_confidence_paragraph(structure, row))
             if scored is not None:
                 parts.append(self._score_paragraph(seq, structure, scored, row))
             summary["sequences"].append(row)
@@ -601,6 +627,18 @@ def step_figure(row, natural, out_png, size=STEP_SIZE):
     _save(fig, out_png)
 
 
+def _corrections_paragraph(fixes, automatic, clusters):
+    """What was corrected by hand, before and after (the figure's top two strips)."""
+    def spans(ranges):
+        return " ".join(f"{s}-{e}" for s, e in ranges)
+
+    listed = _e(json.dumps(fixes, separators=(", ", ": ")))
+    return (f"<p class='corrections'>Corrected by hand (<code>corrections.json</code>: {listed}): "
+            f"clusters {_e(spans(automatic))} as parsed, {_e(spans(clusters))} as corrected. In the "
+            "figure, orange lines mark boundaries drawn by hand and dotted red ones boundaries "
+            "removed by hand.</p>")
+
+
 def _truth_beside(sequence):
     """The ``truth.json`` in the sequence's source folder, or None."""
     folder = _sequence_folder(sequence)
@@ -655,3 +693,18 @@ def _page(title, sections):
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             f"<title>tvmedit report</title><style>{_STYLE}</style></head><body>"
             f"<h1>tvmedit report</h1><p>{_e(title)}</p><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")
+
+
+def _confidence_paragraph(structure, row):
+    """How sure the parse is of each boundary and of its least sure textons (engine.confidence)."""
+    bounds = [(int(c[0]), float(v)) for c, v in zip(structure.clusters[1:], structure.boundary_confidence[1:])]
+    textons = sorted(((float(t.confidence), int(t.start), int(t.end)) for t in structure.textons))[:3]
+    row.update(boundary_confidence=[v for _, v in bounds],
+               texton_confidence=[float(t.confidence) for t in structure.textons])
+    if not bounds and not textons:
+        return ""
+    text = "Confidence (0-1, low first deserves a look): "
+    text += ("boundaries " + ", ".join(f"frame {f} {v:.2f}" for f, v in bounds)) if bounds else "no boundaries"
+    if textons:
+        text += "; least sure textons " + ", ".join(f"{a}-{b} {v:.2f}" for v, a, b in textons)
+    return f"<p class='confidence'>{_e(text)}.</p>"

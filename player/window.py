@@ -74,18 +74,20 @@ class PlayerApp(CameraControls):
     aspect : width / height of the view, for framing the camera
     log : open text file for ``--log`` (one JSON line per displayed frame), or None
     clock_zero : the time (same clock as ``now``) that log times count from
+    hold_seconds : how long a motion queued with Shift+key keeps looping once it begins
 
     Times (``now``) are seconds on one monotonic clock, passed in by the caller.
     """
 
     def __init__(self, graph, source, order, start, fps=10.0, forbidden=(), aspect=4 / 3, log=None,
-                 clock_zero=0.0, print_=None, shading="auto"):
+                 clock_zero=0.0, print_=None, shading="auto", hold_seconds=3.0):
         check_shading(source, shading)
         self.graph = graph
         self.source = source
         self.shading = shading
         self.fps = float(fps)
         self.period = 1.0 / self.fps
+        self.hold_seconds = float(hold_seconds)
         self.forbidden = tuple(forbidden)
         self.playhead = Playhead(graph, start, forbidden=self.forbidden)
         self.keys = dict(zip(motion_keys(len(order)), order))
@@ -176,11 +178,15 @@ class PlayerApp(CameraControls):
         return first + frames * self.period
 
 
-    def press(self, key, now):
+    def press(self, key, now, shift=False):
         """Act on a key by name (``"1"``, ``"a"``, ``"backspace"``, ``"space"``, ``"left"``...).
 
+        A motion key with ``shift`` queues the motion held for :attr:`hold_seconds`.
         Returns ``"quit"`` or ``"screenshot"`` for the window to carry out, else None.
         """
+        if shift and key in self.keys:
+            self.queue(self.keys[key], now, key, hold=self.hold_seconds)
+            return None
         if key in ("escape", "q"):
             return "quit"
         if key == "s":
@@ -202,18 +208,25 @@ class PlayerApp(CameraControls):
             self.queue(self.keys[key], now, key)
         return None
 
-    def queue(self, node, now, key=None):
-        """Queue ``node`` as the next key motion. The motion the queue already ends at (the one
-        playing when nothing is queued) is ignored quietly; one that the forbidden motions cut
-        off is refused with a message (a connected graph has no other)."""
+    def queue(self, node, now, key=None, hold=0.0):
+        """Queue ``node`` as the next key motion, looping ``hold`` seconds once it begins.
+
+        The motion the queue already ends at (the one playing when nothing is queued) is
+        ignored quietly, unless held: then it loops ``hold`` seconds more (from now, if it is
+        playing). One that the forbidden motions cut off is refused with a message (a
+        connected graph has no other).
+        """
+        frames = round(hold * self.fps)
         try:
-            path = self.playhead.queue(node)
+            path = self.playhead.queue(node, hold=frames)
         except NoPath as error:
             self.say(f"refused {self.label(node)}: {error}", now, echo=True)
             self._event(now, "refused", node, key=key, message=str(error))
             return False
-        if len(path) > 1:
-            self._event(now, "queued", node, key=key)
+        if frames:
+            self.say(f"{self.label(node)} held for {frames / self.fps:g} s", now)
+        if len(path) > 1 or frames:
+            self._event(now, "queued", node, key=key, **({"hold": frames / self.fps} if frames else {}))
         return True
 
     def unreachable(self):
@@ -257,6 +270,9 @@ class PlayerApp(CameraControls):
         lines.append("queue: " + (", ".join(self.label(n) for n in queue) if queue else "empty (looping)"))
         seconds = self.seconds_to_next_key(now)
         lines.append("next in " + ("-" if seconds is None else f"{seconds:.1f} s"))
+        held = self.playhead.holding()
+        if held:
+            lines[-1] += f"  (held {held * self.period:.1f} s more)"
         return lines
 
     def message_text(self, now):
@@ -271,7 +287,8 @@ class PlayerApp(CameraControls):
         hidden = len(self.order) - len(self.keys)
         if hidden > 0:
             lines.append(f"({hidden} more without a key)")
-        return lines + ["", "bksp unqueue  space pause", "arrows/drag orbit  +/- zoom",
+        return lines + ["", f"shift+key hold {self.hold_seconds:g} s", "bksp unqueue  space pause",
+                        "arrows/drag orbit  +/- zoom",
                         "r reset  s screenshot  q quit"]
 
     def legend_dimmed(self):
@@ -549,7 +566,7 @@ class Window:
             return
         if action == glfw.RELEASE or (action == glfw.REPEAT and name not in ("+", "=", "-", "kp_add", "kp_subtract")):
             return
-        command = self.app.press(name, now)
+        command = self.app.press(name, now, shift=bool(mods & glfw.MOD_SHIFT))
         if command == "quit":
             glfw.set_window_should_close(self.window, True)
         elif command == "screenshot":

@@ -115,15 +115,16 @@ def test_an_interrupted_build_leaves_no_library_or_the_previous_one(take_13_30, 
     assert _leftovers(tmp_path) == []  # what the killed build left is cleaned up by the next one
     before = _library_files(out)
 
-    # Killed while the meshes of the new library were being written.
-    result = run_signalled([*build, "--force"], at="engine.libformat:NpyStream.append", after=30,
+    # Killed while the new library was being written (its meshes are the old one's, linked:
+    # engine.meshstore).
+    result = run_signalled([*build, "--force"], at="engine.libformat:write_json", after=2,
                            signum=signal.SIGKILL, env=env)
     assert result.returncode == -signal.SIGKILL
     assert _library_files(out) == before
     assert Library.open(out).sequences[0].frames == 60
 
     # Stopped politely (SIGTERM) at the same point, the build removes its temporary folder itself.
-    result = run_signalled([*build, "--force"], at="engine.libformat:NpyStream.append", after=30,
+    result = run_signalled([*build, "--force"], at="engine.libformat:write_json", after=2,
                            signum=signal.SIGTERM, env=env)
     assert result.returncode == 128 + signal.SIGTERM and "Traceback" not in result.stderr
     assert _leftovers(tmp_path) == []

@@ -193,3 +193,15 @@ def test_every_pair_exits_0_through_the_cli_and_info_shows_added_edges(paper_lib
            {(e["from"], e["to"]) for e in paper["edges"]}
     text = tvmedit("info", small_library).stdout
     assert f"{len(added)} of them added to connect it" in text and "(added)" in text
+
+
+def test_a_library_of_two_takes_is_connected_across_them(take_13_29, take_13_30, tmp_path):
+    import engine
+
+    library = engine.build([("13_29", take_13_29), ("13_30", take_13_30)], tmp_path / "both.tvmlib", workers=2)
+    graph = library.graph
+    assert nx.is_strongly_connected(graph)
+    sequence = nx.get_node_attributes(graph, "sequence")
+    across = {(sequence[i], sequence[j]) for i, j in graph.edges if sequence[i] != sequence[j]}
+    assert across == {("13_29", "13_30"), ("13_30", "13_29")}
+    _all_pairs_reachable(library)

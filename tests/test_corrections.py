@@ -139,6 +139,21 @@ def test_a_correction_of_stored_motions_only_reads_no_frame_file_at_all(base, ta
         assert (fixed.frame_mesh((NAME, node.start))[0] == base.frame_mesh((NAME, node.start))[0]).all()
 
 
+def test_a_correction_needing_frames_that_are_gone_is_one_sentence(base, take, tmp_path, capsys):
+    auto = base.structure(NAME).clusters
+    fix = tmp_path / "c.json"
+    fix.write_text(json.dumps({"sequences": {NAME: {"boundaries": {"remove": [auto[1][0]]}}}}))
+    restore = _away(take)
+    try:
+        capsys.readouterr()
+        assert main(["correct", str(base.path), str(fix), "-o", str(tmp_path / "x")]) == 2
+    finally:
+        restore()
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("error: frame ") and "put the sequence's frame files back" in err and "\n" not in err
+    assert not (tmp_path / "x").exists()
+
+
 def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base, take, tmp_path, capsys):
     out = tmp_path / "lib.tvmlib"
     shutil.copytree(base.path, out)
@@ -207,3 +222,31 @@ def test_a_texton_shorter_than_the_atom_window_is_refused(base):
     c.add_texton(NAME, texton.start + 2)
     with pytest.raises(CorrectionError, match=r"textons.add\[0\] = .* shorter than the 5-frame atom window"):
         base.correct(c, base.path.with_name("short.tvmlib"))
+
+
+def test_the_report_marks_corrected_boundaries_and_shows_the_parse_before_and_after(base, tmp_path):
+    auto = base.structure(NAME).clusters
+    c = Corrections()
+    c.remove_boundary(NAME, auto[1][0])
+    fixed = base.correct(c, tmp_path / "fixed.tvmlib")
+    assert main(["report", str(fixed.path), "-o", str(tmp_path / "report")]) == 0
+    row = json.loads((tmp_path / "report" / "report.json").read_text())["sequences"][0]
+    assert row["corrections"] == c.to_json()["sequences"][NAME]
+    assert row["automatic_clusters"] == [list(x) for x in auto] and len(row["clusters"]) == len(auto) - 1
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert "Corrected by hand" in page and f"{auto[0][0]}-{auto[0][1]} {auto[1][0]}-{auto[1][1]}" in page
+
+
+def test_kept_corrections_that_no_longer_fit_say_how_to_drop_them(base, take, tmp_path, capsys):
+    out = tmp_path / "lib.tvmlib"
+    shutil.copytree(base.path, out)
+    frames = len(base.sequence(NAME))
+    c = Corrections()
+    c.add_boundary(NAME, frames - 20)
+    Library.open(out).correct(c)
+    shorter = f"{NAME}=" + str(take / "frame_000[0-9]?.ply")          # the first 100 frames only
+    capsys.readouterr()
+    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "no longer fit" in err and "--no-corrections" in err and err.count("\n") == 1
+    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--no-corrections"]) == 0

@@ -78,9 +78,12 @@ def test_every_action_is_a_python_call(library, tmp_path):
     app.seek(boundary + 1)
     app.press("d")                                  # the nearest marker is that boundary
     assert boundary not in app.timeline.boundaries and boundary in app.timeline.removed
+    app.seek(0)
+    app.press("x")                                  # the first motion is dropped
+    assert app.message == f"motion {library.nodes[0].name} dropped"
     summary = app.rebuild()
     assert summary == graph_summary(Library.open(library.path).graph)
-    assert summary["motions"] == len(library.nodes) - 1
+    assert summary["motions"] == len(library.nodes) - 2
     assert Library.open(library.path).corrections() == app.corrections
 
 

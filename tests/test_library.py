@@ -62,7 +62,9 @@ def _in_memory(take):
         features[sequence.name] = acc.result()
     width = max(f.r.shape[1] for f in features.values())
     vectors = {name: f.pad_r(width).vectors for name, f in features.items()}
-    structures = {s.name: parse(vectors[s.name], s.fps, StructureParams()) for s in sequences}
+    # As the builder does: with the azimuth columns, which tell a half period from a whole one.
+    structures = {s.name: parse(vectors[s.name], s.fps, StructureParams(),
+                                theta=features[s.name].pad_r(width).theta_columns) for s in sequences}
     graph = build_graph(build_database(structures), vectors)
     return sequences, features, vectors, structures, graph
 
@@ -132,8 +134,9 @@ def test_mesh_arrays_are_flat_memory_mapped_and_read_only_when_used(built):
         array = np.load(built / f"{name}.npy", mmap_mode="r")
         assert isinstance(array, np.memmap)
     frames = np.load(built / "frames.npy")
+    assert frames.shape == (len(library.stored_frames()), 4)
     blends = sum(run["count"] for run in library.blend_runs().values())
-    assert frames.shape == (len(library.stored_frames()) + blends, 4)
+    assert np.load(built / "blend_frames.npy").shape == (blends, 4)
     assert (frames[1:, 0] == frames[:-1, 0] + frames[:-1, 1]).all()
     positions = library.frame_mesh(library.stored_frames()[0])[0]
     assert isinstance(positions, np.memmap) and not positions.flags.writeable

@@ -105,6 +105,26 @@ def test_queue_follows_the_playhead_and_backspace_unqueues_the_last():
     assert log[-1]["queue"] == []
 
 
+def test_shift_key_holds_the_motion_and_the_time_to_next_counts_the_hold():
+    plain, _ = _app()
+    held, log = _app(hold_seconds=2.0)
+    for app in (plain, held):
+        app.tick(0.0)
+        app.press("2", 0.01, shift=app is held)
+        app.press("3", 0.02)
+    assert log[-2]["event"] == "queued" and log[-2]["hold"] == 2.0 and held.playhead.queue_list == [1, 2]
+    assert "held for 2 s" in held.message_text(0.03)
+    # Texton 0 plays 0 1 2 3 0 1 2, then 1 begins at 0.7 s in both; the held one stays 2 s longer.
+    shown = {app: _play(app, 0.05, 1.0) for app in (plain, held)}
+    assert shown[plain] == shown[held] and shown[held][-3][1] == 1
+    assert held.seconds_to_next_key(1.0) == pytest.approx(plain.seconds_to_next_key(1.0) + 2.0)
+    assert "(held 1.7 s more)" in held.status_lines(1.0)[-1]
+    frames = shown[held] + _play(held, 1.0, 6.0)
+    runs = _runs([{"node": n, "frame": f} for _, n, f in frames])
+    assert [node for node, _ in runs] == [0, 1, 2]
+    assert len(runs[1][1]) == 20 + 7       # the hold, then the rule: all 4 frames, to exit frame 7
+
+
 def test_an_unreachable_key_is_refused_and_the_queue_keeps_the_others():
     app, log = _app()
     app.tick(0.0)
@@ -426,3 +446,23 @@ def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdispl
     assert [row["node"] for row in rows if row.get("event") == "queued"] == order[1:]
     reached = iter(node for node, _ in _runs(_frames(rows)))
     assert all(any(node == key for node in reached) for key in order)       # in this order
+
+
+def test_shift_key_in_a_real_window_holds_the_motion(xdisplay, small_library, tmp_path):
+    from engine import Library
+
+    library = Library.open(small_library)
+    order = [node.id for node in library.nodes]
+    keys = motion_keys(len(order))
+    with _Window(xdisplay, [small_library, "--seconds", "60", "--size", "320x240", "--fps", "40",
+                            "--hold-seconds", "1.5"], tmp_path) as window:
+        window.press(f"shift+{keys[1]}", keys[2])
+        assert _wait_for(lambda rows: any(r.get("node") == order[2] and not r["queue"] for r in _frames(rows)),
+                         window.log_path, 40), "the motion queued after the held one was never reached"
+        window.quit()
+    rows = window.rows()
+    queued = [row for row in rows if row.get("event") == "queued"]
+    assert [(row["node"], row.get("hold")) for row in queued] == [(order[1], 1.5), (order[2], None)]
+    held = next(frames for node, frames in _runs(_frames(rows)) if node == order[1])
+    texton = library.node(order[1])
+    assert len(held) >= 60 + texton.end - texton.start + 1    # 1.5 s at 40 fps, then the whole texton

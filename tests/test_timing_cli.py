@@ -74,6 +74,10 @@ def test_at_is_durations_from_zero_and_a_hold_loops_the_motion(small_library):
     by_times = tvmedit("path", small_library, *keys, "--at", "0,5,12", "--json")
     assert by_durations.returncode == by_times.returncode == 0
     assert json.loads(by_durations.stdout)["schedule"] == json.loads(by_times.stdout)["schedule"]
+    # An empty item leaves its leg as short as it plays; the next leg's time counts from its end.
+    free = json.loads(tvmedit("path", small_library, *keys, "--durations", ",7", "--json").stdout)
+    assert free["key_starts"][1] == library.edit(keys).starts[1] and free["legs"][0]["asked_s"] is None
+    assert free["legs"][1]["asked_s"] == 7 and free["legs"][1]["goal_frames"] == 70
 
     # A hold of whole cycles leaves the motion where it was: the leg after it is made as before.
     motion = library.node(keys[1])
@@ -103,3 +107,19 @@ def test_bad_lengths_are_refused_at_the_door(small_library, options, says):
     keys = [node.name for node in Library.open(small_library).nodes[:3]]
     result = tvmedit("path", small_library, *keys, *options)
     assert result.returncode == 2 and says in result.stderr and "Traceback" not in result.stderr
+
+
+def test_the_shot_list_example_exports_what_it_prints(small_library, tmp_path):
+    import subprocess
+    import sys
+
+    from conftest import ROOT
+
+    result = subprocess.run([sys.executable, str(ROOT / "examples" / "shot_list.py"), str(small_library)],
+                            capture_output=True, text=True, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    starts = json.loads(result.stdout.split("begin at frames ")[1].split(";")[0])
+    record = json.loads((tmp_path / "shot_list" / "edit.json").read_text())
+    assert record["key_starts"] == starts and len(starts) == 4
+    assert starts[3] - starts[2] == 30                    # the 3 s hold of the last motion
+    assert abs(starts[2] - 140) <= 1 or "note: leg" in result.stdout

@@ -5,14 +5,23 @@ sequence, cluster boundaries and texton starts to add, remove or move, textons f
 their cluster's representative, and motions to drop. It replaces the corrections the
 library holds. Nothing is recomputed from the frames: features and the automatic parse are
 the library's own, and only the frames of a motion the library never stored are read. The
-library is replaced atomically (or written to -o OUT).
+library is replaced atomically (or written to -o OUT). For example:
+
+  {"sequences": {
+    "gym": {"boundaries": {"add": [412], "remove": [118], "move": [[240, 236]]},
+            "textons": {"add": [300], "remove": [310], "move": [[150, 152]]},
+            "representatives": [305], "drop": ["gym/06"]}
+  }}
+
+Frames are 0-based; remove and move act on the boundary or texton start nearest the frame
+given (within 0.5 s). An entry that cannot be applied is named in one sentence (exit 2).
 """
 
 import sys
 
 from . import options
 
-HELP = "apply corrections by hand (corrections.json) to a library, in about a second"
+HELP = "apply corrections by hand (corrections.json) to a library's parse, recomputing no feature"
 
 
 def add_arguments(parser):

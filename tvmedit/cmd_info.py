@@ -25,6 +25,15 @@ def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
 
 
+def _least_sure(sequence, count=3):
+    """The boundaries and textons of a sequence the parse is least sure of, lowest first."""
+    items = [(c["confidence"], f"boundary at frame {c['start']}") for c in sequence["clusters"][1:]
+             if c.get("confidence") is not None]
+    items += [(t["confidence"], f"texton {_frames(t['start'], t['end'])}") for t in sequence["textons"]
+              if t.get("confidence") is not None]
+    return ", ".join(f"{what} {value:.2f}" for value, what in sorted(items, key=lambda i: i[0])[:count])
+
+
 def _frames(start, end):
     return f"{start}-{end}"
 
@@ -79,6 +88,9 @@ def run(args):
               f"[{clusters}], {len(s['textons'])} textons{_read_as(manifest, s['name'])}")
         if s.get("corrections"):
             print(f"    corrected by hand: {_corrections(s['corrections'])}")
+        unsure = _least_sure(s)
+        if unsure:
+            print(f"    least sure (confidence 0-1): {unsure}")
     names = {n["id"]: n["name"] for n in info["nodes"]}
     width = max([len(name) for name in names.values()] + [4])
     print(f"motions ({len(info['nodes'])}):")

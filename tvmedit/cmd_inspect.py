@@ -14,6 +14,7 @@ starts as ticks (as tall as the parser's confidence where it gives one), cluster
   D, Delete        remove the boundary or texton start nearest the playhead
   M                move the boundary or texton start nearest the playhead onto it
   P                force the texton under the playhead as its cluster's representative
+  X                drop the motion of the cluster under the playhead
   U                undo                 Tab           next sequence
   Enter            rebuild the library from the corrections (about a second) and show the
                    new graph: motions, transitions, pairs of motions with a path

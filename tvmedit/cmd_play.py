@@ -8,6 +8,8 @@ forbidden ones cut off are greyed out. A library built with the default --connec
 every motion reach every other, so no other key is ever refused; a key for the motion already
 playing, or already last in the queue, is ignored.
 
+  Shift+key        queue the motion held: it loops --hold-seconds (default 3) once it
+                   begins, before the path to what is queued next ("next in" counts it)
   Backspace        remove the last queued motion
   Space            pause / resume
   arrows, drag     orbit the camera     scroll, + / -   zoom      R   reset the camera
@@ -18,8 +20,9 @@ Playback runs at the library's frame rate on its own clock; the window redraws a
 display rate in between. With --log every displayed sequence frame is written as one JSON
 line, {"t", "node", "sequence", "frame", "queue"} (t in seconds since start, node ids as in
 `tvmedit info --json`). Lines with an "event" key are not frames: "start" (first line),
-"queued", "unqueued" and "refused" (with the queue after the key press), and "stop"
-(last line, with the redraw rate); skip them to read frames only.
+"queued" (with "hold" in seconds for Shift+key), "unqueued" and "refused" (with the queue
+after the key press), and "stop" (last line, with the redraw rate); skip them to read frames
+only.
 The first motion played is the first key motion, or the first motion that is not forbidden.
 Needs a display: set DISPLAY, or run under xvfb-run; for video files use `tvmedit render`.
 """
@@ -51,6 +54,8 @@ def add_arguments(parser):
                         help="write one JSON line per displayed sequence frame")
     parser.add_argument("--seconds", type=float, default=None, help="quit by itself after this many seconds")
     parser.add_argument("--stats", action="store_true", help="print frame and redraw rates on exit")
+    parser.add_argument("--hold-seconds", type=options.hold_seconds, default=3.0, metavar="N",
+                        help="how long Shift+key holds a motion once it begins (default 3)")
     options.add_shading(parser)
 
 
@@ -93,7 +98,7 @@ def run(args):
     try:
         app = PlayerApp(graph, library, order, start, fps=fps, forbidden=forbidden,
                         aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO,
-                        shading=args.shading)
+                        shading=args.shading, hold_seconds=args.hold_seconds)
         app.write_header(_WALL_ZERO, library=str(args.library))
         for node in keys[1:]:
             app.queue(node, time.perf_counter())

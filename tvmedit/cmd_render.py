@@ -7,7 +7,10 @@ contact sheet PNG of that motion's texton (what you look at when choosing key mo
 The camera frames the person automatically; --camera AZ,EL,DIST sets azimuth and elevation
 in degrees and distance in metres (0 keeps the automatic distance), --orbit turns it
 slowly during playback. With --node, --size is the size of each tile and --orbit, --fps,
---loops and the lengths do not apply.
+--loops and the lengths do not apply. A sheet shows at most 24 tiles of 160x120, 8 a row; of
+a textured capture at most 12 tiles of 640x480, 4 a row, large enough to read print on a
+held card. A longer motion (a one-shot stretch of a real capture) is shown by frames spread
+evenly over it, each labelled with its frame number.
 
 --durations, --at and --hold set how long the legs last, as for `tvmedit path`; the video has
 exactly as many frames as that schedule (at --fps other than the library's, it plays faster
@@ -33,7 +36,8 @@ def add_arguments(parser):
                         help="cycles of the last key motion (default 1)")
     options.add_timing(parser)
     parser.add_argument("--size", type=options.size, default=None, metavar="WxH",
-                        help="frame size (default 640x480); with --node the size of each tile (default 160x120)")
+                        help="frame size (default 640x480); with --node the size of each tile "
+                             "(default 160x120; 640x480 for a textured capture)")
     parser.add_argument("--camera", type=options.camera, metavar="AZ,EL,DIST",
                         help="camera azimuth, elevation (degrees) and distance (m; 0 = automatic)")
     parser.add_argument("--orbit", type=options.finite, default=0.0, metavar="DEG_PER_S",
@@ -57,6 +61,24 @@ def camera_for(library, size, camera_arg, orbit=0.0, bounds=None):
     return dataclasses.replace(camera, distance=distance) if distance > 0 else camera
 
 
+#: A contact sheet's most tiles, tiles a row and tile size: vertex-coloured, textured.
+SHEET_PLAIN = (24, 8, (160, 120))
+SHEET_TEXTURED = (12, 4, (640, 480))
+
+
+def sheet_frames(start, end, most):
+    """Frames of ``start``-``end`` (inclusive) for a contact sheet: all of them, or ``most``
+    spread evenly from the first to the last.
+
+    >>> sheet_frames(0, 5, 24), sheet_frames(0, 149, 4)
+    ([0, 1, 2, 3, 4, 5], [0, 50, 99, 149])
+    """
+    count = end - start + 1
+    if count <= most:
+        return list(range(start, end + 1))
+    return sorted({start + round(k * (count - 1) / (most - 1)) for k in range(most)})
+
+
 def run(args):
     import numpy as np
 
@@ -71,9 +93,11 @@ def run(args):
             if not args.out.lower().endswith(".png"):
                 raise TvmError(f"a contact sheet is a PNG image: name it like sheet.png, not {args.out}.")
             node = library.node(args.node)
-            keys = [(node.sequence, f) for f in range(node.start, node.end + 1)]
-            labels = [f"{node.name} {f}" for f in range(node.start, node.end + 1)]
-            tile = args.size or (160, 120)
+            most, columns, tile = SHEET_TEXTURED if library.textured else SHEET_PLAIN
+            frames = sheet_frames(node.start, node.end, most)
+            keys = [(node.sequence, f) for f in frames]
+            labels = [f"{node.name} {f}" for f in frames]
+            tile = args.size or tile
             camera = None
             if args.camera:
                 # Framed on this motion's frames, as the automatic camera of a sheet is.
@@ -81,9 +105,10 @@ def run(args):
                 bounds = (np.min([p.min(axis=0) for p in points], axis=0),
                           np.max([p.max(axis=0) for p in points], axis=0))
                 camera = camera_for(library, tile, args.camera, bounds=bounds)
-            player.contact_sheet(library, keys, args.out, tile=tile, labels=labels, camera=camera,
+            player.contact_sheet(library, keys, args.out, columns=columns, tile=tile, labels=labels, camera=camera,
                                  grid=args.grid, shading=args.shading, force=args.force)
-            print(f"wrote the contact sheet of {node.name} ({len(keys)} frames) to {args.out}")
+            shown = "" if len(frames) == node.n_frames else f", {len(frames)} of them shown"
+            print(f"wrote the contact sheet of {node.name} ({node.n_frames} frames{shown}) to {args.out}")
             return 0
         if len(args.keys) < 2:
             raise TvmError("give two or more key motions to render an edit, or --node NAME for a contact sheet.")

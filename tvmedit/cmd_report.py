@@ -6,7 +6,9 @@ and no network):
   motion structure   per sequence, the atom distance d_A(t, t_first) with texton starts
                      and cluster bands (the paper's Figure 4); with a truth.json beside the
                      sequence's frames, its segments and the clusters' boundary precision
-                     and recall (Figure 5)
+                     and recall (Figure 5); where the parse was corrected by hand, the
+                     automatic clusters above the corrected ones, boundaries drawn by hand
+                     in orange and removed ones dotted red
   motion database    a contact sheet of every motion (Figure 6) with its length, texton
                      distance and motion intensity
   motion graph       motions with a rendered frame each, transitions labelled with their

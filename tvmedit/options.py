@@ -83,6 +83,14 @@ def _second(text, what):
     return value
 
 
+def hold_seconds(text):
+    """Seconds above 0 and at most an hour, for play --hold-seconds."""
+    value = _second(text, "the hold")
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"should be the hold in seconds above 0, not {text!r}")
+    return value
+
+
 def durations(text):
     """``"4,6.5"`` -> ``[4.0, 6.5]``, for --durations; an empty item (``"4,,6"``) leaves that leg free."""
     return [None if not item.strip() else _second(item, "each leg's length") for item in text.split(",")]
@@ -123,6 +131,8 @@ def check_timing(args):
     from engine.errors import TvmError
 
     legs = len(args.keys) - 1
+    if legs < 1:
+        return {}  # the engine says an edit needs two key motions
     for option, values, needed, unit in (("--durations", args.durations, legs, "one for each leg"),
                                          ("--at", args.at, len(args.keys), "one for each key motion")):
         if values is not None and len(values) != needed:
@@ -183,6 +193,9 @@ def as_flags(message, parser=None):
     'x is damaged; rebuild it with `tvmedit build INPUT... -o x --force`.'
     >>> as_flags("try a shorter min_cluster or a lower novelty_threshold.")
     'try a shorter --min-cluster or a lower --novelty-threshold.'
+    >>> _ = p.add_argument("--no-corrections", action="store_true")
+    >>> as_flags("build with corrections=False to drop them.", p)
+    'build with --no-corrections to drop them.'
     """
     if not message:
         return message
@@ -195,6 +208,8 @@ def as_flags(message, parser=None):
 
     def flag(match):
         name, value = match.group(1), match.group(2)
+        if value == "False" and f"no_{name}" in options:  # corrections=False is --no-corrections
+            return options[f"no_{name}"][0]
         found = options.get(name)
         if found is None:
             return match.group(0)

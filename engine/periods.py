@@ -1,0 +1,182 @@
+"""Periods of motion clusters: the lag profile's valleys, and a half period told from a whole one.
+
+A cluster's period is the lag L whose mean atom distance mean_u d_A(u, u + L) (eq. (5),
+:func:`engine.atoms.lag_profile`) dips deepest below the profile's level, taking the shortest
+lag nearly as deep (a multiple of the period is a valley too). Used by :mod:`engine.structure`.
+
+**Half periods of left-then-right exercises.** Knee raises, side bends or one-hand toe
+touches repeat at half their period only approximately: the second half is the first one's
+mirror image. Left and right poses share their r and phi histograms and differ in the
+azimuth (theta) histogram only, so the lag profile often dips as deep at L/2 as at L. Two
+tests tell them apart. The *mirror test* (:func:`mirror_ratio`) reflects the theta histogram
+of frame u + L about the best vertical plane (one of the bin-aligned reflections
+j -> c - j) and compares: when the reflected frame is much closer to frame u than the frame
+itself, L is half a cycle of a mirrored exercise and 2L is taken. It needs no separate
+threshold on theta depths and holds when the origin follows the person (where the old test,
+which compared the azimuth histogram's own valley depth at L with the whole vector's, loses
+the sideways shift of the body's centre that it relied on). The older tests remain for the
+case where they decide first (see :func:`cluster_period`).
+"""
+
+import numpy as np
+
+from .atoms import lag_profile
+
+__all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO"]
+
+#: A lag whose mirrored frames are at most this fraction as far as the frames themselves is
+#: half a cycle of a left-then-right exercise. Measured (theta histograms): 0.3-0.7 at half
+#: the period of the synthetic actor's knee raises and side bends, 0.65-0.88 for CMU toe
+#: touches, twists and knee raises, 0.79 at half a running stride; 0.9-1.25 at half the
+#: period of symmetric exercises (jumping jacks, squats, arm circles) and above 1 at whole
+#: periods.
+MIRROR_RATIO = 0.8
+
+
+def mirror_ratio(seg, lag, theta):
+    """How much closer frame u + lag comes to frame u when mirrored, over a segment.
+
+    mean_u |t_u - R t_(u+lag)| / mean_u |t_u - t_(u+lag)| on the azimuth (theta) histograms
+    t, where R reflects the histogram about one vertical plane, the same for the whole
+    segment (the one that gives the smallest mean): bin j goes to bin (c - j) mod n. The r and
+    phi histograms are left out: a pose and its mirror image share them.
+
+    Parameters
+    ----------
+    seg : (N, D) array
+        Feature vectors of the segment, N > lag.
+    lag : int
+    theta : slice
+        Columns of the azimuth histogram.
+
+    Returns
+    -------
+    float; under 1 when frame u + lag is nearer the mirror image of frame u than frame u
+    itself (about 1 for a symmetric motion, above 1 at a whole period).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> a = rng.random((1, 8)); b = a[:, [1, 0, 7, 6, 5, 4, 3, 2]]   # b: a reflected
+    >>> seg = np.vstack([a, b] * 4)
+    >>> round(mirror_ratio(seg, 1, slice(0, 8)), 6)
+    0.0
+    """
+    seg = np.asarray(seg, dtype=np.float64)[:, theta]
+    a, b = seg[:-lag], seg[lag:]
+    plain = np.sqrt(((a - b) ** 2).sum(axis=1)).mean()
+    if plain <= 0:
+        return 1.0
+    n = a.shape[1]
+    j = np.arange(n)
+    norms = (a ** 2).sum(axis=1) + (b ** 2).sum(axis=1)
+    best = min(np.sqrt(np.maximum(norms - 2 * (a * b[:, (c - j) % n]).sum(axis=1), 0)).mean() for c in range(n))
+    return float(best / plain)
+
+
+def _moving_average(v, width):
+    # Centred running mean along time, the ends padded by repeating the first/last frame.
+    half = width // 2
+    padded = np.concatenate([np.repeat(v[:1], half, axis=0), v, np.repeat(v[-1:], half, axis=0)])
+    c = np.concatenate([np.zeros((1, v.shape[1])), np.cumsum(padded, axis=0)])
+    return (c[2 * half + 1:] - c[: len(v)]) / (2 * half + 1)
+
+
+def cluster_period(v, cs, ce, fps, w, p, theta=None):
+    """Period of the cluster [cs, ce] (frames) from its lag profile, and how clear it is.
+
+    Parameters
+    ----------
+    v : (T, D) array
+        Feature vectors of the whole sequence.
+    cs, ce : int
+        The cluster's first and last frame.
+    fps : float
+    w : (2K + 1,) array
+        Atom window (eq. (5)).
+    p : engine.structure.StructureParams
+    theta : slice, optional
+        The azimuth histogram's columns (the half-period tests).
+
+    Returns
+    -------
+    period : int or None
+        None when the cluster is too short or shows no clear period.
+    depth : float
+        The chosen valley's prominence over the profile's median (0 without a period): how
+        far below its usual level the mean atom distance dips at the period.
+    """
+    length = ce - cs + 1
+    lo = max(2, int(round(p.min_texton * fps)))
+    hi = min(int(round(p.max_period * fps)), int(length * 0.8))
+    if hi <= lo + 1:
+        return None, 0.0
+    # The profile runs on to 0.8 of the cluster (past ``max_period``) so that the half-period
+    # test below can look at 2L and 3L.
+    top = max(hi, int(length * 0.8))
+    seg = v[cs: ce + 1]
+    # The subject drifts away from the fixed origin, which makes every histogram change
+    # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which
+    # otherwise makes long lags look like better periods than the true one.
+    seg = seg - _moving_average(seg, max(3, int(round(2.0 * fps)) | 1))
+    lags = np.arange(lo, top + 1)
+    prof = lag_profile(seg, lags, w)
+    # Candidate periods are interior local minima; a valley's prominence is measured against
+    # the highest profile values within +/- h lags on each side.
+    h = max(2, int(round(0.3 * fps)))
+    cand, prom = [], {}
+    for i in range(1, len(lags) - 1):
+        if prof[i] <= prof[i - 1] and prof[i] <= prof[i + 1]:
+            left = prof[max(0, i - h): i].max()
+            right = prof[i + 1: i + 1 + h].max()
+            depth = min(left, right) - prof[i]
+            if depth > 0:
+                cand.append(i)
+                prom[i] = depth
+    if not cand:
+        return None, 0.0
+    periods = [i for i in cand if lags[i] <= hi]
+    if not periods:
+        return None, 0.0
+    best = max(periods, key=lambda i: prom[i])
+    # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in the
+    # profile's level.
+    if prom[best] < p.min_periodicity * float(np.median(prof)):
+        return None, 0.0
+    # A multiple of the period is a valley too, often as deep: take the shortest lag that
+    # is nearly as prominent as the most prominent one.
+    chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
+    L = int(lags[chosen])
+    # A half period (one side then the other) can pass that test: left and right poses
+    # have the same r and phi histograms and differ in theta only. Prefer 2L when the
+    # profile is lower there and either the azimuth histogram alone has no valley at L
+    # (its relative depth under half the whole vector's) or, without that information, 3L
+    # is visible and no valley (a true period's 3L is one).
+    def valley_near(target):
+        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
+        return min(near, key=lambda i: prof[i]) if near else None
+
+    k2 = valley_near(2 * L)
+    # In a cluster that holds only one whole cycle of a left-right exercise, 2L lies at the
+    # profile's end, where a valley has no far side and is no candidate. A profile still
+    # falling into its last lag, within reach of 2L, stands for that valley.
+    last = len(lags) - 1
+    if k2 is None and abs(lags[last] - 2 * L) <= max(1.0, 0.1 * 2 * L) and prof[last] < prof[last - 1]:
+        k2 = last
+    depth = float(prom[chosen] / max(float(np.median(prof)), 1e-12))
+    if theta is not None and 2 * L < length and mirror_ratio(v[cs: ce + 1], L, theta) < MIRROR_RATIO:
+        return (int(lags[k2]) if k2 is not None else 2 * L), depth
+    if k2 is not None and prof[k2] < prof[chosen]:
+        k3 = valley_near(3 * L) if 3 * L <= top else None
+        if theta is not None and k3 is None:
+            t_prof = lag_profile(seg[:, theta], lags[[chosen]], w)[0]
+            t_med = float(np.median(lag_profile(seg[:, theta], lags[:: max(1, len(lags) // 24)], w)))
+            rel_theta = (t_med - t_prof) / t_med if t_med > 0 else 0.0
+            rel_all = (float(np.median(prof)) - prof[chosen]) / float(np.median(prof))
+            if rel_theta < 0.5 * rel_all:
+                L = int(lags[k2])
+        elif theta is None and k3 is None and 3 * L <= top:
+            L = int(lags[k2])
+    return L, depth
+
+

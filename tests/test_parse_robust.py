@@ -1,0 +1,84 @@
+"""The parser on takes it was not tuned on: a person drifting across the volume, standing still
+between exercises, a left-then-right exercise; and the confidence a user sees per boundary and
+texton (``tvmedit info``). The synthetic actor's frames are reconstructed in memory and turned
+into features the way the builder does (the origin follows a person who strays)."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from engine import synth
+from engine.evaluate import score
+from engine.features import SAMPLE_FRAMES, FeatureAccumulator, moves_across
+from engine.structure import Structure, parse
+
+
+def _take(drift=(0.0, 0.0), vertices=6000, **plan):
+    """(vectors, theta columns, truth) of a synthetic take, its actor moving by ``drift`` m/s."""
+    poses, labels, motions, periods = synth.plan(**plan)
+    fps = float(plan.get("fps", 10))
+    rng = np.random.default_rng(0)
+    frames = [synth.make_frame(pose, float(synth.voxel_size(vertices)), rng)[0] + np.array([*drift, 0.0]) * k / fps
+              for k, pose in enumerate(poses)]
+    picks = np.unique(np.linspace(0, len(frames) - 1, SAMPLE_FRAMES).round().astype(int))
+    acc = FeatureAccumulator(follow=moves_across([frames[k].mean(axis=0) for k in picks]))
+    for verts in frames:
+        acc.add(verts)
+    f = acc.result()
+    starts = [0] + [k for k in range(1, len(labels)) if labels[k] != labels[k - 1]]
+    ends = starts[1:] + [len(labels)]
+    per = {m: float(np.mean(p)) * fps for m, p in zip(motions, periods)}
+    truth = {"fps": fps, "segments": [{"start": a, "end": b - 1} for a, b in zip(starts, ends)],
+             "periods_hint": [{"period_frames": per[labels[a]]} for a in starts]}
+    return f.vectors, f.theta_columns, truth, acc.follow
+
+
+@pytest.fixture(scope="module")
+def drifting():
+    return _take(drift=(0.04, 0.0), motions=["jumping-jacks", "squats", "knee-raises"], cycles=[8, 4, 5], seed=3)
+
+
+def test_a_person_drifting_across_the_volume_is_parsed_one_cluster_per_exercise(drifting):
+    vectors, theta, truth, follows = drifting
+    assert follows, "a person 1.5 m away from the start is followed by the origin"
+    result = score(parse(vectors, truth["fps"], theta=theta), truth)
+    assert (result.precision, result.recall) == (1.0, 1.0), result.matches
+    assert result.texton_accuracy == 1.0
+
+
+def test_standing_still_between_exercises_joins_the_next_one():
+    vectors, theta, truth, _ = _take(motions=["jumping-jacks", "side-bends", "squats"], cycles=[8, 4, 4],
+                                     transition=1.0, still=2.0, seed=5)
+    s = parse(vectors, truth["fps"], theta=theta)
+    result = score(s, truth)
+    assert len(s.clusters) == 3 and (result.precision, result.recall) == (1.0, 1.0), s.clusters
+    # Side bends go left then right: a texton is the whole cycle, not one side.
+    assert result.texton_accuracy == 1.0
+
+
+def test_every_boundary_and_texton_has_a_confidence_that_survives_json(drifting):
+    vectors, theta, truth, _ = drifting
+    s = parse(vectors, truth["fps"], theta=theta)
+    assert len(s.boundary_confidence) == len(s.clusters) and s.boundary_confidence[0] == 1.0
+    assert all(0.0 < c <= 1.0 for c in s.boundary_confidence)
+    assert all(0.0 <= t.confidence <= 1.0 for t in s.textons)
+    # Clean synthetic cycles return to their first pose: most textons are sure.
+    assert np.median([t.confidence for t in s.textons]) > 0.5
+    again = Structure.from_json(json.dumps(s.to_json()))
+    assert again.boundary_confidence == s.boundary_confidence
+    assert [t.confidence for t in again.textons] == [t.confidence for t in s.textons]
+
+
+def test_info_shows_the_confidence_of_each_boundary_and_texton(small_library):
+    run = subprocess.run([sys.executable, "-m", "tvmedit", "info", str(small_library), "--json"],
+                         capture_output=True, text=True, check=True)
+    sequence = json.loads(run.stdout)["sequences"][0]
+    assert sequence["clusters"][0]["confidence"] == 1.0
+    assert all(0 <= c["confidence"] <= 1 for c in sequence["clusters"])
+    assert all(0 <= t["confidence"] <= 1 for t in sequence["textons"])
+    text = subprocess.run([sys.executable, "-m", "tvmedit", "info", str(small_library)],
+                          capture_output=True, text=True, check=True).stdout
+    assert "least sure (confidence 0-1): " in text
