@@ -117,6 +117,8 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
     assert fixed.corrections() == Corrections.load(fix)
     for node in fixed.nodes:                                                # every motion plays
         assert len(fixed.frame_mesh((NAME, node.end))[0]) > 1000
+    for key in set(fixed.stored_frames()) & stored:                         # copied frames are the same
+        assert all((a == b).all() for a, b in zip(fixed.frame_mesh(key), base.frame_mesh(key)))
 
     # The same corrections in a build from scratch give the same database and graph.
     scratch = tmp_path / "scratch.tvmlib"
