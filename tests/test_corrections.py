@@ -190,6 +190,11 @@ def test_texton_starts_representatives_and_drops(base):
     spans = [(t.start, t.end) for t in fixed.textons_of(cluster)]
     assert spans[:3] == [(first.start, second.start), (second.start + 1, third.start), (third.start + 1, third.end)]
     assert len(fixed.textons) == len(parse.textons)
+    from engine.atoms import atom_window
+    from engine.confidence import texton_confidence
+
+    edited = fixed.textons_of(cluster)[1]                 # its confidence is measured anew
+    assert edited.confidence == texton_confidence(vectors, edited.start, edited.end, atom_window(parse.fps))
     c.remove_texton(NAME, third.start + 1)          # undoing an added start leaves no entry
     assert c.of(NAME).textons["add"] == []
 
