@@ -11,6 +11,7 @@ import json
 import os
 import shutil
 
+import jsonschema
 import pytest
 
 import engine
@@ -18,6 +19,7 @@ from engine import Library
 from engine.corrections import CorrectionError, Corrections, apply_structure
 from engine.database import build_database
 from engine.graph import build_graph
+from engine.library import INFO_SCHEMA
 from engine.structure import Structure, StructureParams, texton_curve, textons_for
 from tvmedit.cli import main
 
@@ -172,7 +174,9 @@ def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base
     assert main(["info", str(out)]) == 0
     assert f"corrected by hand: boundaries -{auto[1][0]}" in capsys.readouterr().out
     assert main(["info", str(out), "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["sequences"][0]["corrections"] == c.to_json()["sequences"][NAME]
+    info = json.loads(capsys.readouterr().out)
+    jsonschema.validate(info, INFO_SCHEMA)
+    assert info["sequences"][0]["corrections"] == c.to_json()["sequences"][NAME]
     assert main(["build", f"{NAME}={take}", "-o", str(out), "--force", "--no-corrections", "-q"]) == 0
     assert Library.open(out).structure(NAME).clusters == auto and not Library.open(out).corrections()
 
