@@ -261,3 +261,45 @@ def test_kept_corrections_that_no_longer_fit_say_how_to_drop_them(base, take, tm
     err = capsys.readouterr().err
     assert "no longer fit" in err and "--no-corrections" in err and err.count("\n") == 1
     assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--no-corrections"]) == 0
+
+
+def test_any_corrections_give_a_sound_parse_or_one_sentence(small_library):
+    """Random corrections of the gym library: a parse that covers the sequence with textons
+    inside their clusters and a database inside them, or a CorrectionError naming the entry."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    from engine.corrections import apply_database, apply_structures
+
+    library = Library.open(small_library)
+    name = library.sequences[0].name
+    frames = len(library.sequence(name))
+    vectors = {name: library.features(name).vectors}
+    parses = {name: library.parse(name)}
+    frame = st.integers(-3, frames + 3)
+    pair = st.lists(frame, min_size=2, max_size=2)
+    ops = st.fixed_dictionaries({}, optional={"add": st.lists(frame, max_size=3), "remove": st.lists(frame, max_size=3),
+                                              "move": st.lists(pair, max_size=2)})
+    entry = st.fixed_dictionaries({}, optional={
+        "boundaries": ops, "textons": ops, "representatives": st.lists(frame, max_size=2),
+        "drop": st.lists(st.sampled_from([n.name for n in library.nodes] + [f"{name}/99"]), max_size=2)})
+
+    @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(entry)
+    def check(data):
+        try:
+            c = Corrections.from_json({"sequences": {name: data}}, "c.json")
+            c.check_sequences({name: frames})
+            structures = apply_structures(parses, vectors, c)
+            nodes = apply_database(build_database(structures), structures, c)
+        except CorrectionError as error:
+            assert str(error).startswith("c.json, sequence") and str(error).endswith(".") and "\n" not in str(error)
+            return
+        s = structures[name]
+        assert s.clusters[0][0] == 0 and s.clusters[-1][1] == frames - 1
+        assert all(a[1] + 1 == b[0] for a, b in zip(s.clusters, s.clusters[1:]))
+        assert all(s.clusters[t.cluster][0] <= t.start <= t.end <= s.clusters[t.cluster][1] for t in s.textons)
+        assert [n.id for n in nodes] == list(range(len(nodes)))
+        assert all(s.clusters[n.cluster][0] <= n.start <= n.end <= s.clusters[n.cluster][1] for n in nodes)
+
+    check()
