@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from .atoms import atom_distance, atom_window
+from .confidence import texton_confidence
 from .errors import InputError
 
 __all__ = ["Corrections", "SequenceCorrections", "CorrectionError", "REACH", "apply_structure",
@@ -494,7 +495,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
         if (start, end) in old and (start, end) not in changed:
             out.append(replace(old[start, end], cluster=k))
         else:
-            out.append(Texton(start, end, k, atom_distance(v, end, start, w)))
+            out.append(Texton(start, end, k, atom_distance(v, end, start, w), texton_confidence(v, start, end, w)))
     for k, frame in enumerate(entry.representatives):
         if not any(t.start <= frame <= t.end for t in out):
             raise CorrectionError(f"{where(f'representatives[{k}]')} = {frame} lies in no texton; "

@@ -140,6 +140,31 @@ class NpyStream:
         self.handle.write(memoryview(array).cast("B"))
         self.rows += len(array)
 
+    def copy_rows(self, path, start, stop):
+        """Append rows ``start:stop`` of the ``.npy`` file ``path`` (same dtype and width) byte for
+        byte, in the kernel where it can (``os.copy_file_range``), never through numpy."""
+        import os
+
+        start, stop = int(start), int(stop)
+        source = np.load(path, mmap_mode="r")
+        if source.dtype != self.dtype or source.shape[1:] != (self.width,) or not 0 <= start <= stop <= len(source):
+            raise ValueError(f"{path} does not hold rows {start}:{stop} of {self.dtype} x {self.width}")
+        size = self.dtype.itemsize * self.width
+        offset, left = source.offset + start * size, (stop - start) * size
+        self.handle.flush()
+        with open(path, "rb") as handle:
+            while left:
+                try:
+                    done = os.copy_file_range(handle.fileno(), self.handle.fileno(), left, offset)
+                except (AttributeError, OSError):
+                    handle.seek(offset)
+                    done = os.write(self.handle.fileno(), handle.read(min(left, 1 << 26)))
+                if not done:
+                    raise ValueError(f"{path} ends before row {stop}")
+                offset, left = offset + done, left - done
+        self.handle.seek(0, os.SEEK_END)
+        self.rows += stop - start
+
     def close(self):
         header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
                   "shape": (self.rows, self.width)}
@@ -212,6 +237,30 @@ class MeshWriter:
         np.minimum(self._low, positions.min(axis=0), out=self._low)
         np.maximum(self._high, positions.max(axis=0), out=self._high)
         self.frames += 1
+
+    def copy_frames(self, library, rows, keys):
+        """Append the stored frames ``rows`` (consecutive rows, untextured) of ``library`` (an
+        :class:`engine.library.Library`) as frames ``keys`` (``(sequence index, frame)``), byte for
+        byte. Their bounds are taken as the library's (its corners over all its frames)."""
+        offsets = frame_offsets(library.path, mesh_arrays(library.path))[rows[0]:rows[-1] + 1]
+        if len(offsets) != len(rows) or len(keys) != len(rows):
+            raise ValueError("copy_frames takes consecutive rows, one key each")
+        (v0, f0), (v1, f1) = offsets[0, [0, 2]].tolist(), (offsets[-1, [0, 2]] + offsets[-1, [1, 3]]).tolist()
+        for name, _, _ in MESH_ARRAYS:
+            self._arrays[name].copy_rows(Path(library.path) / f"{name}.npy", *((f0, f1) if name == "faces" else (v0, v1)))
+        if self._uvs is not None:
+            self._uvs.append(np.zeros((v1 - v0, 2), np.float32))
+        self._texture_rows += [[0, 0, 0]] * len(rows)
+        moved = offsets - np.array([v0 - self._starts[0], 0, f0 - self._starts[1], 0])
+        self._offsets.append(moved)
+        self._keys.append(np.asarray(keys, np.int64).reshape(-1, 2))
+        self._starts = [self._starts[0] + int(v1 - v0), self._starts[1] + int(f1 - f0)]
+        self.max_counts = (max(self.max_counts[0], int(offsets[:, 1].max())),
+                           max(self.max_counts[1], int(offsets[:, 3].max())))
+        low, high = library.bounds()
+        np.minimum(self._low, low, out=self._low)
+        np.maximum(self._high, high, out=self._high)
+        self.frames += len(rows)
 
     @property
     def bounds(self):

@@ -7,8 +7,9 @@ a build or a rebuild takes them from the library being replaced wherever it can:
 
 * every frame needed is stored there already, under the same sequence, and it stores at
   most :data:`SPARE_SHARE` more: its arrays are kept as they are (hard links), in no time;
-* otherwise the stored frames are copied from it and only the others are read from their
-  files (:func:`engine.load.read_frame`) on the workers, with their vertex normals.
+* otherwise the stored frames are copied from it (byte for byte, in runs of consecutive
+  frames) and only the others are read from their files (:func:`engine.load.read_frame`) on
+  the workers, with their vertex normals.
 
 ``run.read_frames`` then says how many frame files were read.
 """
@@ -86,15 +87,30 @@ def write(tmp, needed, pool, run, old=None, stored=None):
     chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
     tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
     read = iter(())
+    # Untextured stored frames are copied in runs of consecutive rows, byte for byte.
+    rows = {key: r for r, key in enumerate(old.stored_frames())} if old is not None and not old.textured else {}
+    pending = []
+
+    def flush():
+        if pending:
+            writer.copy_frames(old, [r for r, _ in pending], [k for _, k in pending])
+            pending.clear()
+
     try:
         with libformat.MeshWriter(tmp) as writer:
             results = pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)
             for seq_index, frame, _, _ in needed:
                 key = stored.get((seq_index, frame))
-                if key is not None:
+                if key in rows:
+                    if pending and pending[-1][0] != rows[key] - 1:
+                        flush()
+                    pending.append((rows[key], (seq_index, frame)))
+                elif key is not None:
+                    flush()
                     texture = old.frame_texture(key)
                     writer.add(seq_index, frame, *old.frame_mesh(key), *(texture or (None, None)))
                 else:
+                    flush()
                     mesh = next(read, None)
                     if mesh is None:
                         meshes, read_s, compute_s = _next_read(results, len(missing))
@@ -103,6 +119,7 @@ def write(tmp, needed, pool, run, old=None, stored=None):
                         mesh = next(read)
                     writer.add(seq_index, frame, *mesh)
                 bar.update()
+            flush()
     finally:
         bar.close()
     run.read_frames = len(missing)

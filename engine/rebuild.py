@@ -30,7 +30,7 @@ class _Recorded(NamedTuple):
     paths: list
 
 
-def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None, workers=None):
+def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None, workers=1):
     """Derive ``library`` again from its stored features, with corrections by hand.
 
     The automatic parse is the stored one, so nothing is parsed again; corrections
@@ -51,9 +51,10 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
         Replace an existing ``out``; default: only when ``out`` is ``library`` itself.
     log : callable, optional
         Called with one-line messages (a correction that found nothing to act on).
-    workers : int, optional
-        Processes reading the frames of new motions (default: all cores, started only when
-        there are frames to read).
+    workers : int or None
+        Processes reading the frames of new motions; default 1, this process: the few dozen
+        to few hundred frames of a correction are read no faster by worker processes on two
+        loaded cores, which also pay for sending each frame back (None: all cores).
 
     Returns
     -------

@@ -163,7 +163,9 @@ class StructureParams:
         "energy": a shorter lag is preferred when its depth is within this fraction of the
         deepest (depth: how far below the profile's median the mean atom distance falls).
     novelty_window : float
-        "energy": length of each of the two blocks compared, seconds.
+        "energy": length of each of the two blocks compared, seconds. 4 s was chosen by
+        leave-one-group-out cross-validation on the development suite
+        (``benchmarks/accuracy.py``) on three folds of four (3 s before).
     novelty_threshold : float
         "energy": smallest energy-distance peak that counts as a cluster boundary (same
         units as frame distances).
@@ -190,7 +192,7 @@ class StructureParams:
     max_period: float = _param(5.0, above=0, at_most=600)
     min_periodicity: float = _param(0.05, at_least=0, at_most=1)
     period_tolerance: float = _param(0.3, at_least=0, at_most=1)
-    novelty_window: float = _param(3.0, above=0, at_most=3600)
+    novelty_window: float = _param(4.0, above=0, at_most=3600)
     novelty_threshold: float = _param(0.05, at_least=0)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
     twin_peak: float = _param(0.9, at_least=0, at_most=1)

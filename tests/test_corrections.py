@@ -11,6 +11,7 @@ import json
 import os
 import shutil
 
+import jsonschema
 import pytest
 
 import engine
@@ -18,6 +19,7 @@ from engine import Library
 from engine.corrections import CorrectionError, Corrections, apply_structure
 from engine.database import build_database
 from engine.graph import build_graph
+from engine.library import INFO_SCHEMA
 from engine.structure import Structure, StructureParams, texton_curve, textons_for
 from tvmedit.cli import main
 
@@ -117,6 +119,8 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
     assert fixed.corrections() == Corrections.load(fix)
     for node in fixed.nodes:                                                # every motion plays
         assert len(fixed.frame_mesh((NAME, node.end))[0]) > 1000
+    for key in set(fixed.stored_frames()) & stored:                         # copied frames are the same
+        assert all((a == b).all() for a, b in zip(fixed.frame_mesh(key), base.frame_mesh(key)))
 
     # The same corrections in a build from scratch give the same database and graph.
     scratch = tmp_path / "scratch.tvmlib"
@@ -170,7 +174,9 @@ def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base
     assert main(["info", str(out)]) == 0
     assert f"corrected by hand: boundaries -{auto[1][0]}" in capsys.readouterr().out
     assert main(["info", str(out), "--json"]) == 0
-    assert json.loads(capsys.readouterr().out)["sequences"][0]["corrections"] == c.to_json()["sequences"][NAME]
+    info = json.loads(capsys.readouterr().out)
+    jsonschema.validate(info, INFO_SCHEMA)
+    assert info["sequences"][0]["corrections"] == c.to_json()["sequences"][NAME]
     assert main(["build", f"{NAME}={take}", "-o", str(out), "--force", "--no-corrections", "-q"]) == 0
     assert Library.open(out).structure(NAME).clusters == auto and not Library.open(out).corrections()
 
@@ -188,6 +194,11 @@ def test_texton_starts_representatives_and_drops(base):
     spans = [(t.start, t.end) for t in fixed.textons_of(cluster)]
     assert spans[:3] == [(first.start, second.start), (second.start + 1, third.start), (third.start + 1, third.end)]
     assert len(fixed.textons) == len(parse.textons)
+    from engine.atoms import atom_window
+    from engine.confidence import texton_confidence
+
+    edited = fixed.textons_of(cluster)[1]                 # its confidence is measured anew
+    assert edited.confidence == texton_confidence(vectors, edited.start, edited.end, atom_window(parse.fps))
     c.remove_texton(NAME, third.start + 1)          # undoing an added start leaves no entry
     assert c.of(NAME).textons["add"] == []
 
@@ -250,3 +261,45 @@ def test_kept_corrections_that_no_longer_fit_say_how_to_drop_them(base, take, tm
     err = capsys.readouterr().err
     assert "no longer fit" in err and "--no-corrections" in err and err.count("\n") == 1
     assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--no-corrections"]) == 0
+
+
+def test_any_corrections_give_a_sound_parse_or_one_sentence(small_library):
+    """Random corrections of the gym library: a parse that covers the sequence with textons
+    inside their clusters and a database inside them, or a CorrectionError naming the entry."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    from engine.corrections import apply_database, apply_structures
+
+    library = Library.open(small_library)
+    name = library.sequences[0].name
+    frames = len(library.sequence(name))
+    vectors = {name: library.features(name).vectors}
+    parses = {name: library.parse(name)}
+    frame = st.integers(-3, frames + 3)
+    pair = st.lists(frame, min_size=2, max_size=2)
+    ops = st.fixed_dictionaries({}, optional={"add": st.lists(frame, max_size=3), "remove": st.lists(frame, max_size=3),
+                                              "move": st.lists(pair, max_size=2)})
+    entry = st.fixed_dictionaries({}, optional={
+        "boundaries": ops, "textons": ops, "representatives": st.lists(frame, max_size=2),
+        "drop": st.lists(st.sampled_from([n.name for n in library.nodes] + [f"{name}/99"]), max_size=2)})
+
+    @settings(max_examples=60, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(entry)
+    def check(data):
+        try:
+            c = Corrections.from_json({"sequences": {name: data}}, "c.json")
+            c.check_sequences({name: frames})
+            structures = apply_structures(parses, vectors, c)
+            nodes = apply_database(build_database(structures), structures, c)
+        except CorrectionError as error:
+            assert str(error).startswith("c.json, sequence") and str(error).endswith(".") and "\n" not in str(error)
+            return
+        s = structures[name]
+        assert s.clusters[0][0] == 0 and s.clusters[-1][1] == frames - 1
+        assert all(a[1] + 1 == b[0] for a, b in zip(s.clusters, s.clusters[1:]))
+        assert all(s.clusters[t.cluster][0] <= t.start <= t.end <= s.clusters[t.cluster][1] for t in s.textons)
+        assert [n.id for n in nodes] == list(range(len(nodes)))
+        assert all(s.clusters[n.cluster][0] <= n.start <= n.end <= s.clusters[n.cluster][1] for n in nodes)
+
+    check()

@@ -11,6 +11,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -35,6 +36,16 @@ def _splittable(library):
     """A frame two frames after which a texton start leaves both parts longer than the atom window."""
     texton = max(library.structure(NAME).textons, key=len)
     return texton.start + len(texton) // 2 - 2
+
+
+def _wait_for_file(path, timeout=30):
+    """The JSON in ``path`` once the window has written it."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if path.exists():
+            return json.loads(path.read_text())
+        time.sleep(0.1)
+    raise AssertionError(f"{path} was not written")
 
 
 def test_the_timeline_lays_out_clusters_representatives_and_marks(library):
@@ -89,6 +100,10 @@ def test_every_action_is_a_python_call(library, tmp_path):
 
 def test_keys_in_a_real_window_edit_rebuild_save_and_show_the_person(xdisplay, library, tmp_path):  # noqa: F811
     frame = _splittable(library)
+    clusters = library.structure(NAME).clusters
+    far = next(c for c in clusters if not c[0] <= frame + 2 <= c[1] and c[1] - c[0] > 20)
+    target = (far[0] + far[1]) // 2
+    x = int((target + 0.5) / len(library.sequence(NAME)) * 800)
     fix = tmp_path / "corrections.json"
     env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
     command = [sys.executable, "-m", "tvmedit", "inspect", str(library.path), "--corrections", str(fix),
@@ -99,16 +114,23 @@ def test_keys_in_a_real_window_edit_rebuild_save_and_show_the_person(xdisplay, l
         window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit inspect"], env=env,
                                 capture_output=True, text=True, timeout=30).stdout.split()[0]
         subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
-        for key in ("Right", "Right", "t", "Return", "s", "c", "q"):
+        for key in ("Right", "Right", "t", "Return", "s", "c"):
+            subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10, capture_output=True)
+        saved = _wait_for_file(fix)
+        # A click on the timeline puts the playhead under the mouse: B then draws a boundary there.
+        subprocess.run(["xdotool", "mousemove", "--window", window, str(x), "500", "click", "1"], env=env, timeout=10)
+        for key in ("b", "s", "q"):
             subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10, capture_output=True)
         out, err = window_app.communicate(timeout=60)
     finally:
         window_app.kill()
     assert window_app.returncode == 0, err
-    assert json.loads(fix.read_text()) == {"sequences": {NAME: {"textons": {"add": [frame + 2]}}}}, err
+    assert saved == {"sequences": {NAME: {"textons": {"add": [frame + 2]}}}}, err
     rebuilt = Library.open(library.path)
-    assert frame + 2 in rebuilt.structure(NAME).texton_starts and rebuilt.corrections().to_json() == json.loads(fix.read_text())
+    assert frame + 2 in rebuilt.structure(NAME).texton_starts and rebuilt.corrections().to_json() == saved
     assert "rebuilt" in err and "reachable pairs" in err
+    clicked = json.loads(fix.read_text())["sequences"][NAME]["boundaries"]["add"]
+    assert len(clicked) == 1 and abs(clicked[0] - target) <= 1, (clicked, target)
 
     import imageio.v3 as iio
 
