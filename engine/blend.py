@@ -340,12 +340,25 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
 
 # --- every transition of a library being built ------------------------------------------
 
+def _stored(folder, rows):
+    """``(positions, colours, faces)`` of the stored texton frames ``rows`` of the library
+    being written in ``folder`` (its meshes are written, the rest perhaps not yet)."""
+    from .libformat import frame_offsets, mesh_arrays
+
+    arrays = mesh_arrays(folder)
+    offsets = frame_offsets(folder, arrays)
+    meshes = []
+    for row in rows:
+        v0, nv, f0, nf = offsets[row].tolist()
+        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["colours"][v0:v0 + nv]),
+                       np.asarray(arrays["faces"][f0:f0 + nf])))
+    return meshes
+
+
 def _steps_task(task):
     """Steps inside one texton of the library being written: ``(folder, rows)`` -> list of float."""
-    from .libformat import stored_frame
-
     folder, rows = task
-    return texton_steps([np.asarray(stored_frame(folder, row)[0]) for row in rows])
+    return texton_steps([mesh[0] for mesh in _stored(folder, rows)])
 
 
 def _blend_task(task):
@@ -353,12 +366,9 @@ def _blend_task(task):
     ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
     import time
 
-    from .libformat import stored_frame
-
     folder, exit_row, entry_row, natural, count = task
     started = time.process_time()
-    ends = [tuple(np.asarray(a) for a in stored_frame(folder, row)[:3]) for row in (exit_row, entry_row)]
-    run = blend(*ends, natural, count)
+    run = blend(*_stored(folder, (exit_row, entry_row)), natural, count)
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 

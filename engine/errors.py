@@ -81,3 +81,32 @@ class OutputError(TvmError):
 
 class ParameterError(TvmError, ValueError):
     """A parameter given by the caller is not a finite number in its range (or not a choice)."""
+
+
+# --- what to say about a library that cannot be opened ------------------------------------
+
+def build_call(inputs, out, force=False):
+    """How to (re)build a library, said in Python; the command line says it as a command.
+
+    >>> build_call(None, "lib", force=True)
+    "build(inputs, 'lib', force=True)"
+    """
+    sources = "inputs" if inputs is None else repr([str(i) for i in inputs])
+    return f"build({sources}, {str(out)!r}{', force=True' if force else ''})"
+
+
+def not_a_library(path):
+    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
+    from .load import MESH_SUFFIXES
+
+    try:
+        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
+    except OSError:
+        frames = False
+    if frames:
+        plain = path if path.name not in ("", ".", "..") else path.resolve()
+        target = plain.with_name(f"{plain.name}.tvmlib")
+        return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
+                f"build a library from it with {build_call([path], target)}.")
+    return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
+            f"or build one with {build_call(None, path)}.")

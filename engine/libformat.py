@@ -30,16 +30,11 @@ A library is a directory written by :func:`engine.build` and opened by
     (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
 ``frame_keys.npy``
     (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
-``blend_positions.npy``, ``blend_colours.npy``, ``blend_normals.npy``, ``blend_faces.npy``, ``blend_frames.npy``
-    the in-between frames of the transitions (:mod:`engine.blend`), laid out as the texton
-    frames are, run after run; ``blend_uvs.npy`` and ``blend_texture_frames.npy`` where they
-    are textured (rows into ``textures.npy``: the texture of the frame each was warped from).
-``blends.json``
-    ``natural_step`` (metres), the ``blend_frames`` option (null: as many as needed), the
-    sequences' ``feature_keys``, and per graph edge ``{"from", "to", "first", "count", "jump",
-    "steps", "exit", "entry"}``: its first row in ``blend_frames.npy``, how many frames, the
-    Chamfer distance of the cut and of every step of the run (metres), and the exit and entry
-    frames as ``[sequence, frame]``.
+``blend_*.npy``, ``blends.json``
+    the in-between frames (:mod:`engine.blend`) as the frames above (no keys; texture rows into
+    ``textures.npy``), run after run; per graph edge ``{"from", "to", "first", "count", "jump",
+    "steps", "exit", "entry"}`` (first row, Chamfer of the cut and of each step in metres, exit
+    and entry ``[sequence, frame]``), ``natural_step``, ``blend_frames``, ``feature_keys``.
 ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     only where some stored frame is textured: (V, 2) float32 texture coordinates beside
     ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
@@ -66,7 +61,7 @@ from pathlib import Path
 import numpy as np
 
 from . import atomic
-from .errors import LibraryError
+from .errors import LibraryError, build_call, not_a_library
 
 __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
@@ -182,9 +177,7 @@ class MeshWriter:
     """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
 
     ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
-    With ``prefix="blend_"`` it writes the in-between frames' arrays instead (no frame keys:
-    ``blends.json`` says which run each row belongs to), whose textures are those of the
-    texton frames they were warped from.
+    With ``prefix="blend_"`` it writes the in-between frames' arrays (no frame keys).
     """
 
     def __init__(self, folder, prefix=""):
@@ -205,9 +198,8 @@ class MeshWriter:
     def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None,
             texture_row=None):
         """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
-        coordinates (N, 2) and texture image (H, W, 3) uint8 when it is textured; or, with
-        ``texture_row`` (first texel, height, width in ``textures.npy``), coordinates into a
-        texture stored already."""
+        coordinates (N, 2) and texture image (H, W, 3) uint8 (or ``texture_row``, one stored
+        already) when it is textured."""
         for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
                             ("faces", faces)):
             self._arrays[name].append(array)
@@ -218,13 +210,11 @@ class MeshWriter:
                 for start in range(0, v0, 1 << 20):
                     self._uvs.append(np.zeros((min(1 << 20, v0 - start), 2), np.float32))
             self._uvs.append(uv)
-            if texture_row is not None:
-                self._texture_rows.append([int(x) for x in texture_row])
-            else:
-                if self._texels is None:
-                    self._texels = NpyStream(self._folder / "textures.npy", np.uint8, 3)
-                self._texture_rows.append([self._texels.rows, texture.shape[0], texture.shape[1]])
+            if texture_row is None:
+                self._texels = self._texels or NpyStream(self._folder / "textures.npy", np.uint8, 3)
+                texture_row = [self._texels.rows, texture.shape[0], texture.shape[1]]
                 self._texels.append(np.asarray(texture).reshape(-1, 3))
+            self._texture_rows.append([int(x) for x in texture_row])
         else:
             if self._uvs is not None:
                 self._uvs.append(np.zeros((len(positions), 2), np.float32))
@@ -396,35 +386,8 @@ def write_manifest(folder, data):
 
 # --- reading ------------------------------------------------------------------------------
 
-def build_call(inputs, out, force=False):
-    """How to (re)build a library, said in Python; the command line says it as a command.
-
-    >>> build_call(None, "lib", force=True)
-    "build(inputs, 'lib', force=True)"
-    """
-    sources = "inputs" if inputs is None else repr([str(i) for i in inputs])
-    return f"build({sources}, {str(out)!r}{', force=True' if force else ''})"
-
-
 def _rebuild_hint(path):
     return f"rebuild it with {build_call(None, path, force=True)}"
-
-
-def _not_a_library(path):
-    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
-    from .load import MESH_SUFFIXES
-
-    try:
-        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
-    except OSError:
-        frames = False
-    if frames:
-        plain = path if path.name not in ("", ".", "..") else path.resolve()
-        target = plain.with_name(f"{plain.name}.tvmlib")
-        return (f"{path} is a sequence folder (frame files, no manifest.json), not a library; "
-                f"build a library from it with {build_call([path], target)}.")
-    return (f"{path} is not a tvmedit library (it has no manifest.json); give a library folder, "
-            f"or build one with {build_call(None, path)}.")
 
 
 #: Every file a library may hold besides the marker.
@@ -461,7 +424,7 @@ def read_manifest(path):
             raise LibraryError(f"no library at {path}, but an interrupted build left the previous "
                                f"one at {leftovers[0]}; rename it back to {path.name}.")
         if path.is_dir():
-            raise LibraryError(_not_a_library(path))
+            raise LibraryError(not_a_library(path))
         raise LibraryError(f"no library at {path}; build one with {build_call(None, path)}.")
     try:
         data = json.loads(manifest_path.read_text())
@@ -536,21 +499,6 @@ def frame_offsets(path, arrays, prefix=""):
     return offsets
 
 
-def frame_slices(arrays, offsets, row):
-    """``(positions, colours, faces, normals)`` of stored frame ``row``: views of ``arrays``
-    (:func:`mesh_arrays`) through ``offsets`` (:func:`frame_offsets`)."""
-    v0, nv, f0, nf = (int(x) for x in offsets[row])
-    return (arrays["positions"][v0:v0 + nv], arrays["colours"][v0:v0 + nv], arrays["faces"][f0:f0 + nf],
-            arrays["normals"][v0:v0 + nv])
-
-
-def stored_frame(path, row):
-    """Stored frame ``row`` of the library folder ``path`` (its meshes written, the rest
-    perhaps not yet): ``(positions, colours, faces, normals)``, memory-mapped."""
-    arrays = mesh_arrays(path)
-    return frame_slices(arrays, frame_offsets(path, arrays), row)
-
-
 def frame_keys(path, frames, sequences):
     """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
     keys = np.asarray(load_array(path, "frame_keys.npy"))
@@ -584,9 +532,7 @@ def read_graph(path):
 
 def read_blends(path, frames):
     """``(natural_step, {(from, to): (first row, count)}, data)`` from ``blends.json``, checked
-    against the ``frames`` rows of ``blend_frames.npy``; no runs when the file is absent."""
-    if not (Path(path) / "blends.json").exists():
-        return 0.0, {}, {"natural_step": 0.0, "blend_frames": None, "edges": []}
+    against the ``frames`` rows of ``blend_frames.npy``."""
     data = read_json(path, "blends.json")
     try:
         runs = {(int(e["from"]), int(e["to"])): (int(e["first"]), int(e["count"])) for e in data["edges"]}

@@ -227,7 +227,7 @@ def as_flags(message, parser=None):
 
 
 def _build_command(match):
-    """``build(['a'], 'lib', force=True)`` (see ``engine.libformat.build_call``) as a command."""
+    """``build(['a'], 'lib', force=True)`` (see ``engine.errors.build_call``) as a command."""
     sources = "INPUT..." if match.group(1) == "inputs" else " ".join(re.findall(r"'(.*?)'", match.group(1)))
     force = " --force" if match.group(3) else ""
     return f"`tvmedit build {sources} -o {match.group(2)}{force}`"
