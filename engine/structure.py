@@ -166,12 +166,12 @@ class StructureParams:
     analysis_fps : float
         "energy": rate to which the sequence is reduced for cluster detection.
     max_transition : float
-        "energy": a cluster that does not repeat (fewer than two textons) and lasts at most
-        this long, seconds, is a transition and joins the exercise it leads into; 0 keeps it.
+        "energy": a cluster of at most this many seconds that shows no period (not one whole
+        texton), or changes pose at under half the pace of its neighbour (standing still), is
+        a transition and joins the exercise it leads into; 0 keeps it.
     onset_reach : float
         "energy": a boundary moves back by up to this many seconds from its novelty peak to
-        where the motion left the previous exercise (:func:`engine.onsets.onset`); 0 keeps
-        the peak.
+        where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
     """
 
     method: str = "energy"
@@ -214,17 +214,21 @@ class StructureParams:
 
 @dataclass
 class Texton:
-    """One motion texton: inclusive frame range, its cluster's index, d_T of eq. (6), and how
-    sure the parse is of it (:func:`engine.confidence.texton_confidence`, 0-1)."""
+    """One motion texton: inclusive frame range, cluster index, d_T of eq. (6) and confidence
+    (:func:`engine.confidence.texton_confidence`; None: drawn by hand, or an older library)."""
 
     start: int
     end: int
     cluster: int
     distance: float
-    confidence: float = 1.0
+    confidence: float | None = None
 
     def __len__(self) -> int:
         return self.end - self.start + 1
+
+
+def _number(value):
+    return None if value is None else float(value)
 
 
 @dataclass
@@ -271,7 +275,7 @@ class Structure:
             "params": dict(self.params),
             "clusters": [[int(s), int(e)] for s, e in self.clusters],
             "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
-                         "distance": float(t.distance), "confidence": float(t.confidence)} for t in self.textons],
+                         "distance": float(t.distance), "confidence": _number(t.confidence)} for t in self.textons],
             "curve": [float(x) for x in self.curve],
             "boundary_confidence": [float(c) for c in self.boundary_confidence],
         }
@@ -287,7 +291,7 @@ class Structure:
         return cls(
             clusters=[(int(s), int(e)) for s, e in data["clusters"]],
             textons=[Texton(int(t["start"]), int(t["end"]), int(t["cluster"]), float(t["distance"]),
-                            float(t.get("confidence", 1.0))) for t in data["textons"]],
+                            _number(t.get("confidence"))) for t in data["textons"]],
             curve=np.asarray(data["curve"], dtype=np.float64),
             fps=float(data.get("fps", PAPER_FPS)),
             params=params,
@@ -315,8 +319,7 @@ def _energy_clusters(vectors, fps, p: StructureParams, n, step):
     # with poses of the old one (standing before the first squat) the peak splits in two
     # and the later top is the higher; an earlier local maximum within ``sep`` and at least
     # ``twin_peak`` as high is taken instead.
-    # Near the ends one block is short and its statistic unreliable; a first or last
-    # cluster may still be a little shorter than ``min_cluster``.
+    # Near the ends a block is short and unreliable; an end cluster may be a little shorter.
     edge = max(2, int(round(0.75 * sep)))
     is_peak = np.zeros(len(n), dtype=bool)
     is_peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
@@ -391,8 +394,7 @@ def _activity(v, cluster, fps):
 
 def _absorb_transitions(v, fps, p, w, theta, clusters):
     # Step 3 (module docstring): a short stretch that does not repeat, or moves much slower
-    # than its neighbour (standing still can show a period of noise), joins the exercise it
-    # leads into, so the boundary stays where the person stopped the old exercise.
+    # than its neighbour (standing still can show a period of noise), joins the next exercise.
     periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
     cyclic = [_cyclic(v, c, P, w) for c, P in zip(clusters, periods)]
     limit = p.max_transition * fps
@@ -413,8 +415,7 @@ def _absorb_transitions(v, fps, p, w, theta, clusters):
 
 
 def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
-    # Step 2: each cluster's period (given, or from its lag profile), then whole periods as
-    # textons, each with its confidence.
+    # Step 2: each cluster's period (given, or from its lag profile), then its textons.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
         P = periods[ci] if periods is not None else cluster_period(v, cs, ce, fps, w, p, theta)[0]
@@ -591,6 +592,7 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
     params = asdict(p)
     params["window_taps"] = list(p.window_taps)
     for t in textons:
-        t.confidence = texton_confidence(v, t.start, t.end, w)
+        if t.confidence is None:
+            t.confidence = texton_confidence(v, t.start, t.end, w)
     return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params,
                      boundary_confidences(curve, step, clusters, p.novelty_threshold))
