@@ -11,6 +11,7 @@ same way: the per-frame cost should stay about the same.
 """
 
 import argparse
+import os
 import subprocess
 import sys
 import time
@@ -23,7 +24,7 @@ from engine.features import BinSizes, FeatureAccumulator  # noqa: E402
 from engine.load import frame_paths, iter_frames  # noqa: E402
 from engine.structure import parse  # noqa: E402
 
-SHARED = ROOT.parent / "shared"
+SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
 FPS = 60
 
 

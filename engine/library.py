@@ -538,7 +538,9 @@ class Library:
                 "clusters": [{"start": int(a), "end": int(b), "confidence": c}
                              for (a, b), c in zip(s.clusters, sure)],
                 "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
-                             "distance": float(t.distance), "confidence": float(t.confidence)} for t in s.textons],
+                             "distance": float(t.distance),
+                             "confidence": None if t.confidence is None else float(t.confidence)}
+                            for t in s.textons],
                 **fixes,
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,

@@ -36,41 +36,28 @@ Two methods are provided.
        whole cycles of the same poses) and peaks where the pose distribution changes.
        Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
        are boundaries (of two close peaks of nearly equal height, the earlier one).
-    2. **Textons by period.** In each cluster the period P is the lag with the deepest
-       mean atom distance mean_u d_A(u, u + L) (self-similarity), taking the shortest lag
-       whose depth is within ``period_tolerance`` of the deepest, unless doubling it is
-       nearly as deep (an exercise done left then right, or down then up, repeats at
-       half its period only approximately). :mod:`engine.periods` holds this step and its
-       two half-period tests: the *mirror test* (fixes textons of half the period for
-       left-then-right exercises, measured on the development suite: knee raises and side
-       bends of the synthetic actor, CMU toe touches and twists) takes 2L when frame u + L
-       is much nearer the mirror image of frame u than frame u itself; otherwise, with
-       the theta columns given, 2L is taken when the azimuth histogram alone shows no
-       valley at L (in a cluster holding a single cycle, 2L is the profile's last lag,
-       which stands for the valley when the profile falls into it).
-       Textons then start at the most repeatable atom of the first period (the smallest
-       d_A(u, u + P)) and each next one at the minimum of d_A(t, t_first) within
+    2. **Textons by period** (:mod:`engine.periods`). In each cluster the period P is the
+       lag with the deepest mean atom distance mean_u d_A(u, u + L), the shortest lag
+       nearly as deep, unless 2L is the true period of a left-then-right exercise: the
+       *mirror test* (frame u + L nearer the mirror image of frame u than frame u itself;
+       fixes half-period textons of knee raises, side bends, toe touches, twists) or the
+       azimuth histogram's own valley depth decides. Textons start at the most repeatable
+       atom of the first period and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
-    3. **Transitions join the exercise they lead into.** Standing still between two
-       exercises, or a slow change of pose, is a stretch whose pose distribution differs
-       from both neighbours, so novelty peaks on both of its sides and it became a
-       cluster of its own, a boundary where the person starts the new exercise besides the
-       true one where they left the old (failure: precision 0.50 on the suite's synthetic
-       take with 2 s of standing still, 0.60 on the one wandering across the volume). A
-       cluster that shows no period and lasts at most ``max_transition`` seconds joins the
-       next cluster that repeats (the one before it at the end of the take), so the
-       boundary stays where the old exercise stopped, as the truth of every take in the
-       suite counts it.
+    3. **Transitions join the exercise they lead into.** Standing still or a slow change of
+       pose between two exercises made a cluster of its own (precision 0.50 on the suite's
+       take with 2 s of standing still). A cluster of at most ``max_transition`` seconds
+       that shows no period, or changes pose at under half the pace of its neighbour, joins
+       the next cluster that repeats (the previous one at the end of the take).
+    4. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
+       of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
+       suite's takes with 3 s transitions); each boundary moves back, by up to
+       ``onset_reach`` seconds, to where the motion left the old exercise's poses.
 
-The features themselves (:mod:`engine.features`) place each frame's origin at the first
-frame's centroid, as the paper does, unless the person strays more than half a metre from
-it (:func:`engine.features.moves_across`), when the origin follows the person: about a fixed
-origin, an exercise done while drifting across the volume split into a cluster every
-2-3 s (precision 0.20 on the suite's drifting takes).
-
-Each boundary and texton gets a confidence (:mod:`engine.confidence`): the novelty at the
-boundary against ``novelty_threshold``, and how closely a texton's motion returns to its
-first pose.
+The features' origin (:mod:`engine.features`) is the first frame's centroid, as in the
+paper, unless the person strays over half a metre from it, when it follows the person (about
+a fixed origin an exercise done while drifting split every 2-3 s: precision 0.20 on the
+suite's drifting takes). Each boundary and texton gets a confidence (:mod:`engine.confidence`).
 
 Within K frames of either end of the sequence, the atom window is cut at the end and the
 remaining weights are rescaled to the full window's total, so an atom distance keeps its
@@ -97,6 +84,7 @@ from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, ato
                     atom_window, block_means, lag_profile, novelty)
 from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
+from .onsets import onset
 from .periods import cluster_period
 from .params import MAX_FPS, number
 
@@ -178,8 +166,12 @@ class StructureParams:
     analysis_fps : float
         "energy": rate to which the sequence is reduced for cluster detection.
     max_transition : float
-        "energy": a cluster that does not repeat (fewer than two textons) and lasts at most
-        this long, seconds, is a transition and joins the exercise it leads into; 0 keeps it.
+        "energy": a cluster of at most this many seconds that shows no period (not one whole
+        texton), or changes pose at under half the pace of its neighbour (standing still), is
+        a transition and joins the exercise it leads into; 0 keeps it.
+    onset_reach : float
+        "energy": a boundary moves back by up to this many seconds from its novelty peak to
+        where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
     """
 
     method: str = "energy"
@@ -198,6 +190,7 @@ class StructureParams:
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
     max_transition: float = _param(4.0, at_least=0, at_most=3600)
+    onset_reach: float = _param(2.0, at_least=0, at_most=60)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):
@@ -221,17 +214,21 @@ class StructureParams:
 
 @dataclass
 class Texton:
-    """One motion texton: inclusive frame range, its cluster's index, d_T of eq. (6), and how
-    sure the parse is of it (:func:`engine.confidence.texton_confidence`, 0-1)."""
+    """One motion texton: inclusive frame range, cluster index, d_T of eq. (6) and confidence
+    (:func:`engine.confidence.texton_confidence`; None: drawn by hand, or an older library)."""
 
     start: int
     end: int
     cluster: int
     distance: float
-    confidence: float = 1.0
+    confidence: float | None = None
 
     def __len__(self) -> int:
         return self.end - self.start + 1
+
+
+def _number(value):
+    return None if value is None else float(value)
 
 
 @dataclass
@@ -278,7 +275,7 @@ class Structure:
             "params": dict(self.params),
             "clusters": [[int(s), int(e)] for s, e in self.clusters],
             "textons": [{"start": int(t.start), "end": int(t.end), "cluster": int(t.cluster),
-                         "distance": float(t.distance), "confidence": float(t.confidence)} for t in self.textons],
+                         "distance": float(t.distance), "confidence": _number(t.confidence)} for t in self.textons],
             "curve": [float(x) for x in self.curve],
             "boundary_confidence": [float(c) for c in self.boundary_confidence],
         }
@@ -294,7 +291,7 @@ class Structure:
         return cls(
             clusters=[(int(s), int(e)) for s, e in data["clusters"]],
             textons=[Texton(int(t["start"]), int(t["end"]), int(t["cluster"]), float(t["distance"]),
-                            float(t.get("confidence", 1.0))) for t in data["textons"]],
+                            _number(t.get("confidence"))) for t in data["textons"]],
             curve=np.asarray(data["curve"], dtype=np.float64),
             fps=float(data.get("fps", PAPER_FPS)),
             params=params,
@@ -322,8 +319,7 @@ def _energy_clusters(vectors, fps, p: StructureParams, n, step):
     # with poses of the old one (standing before the first squat) the peak splits in two
     # and the later top is the higher; an earlier local maximum within ``sep`` and at least
     # ``twin_peak`` as high is taken instead.
-    # Near the ends one block is short and its statistic unreliable; a first or last
-    # cluster may still be a little shorter than ``min_cluster``.
+    # Near the ends a block is short and unreliable; an end cluster may be a little shorter.
     edge = max(2, int(round(0.75 * sep)))
     is_peak = np.zeros(len(n), dtype=bool)
     is_peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
@@ -397,12 +393,8 @@ def _activity(v, cluster, fps):
 
 
 def _absorb_transitions(v, fps, p, w, theta, clusters):
-    # A short stretch that does not repeat between (or before, or after) exercises is the way
-    # from one to the next: standing still, or a slow change of pose. Its own novelty peaks
-    # make it a cluster; it joins the exercise it leads into (the one before it at the end of
-    # the take), so the boundary stays where the person stopped the old exercise. Standing
-    # still can show a period of noise; a stretch that moves much slower than its neighbour
-    # is a transition too.
+    # Step 3 (module docstring): a short stretch that does not repeat, or moves much slower
+    # than its neighbour (standing still can show a period of noise), joins the next exercise.
     periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
     cyclic = [_cyclic(v, c, P, w) for c, P in zip(clusters, periods)]
     limit = p.max_transition * fps
@@ -423,8 +415,7 @@ def _absorb_transitions(v, fps, p, w, theta, clusters):
 
 
 def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
-    # Step 2: each cluster's period (given, or from its lag profile), then whole periods as
-    # textons, each with its confidence.
+    # Step 2: each cluster's period (given, or from its lag profile), then its textons.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
         P = periods[ci] if periods is not None else cluster_period(v, cs, ce, fps, w, p, theta)[0]
@@ -439,6 +430,14 @@ def _parse_energy(v, fps, p, w, theta, n, step):
     periods = None
     if p.max_transition > 0:
         clusters, periods = _absorb_transitions(v, fps, p, w, theta, clusters)
+    if p.onset_reach > 0:
+        # Step 4: each boundary moves back from its novelty peak to where the motion left the
+        # old exercise (engine.onsets), never onto the old cluster's first frame.
+        starts = [0] + [max(onset(v, clusters[i - 1][0], cs, fps, reach=p.onset_reach), clusters[i - 1][0] + 1)
+                        for i, (cs, _) in enumerate(clusters) if i]
+        if starts != [cs for cs, _ in clusters]:
+            clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
+            periods = None
     return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta, periods)
 
 
@@ -593,6 +592,7 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
     params = asdict(p)
     params["window_taps"] = list(p.window_taps)
     for t in textons:
-        t.confidence = texton_confidence(v, t.start, t.end, w)
+        if t.confidence is None:
+            t.confidence = texton_confidence(v, t.start, t.end, w)
     return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params,
                      boundary_confidences(curve, step, clusters, p.novelty_threshold))

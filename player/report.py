@@ -698,9 +698,10 @@ def _page(title, sections):
 def _confidence_paragraph(structure, row):
     """How sure the parse is of each boundary and of its least sure textons (engine.confidence)."""
     bounds = [(int(c[0]), float(v)) for c, v in zip(structure.clusters[1:], structure.boundary_confidence[1:])]
-    textons = sorted(((float(t.confidence), int(t.start), int(t.end)) for t in structure.textons))[:3]
+    known = [t for t in structure.textons if t.confidence is not None]
+    textons = sorted((float(t.confidence), int(t.start), int(t.end)) for t in known)[:3]
     row.update(boundary_confidence=[v for _, v in bounds],
-               texton_confidence=[float(t.confidence) for t in structure.textons])
+               texton_confidence=[None if t.confidence is None else float(t.confidence) for t in structure.textons])
     if not bounds and not textons:
         return ""
     text = "Confidence (0-1, low first deserves a look): "

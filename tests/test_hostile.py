@@ -113,6 +113,7 @@ BUILD = [("--fps", NUMBERS), ("--bin-r", NUMBERS), ("--bin-theta", NUMBERS), ("-
          ("--analysis-fps", NUMBERS), ("--min-cluster", NUMBERS), ("--novelty-window", NUMBERS),
          ("--min-texton", NUMBERS), ("--window-fps", NUMBERS), ("--period-tolerance", NUMBERS),
          ("--max-period", NUMBERS), ("--twin-peak", NUMBERS), ("--beta", NUMBERS),
+         ("--max-transition", NUMBERS), ("--onset-reach", NUMBERS),
          ("--method", ["paper", "energy", "x", ""]), ("--window-taps", ["1", "nan", "-1", "0"])]
 
 
