@@ -29,13 +29,13 @@ the other surface and the arms jumped at the cut; with the normalised sum, 1%. T
 follow the nodes, each by a Gaussian-weighted average over its nearest six.
 
 Measured (``benchmarks/blend_quality.py``; pop ratio = largest step across a transition
-window / natural step): the cut's pop ratio on CMU 13_29 is median 1.92, max 2.51 over 15
-transitions, on 13_30 median 3.12, max 4.56 (9), on the synthetic gym max 3.09 (16);
-blended, at most 1.00, 0.97 and 0.93. In-between frames keep their area within 3% of the
+window / natural step): the cut's pop ratio on CMU 13_29 is median 1.77, max 2.49 over 15
+transitions, on 13_30 median 3.30, max 4.50 (10), on the synthetic gym max 3.09 (16);
+blended, at most 0.95, 0.99 and 0.96. In-between frames keep their area within 3% of the
 interpolated area of their ends, and lie 0.33-0.53 of the cut from the nearer end. One
-transition of 17,000-vertex frames costs 0.55-0.75 s on one core (two fields of 0.25 s,
-then the warps and the steps measured), nearly flat in vertices (the node and pull counts
-are fixed) and in in-between frames (a warp is a multiply-add).
+transition of 17,000-vertex frames costs 0.55 s on one core (0.61 s at most): the two fields
+0.44 s, nearly flat in vertices (0.41 s at a quarter of them: the node and pull counts are
+fixed) and in in-between frames (0.51 s for one, 0.55 s for eight: a warp is a multiply-add).
 
 The alternative, implicit-surface interpolation (signed distance fields on a voxel grid,
 blended, surfaces re-extracted by marching cubes), was rejected: at 1 cm around a person
