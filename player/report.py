@@ -614,10 +614,12 @@ def _window_steps(source, window, run):
 def step_figure(row, natural, out_png, size=STEP_SIZE):
     """The step curve of one transition: Chamfer per displayed frame, blended and cut, in mm."""
     fig = _figure(size)
-    ax = fig.add_axes([0.13, 0.2, 0.84, 0.7])
+    ax = fig.add_axes([0.13, 0.24, 0.84, 0.68])
     blended = np.array(row["blended_steps"]) * 1000
-    ax.plot(np.arange(1, len(blended) + 1), blended, "o-", color="#1f77b4", label="blended")
-    ax.plot([1, 2, 3], np.array(row["cut_steps"]) * 1000, "s--", color="#d62728", label="cut")
+    n = len(blended)
+    ax.plot(np.arange(1, n + 1), blended, "o-", color="#1f77b4", label="blended")
+    # The cut is one step where the blended run takes n - 2: drawn across the same span.
+    ax.plot([1, (n + 1) / 2, n], np.array(row["cut_steps"]) * 1000, "s--", color="#d62728", label="cut")
     if natural:
         ax.axhline(natural * 1000, color="black", linestyle=":", label="natural step")
     ax.set_xlabel("displayed step across the transition")
