@@ -446,6 +446,14 @@ def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdispl
     assert [row["node"] for row in rows if row.get("event") == "queued"] == order[1:]
     reached = iter(node for node, _ in _runs(_frames(rows)))
     assert all(any(node == key for node in reached) for key in order)       # in this order
+    # In-between frames (engine.blend) are logged as such, between the two motions of their edge.
+    frames = _frames(rows)
+    plain = [k for k, row in enumerate(frames) if "blend" not in row]
+    for k, row in enumerate(frames):
+        if "blend" in row:
+            before = max(i for i in plain if i < k)
+            after = min(i for i in plain if i > k)
+            assert row["blend"][0] == [frames[before]["node"], frames[after]["node"]], row
 
 
 def test_shift_key_in_a_real_window_holds_the_motion(xdisplay, small_library, tmp_path):
