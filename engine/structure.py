@@ -44,15 +44,19 @@ Two methods are provided.
        azimuth histogram's own valley depth decides. Textons start at the most repeatable
        atom of the first period and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
-    3. **Transitions join the exercise they lead into.** Standing still or a slow change of
-       pose between two exercises made a cluster of its own (precision 0.50 on the suite's
-       take with 2 s of standing still). A cluster of at most ``max_transition`` seconds
-       that shows no period, or changes pose at under half the pace of its neighbour, joins
-       the next cluster that repeats (the previous one at the end of the take).
+    3. **Transitions join the exercise they lead into** (:mod:`engine.transitions`).
+       Standing still or a slow change of pose between two exercises made a cluster of its
+       own (precision 0.50 on the suite's take with 2 s of standing still). A cluster of at
+       most ``max_transition`` seconds that shows no period, or changes pose at under half
+       the pace of its neighbour, joins the next cluster that repeats.
     4. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
        of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
        suite's takes with 3 s transitions); each boundary moves back, by up to
        ``onset_reach`` seconds, to where the motion left the old exercise's poses.
+    5. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
+       exercise of one-off movements (putting something on the floor) makes novelty
+       fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
+       clusters of at most one texton each is dropped.
 
 The features' origin (:mod:`engine.features`) is the first frame's centroid, as in the
 paper, unless the person strays over half a metre from it, when it follows the person (about
@@ -86,6 +90,7 @@ from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
 from .onsets import onset
 from .periods import cluster_period
+from .transitions import absorb_transitions, merge_weak
 from .params import MAX_FPS, number
 
 __all__ = [
@@ -172,6 +177,9 @@ class StructureParams:
     onset_reach : float
         "energy": a boundary moves back by up to this many seconds from its novelty peak to
         where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
+    weak_boundary : float
+        "energy": a boundary whose confidence (engine.confidence) is under this, between two
+        clusters of at most one texton each, is dropped; 0 keeps every boundary.
     """
 
     method: str = "energy"
@@ -191,6 +199,7 @@ class StructureParams:
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
     max_transition: float = _param(4.0, at_least=0, at_most=3600)
     onset_reach: float = _param(2.0, at_least=0, at_most=60)
+    weak_boundary: float = _param(0.25, at_least=0, at_most=1)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):
@@ -372,48 +381,6 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
-#: A short cluster that changes pose less than this fraction as fast as the exercise it leads
-#: into is a transition even where noise shows a period in it (standing still).
-STILL_RATIO = 0.5
-
-
-def _cyclic(v, cluster, P, w):
-    # A cluster repeats when it shows a period and holds at least one whole one as a texton.
-    return P is not None and len(_textons_by_period(v, cluster[0], cluster[1], P, w, 0)) >= 1
-
-
-def _activity(v, cluster, fps):
-    # How fast the pose changes: mean frame distance over half a second within the cluster.
-    cs, ce = cluster
-    k = max(1, int(round(0.5 * fps)))
-    if ce - cs + 1 <= k:
-        return 0.0
-    d = v[cs + k: ce + 1] - v[cs: ce + 1 - k]
-    return float(np.sqrt(np.einsum("nd,nd->n", d, d)).mean())
-
-
-def _absorb_transitions(v, fps, p, w, theta, clusters):
-    # Step 3 (module docstring): a short stretch that does not repeat, or moves much slower
-    # than its neighbour (standing still can show a period of noise), joins the next exercise.
-    periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
-    cyclic = [_cyclic(v, c, P, w) for c, P in zip(clusters, periods)]
-    limit = p.max_transition * fps
-    i = 0
-    while i < len(clusters) and len(clusters) > 1:
-        cs, ce = clusters[i]
-        j = i + 1 if i + 1 < len(clusters) and cyclic[i + 1] else i - 1 if i > 0 and cyclic[i - 1] else None
-        still = j is not None and _activity(v, clusters[i], fps) < STILL_RATIO * _activity(v, clusters[j], fps)
-        if ce - cs + 1 > limit or j is None or (cyclic[i] and not still):
-            i += 1
-            continue
-        a, b = min(i, j), max(i, j)
-        merged = (clusters[a][0], clusters[b][1])
-        P = cluster_period(v, merged[0], merged[1], fps, w, p, theta)[0]
-        clusters[a: b + 1], periods[a: b + 1], cyclic[a: b + 1] = [merged], [P], [_cyclic(v, merged, P, w)]
-        i = a
-    return clusters, periods
-
-
 def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
     # Step 2: each cluster's period (given, or from its lag profile), then its textons.
     textons = []
@@ -428,8 +395,9 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
 def _parse_energy(v, fps, p, w, theta, n, step):
     clusters = _energy_clusters(v, fps, p, n, step)
     periods = None
+    count = lambda cs, ce, P: len(_textons_by_period(v, cs, ce, P, w, 0))  # noqa: E731
     if p.max_transition > 0:
-        clusters, periods = _absorb_transitions(v, fps, p, w, theta, clusters)
+        clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count)
     if p.onset_reach > 0:
         # Step 4: each boundary moves back from its novelty peak to where the motion left the
         # old exercise (engine.onsets), never onto the old cluster's first frame.
@@ -438,6 +406,9 @@ def _parse_energy(v, fps, p, w, theta, n, step):
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
+    if p.weak_boundary > 0:
+        clusters, periods = merge_weak(v, fps, p, w, theta, clusters, count,
+                                       boundary_confidences(n, step, clusters, p.novelty_threshold), periods)
     return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta, periods)
 
 

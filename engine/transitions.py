@@ -1,0 +1,99 @@
+"""Clusters that are no exercise of their own: transitions joined to an exercise, weak splits undone.
+
+Steps 3 and 5 of the ``energy`` parser (:mod:`engine.structure`), on the clusters the novelty
+peaks give:
+
+* **Transitions join the exercise they lead into** (:func:`absorb_transitions`). Standing
+  still or a slow change of pose between two exercises is a stretch whose pose distribution
+  differs from both neighbours, so novelty peaks on both of its sides and it became a cluster
+  of its own (precision 0.50 on the development suite's take with 2 s of standing still). A
+  cluster of at most ``max_transition`` seconds that shows no period, or changes pose at
+  under :data:`STILL_RATIO` of the pace of its neighbour (standing still can show a period of
+  noise), joins the next cluster that repeats (the previous one at the end of the take).
+* **A weak boundary between two stretches that do not repeat is dropped**
+  (:func:`merge_weak`). Between cyclic exercises novelty compares whole cycles, and a small
+  peak still marks a change. An exercise whose repetitions are one-off movements (putting
+  something on the floor, reaching up: the HDM05 takes) makes novelty fluctuate from one
+  repetition to the next and split the exercise in two or three; on the suite every
+  boundary between two clusters of at most one texton with a confidence under 0.25 was
+  wrong (5 of 5), and none of the right ones was that weak.
+
+``count(cs, ce, P)`` is the number of whole textons of period P in cluster [cs, ce] (the
+parser's texton step), passed in by :mod:`engine.structure`.
+"""
+
+import numpy as np
+
+from .periods import cluster_period
+
+__all__ = ["STILL_RATIO", "absorb_transitions", "merge_weak", "activity"]
+
+#: A short cluster that changes pose less than this fraction as fast as the exercise it leads
+#: into is a transition even where noise shows a period in it (standing still).
+STILL_RATIO = 0.5
+
+
+def activity(v, cluster, fps):
+    """How fast the pose changes in ``cluster``: mean frame distance over half a second.
+
+    >>> activity(np.arange(10.0)[:, None], (0, 9), 2)
+    1.0
+    """
+    cs, ce = cluster
+    k = max(1, int(round(0.5 * fps)))
+    if ce - cs + 1 <= k:
+        return 0.0
+    d = v[cs + k: ce + 1] - v[cs: ce + 1 - k]
+    return float(np.sqrt(np.einsum("nd,nd->n", d, d)).mean())
+
+
+def _join(v, fps, p, w, theta, clusters, periods, a, b):
+    # Clusters a..b become one; its period is found again.
+    merged = (clusters[a][0], clusters[b][1])
+    clusters[a: b + 1] = [merged]
+    periods[a: b + 1] = [cluster_period(v, merged[0], merged[1], fps, w, p, theta)[0]]
+
+
+def absorb_transitions(v, fps, p, w, theta, clusters, count):
+    """Clusters with transitions joined (see the module docstring), and each one's period.
+
+    Returns
+    -------
+    clusters : list of (start, end)
+    periods : list of int or None
+    """
+    clusters = list(clusters)
+    periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+    cyclic = lambda k: periods[k] is not None and count(*clusters[k], periods[k]) >= 1  # noqa: E731
+    limit = p.max_transition * fps
+    i = 0
+    while i < len(clusters) and len(clusters) > 1:
+        cs, ce = clusters[i]
+        j = i + 1 if i + 1 < len(clusters) and cyclic(i + 1) else i - 1 if i > 0 and cyclic(i - 1) else None
+        still = j is not None and activity(v, clusters[i], fps) < STILL_RATIO * activity(v, clusters[j], fps)
+        if ce - cs + 1 > limit or j is None or (cyclic(i) and not still):
+            i += 1
+            continue
+        _join(v, fps, p, w, theta, clusters, periods, min(i, j), max(i, j))
+        i = min(i, j)
+    return clusters, periods
+
+
+def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None):
+    """Clusters with weak boundaries between non-repeating stretches dropped, and their periods.
+
+    ``confidence`` holds each cluster's boundary confidence (:mod:`engine.confidence`); a
+    boundary under ``p.weak_boundary`` between two clusters of at most one texton each goes.
+    """
+    clusters, confidence = list(clusters), list(confidence)
+    periods = list(periods) if periods is not None else [
+        cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+    few = lambda k: periods[k] is None or count(*clusters[k], periods[k]) <= 1  # noqa: E731
+    i = 1
+    while i < len(clusters):
+        if confidence[i] < p.weak_boundary and few(i - 1) and few(i):
+            _join(v, fps, p, w, theta, clusters, periods, i - 1, i)
+            del confidence[i]
+            continue
+        i += 1
+    return clusters, periods
