@@ -109,12 +109,17 @@ def run(args):
     added = f", {connect['added']} of them added to connect it" if connect["added"] else ""
     print(f"graph: {len(info['edges'])} edges after pruning at mu={params['mu']:g}{added} "
           f"(connect {connect['mode']}: {connect['reason']})")
+    natural = info.get("natural_step") or 0.0
     for e in info["edges"]:
+        cut = f"  cut {e['jump'] / natural:.2f} natural steps" if natural and "jump" in e else ""
+        blend = f", {e['blend_frames']} in-between" if e.get("blend_frames") else ""
         print(f"  {names[e['from']]:<{width}} -> {names[e['to']]:<{width}}  weight {e['weight']:.3f}  "
-              f"exit {e['exit_frame']}  entry {e['entry_frame']}{'  (added)' if e['added'] else ''}")
+              f"exit {e['exit_frame']}  entry {e['entry_frame']}{cut}{blend}{'  (added)' if e['added'] else ''}")
     (low, high), (v, f) = library.bounds(), library.max_counts()
     size = sum(manifest["files"].values()) / 1e6
-    print(f"stored: {manifest['counts']['stored_frames']} frames ({size:.0f} MB), up to {v} vertices "
+    print(f"stored: {manifest['counts']['stored_frames']} frames and "
+          f"{manifest['counts'].get('blend_frames', 0)} in-between frames ({size:.0f} MB; natural step "
+          f"{natural * 1000:.1f} mm), up to {v} vertices "
           f"and {f} triangles a frame, bounds {tuple(round(x, 2) for x in low)} to "
           f"{tuple(round(x, 2) for x in high)}")
     return 0
