@@ -100,6 +100,17 @@ def _engine_hash():
     return digest.hexdigest()[:10]
 
 
+def built_library(name, take, **options):
+    """A library of ``take`` (as sequence ``name``) built with ``engine.build`` options into the
+    test cache, keyed by the take, the options and the engine's code. Tests must not modify it."""
+    import engine
+
+    out = CACHE / f"library-{name}-{take.name}-{_key(options)}-{_engine_hash()}"
+    if not (out / "manifest.json").exists():
+        engine.build([(name, take)], out, workers=2, force=True, **options)
+    return out
+
+
 @pytest.fixture(scope="session")
 def small_library():
     """A library of the synthetic actor: the gym preset at three cycles a motion, 4,000 vertices.
