@@ -9,7 +9,7 @@ from .errors import InputError, LibraryError, NoPath, TvmError, UnknownMotion
 __all__ = ["Corrections", "InputError", "Library", "LibraryError", "NoPath", "TvmError", "UnknownMotion", "build"]
 
 # Loaded on first use, so ``import engine`` stays light (no networkx, no trimesh).
-_LAZY = {"Library": ("library", "Library"), "build": ("builder", "build"),
+_LAZY = {"Library": ("library", "Library"), "build": ("library", "build"),
          "Corrections": ("corrections", "Corrections")}
 
 

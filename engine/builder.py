@@ -355,22 +355,22 @@ def check_target(out, force, sequences):
     atomic.check_target(out, "library", force, inputs=sorted(inputs), legacy=libformat.legacy_foreign)
 
 
-def _open_old(out):
+def _open_old(out, open_library):
     """The library being replaced, to reuse its features; None if it cannot be read."""
-    if not (out / "manifest.json").exists():
+    if open_library is None or not (out / "manifest.json").exists():
         return None
-    from .library import Library
-
     try:
-        return Library.open(out)
+        return open_library(out)
     except TvmError:
         return None
 
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None, connect="auto", corrections=None, blend_frames=None):
-    """Build a library from TVM sequences and return it opened.
+          units=None, mirror=None, connect="auto", corrections=None, blend_frames=None,
+          open_library=None):
+    """Write a library from TVM sequences and return its report (``engine.build``, that is
+    :func:`engine.library.build`, returns it opened).
 
     Parameters
     ----------
@@ -417,10 +417,14 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         ``engine.blend.MAX_FRAMES``; None (default): as many as keep every step at or below
         the natural step; 0 keeps the paper's cut.
 
+    open_library : callable or None
+        Opens the library being replaced (``Library.open``), to reuse its features,
+        corrections and meshes; None: nothing is reused from it.
+
     Returns
     -------
-    Library
-        With ``report``: a dict of counts, reused sequences and timings.
+    dict
+        The report: counts, reused sequences and timings (:func:`report_of`).
     """
     from .corrections import Corrections
 
@@ -432,7 +436,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
     check_target(out, force, sequences)
-    old = _open_old(out)
+    old = _open_old(out, open_library)
     corrections = given if given is not None else _kept_corrections(old, sequences, run)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp:
@@ -443,7 +447,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
             if given is None and corrections:
                 _check_kept(corrections, sequences, computed)
             derived = derive(tmp, old, sequences, computed, settings, corrections, pool=pool, run=run)
-    return opened(out, derived)
+    return report_of(derived)
 
 
 #: What :func:`derive` made, for :func:`opened` to report.
@@ -483,15 +487,10 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 
 
-def opened(out, derived):
-    """The library :func:`derive` wrote, once in place at ``out``, opened, with ``report``:
-    counts, reuse and timings."""
-    from .library import Library
-
+def report_of(derived):
+    """What :func:`derive` did: counts, reuse and timings (``Library.report``)."""
     run, sequences, computed, padded, analysis, meshes, pool = derived
-
-    library = Library.open(out)
-    library.report = {
+    return {
         "sequences": len(sequences),
         "frames": sum(len(f) for f in padded),
         "clusters": sum(len(s.clusters) for s in analysis.structures.values()),
@@ -511,7 +510,6 @@ def opened(out, derived):
         "compute_seconds": run.timing["compute"],
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
-    return library
 
 
 def _kept_corrections(old, sequences, run):

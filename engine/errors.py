@@ -95,14 +95,9 @@ def build_call(inputs, out, force=False):
     return f"build({sources}, {str(out)!r}{', force=True' if force else ''})"
 
 
-def not_a_library(path):
-    """The sentence for a folder without a manifest: a sequence folder is told how to build one."""
-    from .load import MESH_SUFFIXES
-
-    try:
-        frames = any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in path.iterdir())
-    except OSError:
-        frames = False
+def not_a_library(path, frames=False):
+    """The sentence for a folder without a manifest: a sequence folder (``frames``: it holds
+    frame files, :func:`engine.load.holds_frames`) is told how to build one."""
     if frames:
         plain = path if path.name not in ("", ".", "..") else path.resolve()
         target = plain.with_name(f"{plain.name}.tvmlib")

@@ -424,7 +424,9 @@ def read_manifest(path):
             raise LibraryError(f"no library at {path}, but an interrupted build left the previous "
                                f"one at {leftovers[0]}; rename it back to {path.name}.")
         if path.is_dir():
-            raise LibraryError(not_a_library(path))
+            from .load import holds_frames  # only here: opening a library reads no mesh code
+
+            raise LibraryError(not_a_library(path, holds_frames(path)))
         raise LibraryError(f"no library at {path}; build one with {build_call(None, path)}.")
     try:
         data = json.loads(manifest_path.read_text())

@@ -41,6 +41,14 @@ DEFAULT_FPS = 10.0
 MAX_COORDINATE = 1e6
 
 
+def holds_frames(folder):
+    """Whether ``folder`` holds frame files of a format tvmedit reads (a sequence folder)."""
+    try:
+        return any(p.is_file() and p.suffix.lower() in MESH_SUFFIXES for p in Path(folder).iterdir())
+    except OSError:
+        return False
+
+
 class SkippedFramesWarning(UserWarning):
     """Bad frames were skipped (``skip_bad_frames=True``); the message lists them."""
 

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from . import atomic
-from .builder import check_target, derive, library_features, opened
+from .builder import check_target, derive, library_features, report_of
 from .features import BinSizes
 from .parallel import Workers
 from .settings import Settings
@@ -58,8 +58,9 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
 
     Returns
     -------
-    engine.library.Library
-        Opened, with ``report`` as :func:`engine.build` gives it; ``read_frames`` counts the
+    dict
+        The report, as :func:`engine.builder.build` gives it (``Library.correct`` returns the
+        library opened, with it as ``report``); ``read_frames`` counts the
         frame files read.
     """
     from .corrections import Corrections
@@ -87,4 +88,4 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(workers) as pool:
         derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
                          parses=parses)
-    return opened(out, derived)
+    return report_of(derived)

@@ -136,7 +136,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.builder import build
+    from engine.library import build
     from engine.features import BinSizes
 
     def say(message):
