@@ -91,7 +91,8 @@ def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
         Prebuilt trees of ``a`` and ``b``.
     stride : int
         Average over every ``stride``-th point only (each still measured against every point
-        of the other set): 4 is 3.5 times faster and moves the mean by well under 1%.
+        of the other set): 4 is 3.5 times faster and moved the mean by 0.9% at most over ten
+        consecutive pairs of CMU 13_29.
 
     Returns
     -------
