@@ -40,8 +40,8 @@ Two methods are provided.
        lag with the deepest mean atom distance mean_u d_A(u, u + L), the shortest lag
        nearly as deep, unless 2L is the true period of a left-then-right exercise: the
        *mirror test* (frame u + L nearer the mirror image of frame u than frame u itself;
-       fixes half-period textons of knee raises, side bends, toe touches, twists) or the
-       azimuth histogram's own valley depth decides. Textons start at the most repeatable
+       fixes half-period textons of knee raises, side bends, toe touches, twists) decides.
+       Textons start at the most repeatable
        atom of the first period and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
     3. **Transitions join the exercise they lead into** (:mod:`engine.transitions`).
@@ -154,7 +154,8 @@ class StructureParams:
         least this fraction of the profile's median deep (still sequences have none).
     period_tolerance : float
         "energy": a shorter lag is preferred when its depth is within this fraction of the
-        deepest (depth: how far below the profile's median the mean atom distance falls).
+        deepest (depth: how far below the profile's median the mean atom distance falls);
+        0.5 chosen by cross-validation on the development suite (0.3 before).
     novelty_window : float
         "energy": length of each of the two blocks compared, seconds. 4 s was chosen by
         leave-one-group-out cross-validation on the development suite
@@ -191,7 +192,7 @@ class StructureParams:
     min_texton: float = _param(0.4, above=0, at_most=600)
     max_period: float = _param(5.0, above=0, at_most=600)
     min_periodicity: float = _param(0.05, at_least=0, at_most=1)
-    period_tolerance: float = _param(0.3, at_least=0, at_most=1)
+    period_tolerance: float = _param(0.5, at_least=0, at_most=1)
     novelty_window: float = _param(4.0, above=0, at_most=3600)
     novelty_threshold: float = _param(0.05, at_least=0)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
