@@ -150,7 +150,6 @@ def test_a_blend_count_out_of_range_is_one_sentence(take_13_30, tmp_path, capsys
     assert not (tmp_path / "x.tvmlib").exists()
 
 
-
 def test_a_correction_copies_the_runs_it_keeps_though_the_natural_step_moved(libraries, tmp_path):
     # Dropping a motion moves the natural step (the median over the textons left); a run
     # that blend() would make again the same (same frames, same count) is copied, so a
