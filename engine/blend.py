@@ -417,7 +417,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
     -------
     dict
         ``data``: what ``blends.json`` holds; ``frames``: the in-between frames stored;
-        ``seconds``: CPU seconds the runs took in all; ``bounds`` and ``max_counts`` of them.
+        ``seconds``: CPU seconds the runs took in all; ``made``: the runs made (not copied); ``bounds`` and ``max_counts`` of them.
     """
     from .libformat import MeshWriter, frame_keys, frame_offsets, mesh_arrays
 
@@ -429,8 +429,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
     reuse = _old_runs(old, keys, natural, count)
     edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
              for u, v, d in sorted(graph.edges(data=True))]
-    made = pool.map(_blend_task, ((str(folder), rows[a], rows[b], natural, count)
-                                  for _, _, a, b in edges if (a, b) not in reuse))
+    fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
+    made = pool.map(_blend_task, ((str(folder), rows[a], rows[b], natural, count) for a, b in fresh))
     progress = bar(len(edges), "blends", unit="transition") if bar is not None else None
     records, seconds = [], 0.0
     try:
@@ -452,8 +452,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
         if progress is not None:
             progress.close()
     data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records}
-    return {"data": data, "frames": writer.frames, "seconds": seconds, "bounds": writer.bounds,
-            "max_counts": writer.max_counts}
+    return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(fresh),
+            "bounds": writer.bounds, "max_counts": writer.max_counts}
 
 
 def _textures(folder, vertices, frames):
@@ -467,18 +467,34 @@ def _textures(folder, vertices, frames):
 
 def _old_runs(old, keys, natural, count):
     """``{(exit, entry): (first row, count, jump, steps)}`` of the runs ``old`` holds that a new
-    build would make the same: same frame files, natural step and count option."""
+    build would make the same: same frame files and count option, and a run :func:`blend`
+    gives again at this natural step (:func:`_same_run`; a correction that changes the
+    motions changes the natural step a little, and should not make every run again)."""
     from .errors import TvmError
 
     try:
         data = old.blend_data() if old is not None else {}
     except TvmError:  # a damaged library being replaced lends nothing
         return {}
-    if not data or data.get("natural_step") != natural or data.get("blend_frames") != count:
+    if not data or data.get("blend_frames") != count:
         return {}
     same = {name for name, key in data.get("feature_keys", {}).items() if keys.get(name) == key}
     return {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
-            for e in data["edges"] if e["exit"][0] in same and e["entry"][0] in same}
+            for e in data["edges"] if e["exit"][0] in same and e["entry"][0] in same
+            and (count is not None or _same_run(e, data["natural_step"], natural))}
+
+
+def _same_run(run, was, natural):
+    """Whether :func:`blend` at ``natural`` returns the stored ``run`` (a ``blends.json`` edge,
+    made at natural step ``was`` with no count given): its fields and warps depend on the two
+    frames alone, so it does when its first guess of the count is this run's and the run's
+    steps already stay within ``natural``, or when it was and stays a plain cut."""
+    if natural == was:
+        return True
+    if run["count"] == 0:
+        return run["jump"] <= natural
+    return (run["jump"] > natural and max(frame_count(run["jump"], natural), 1) == run["count"]
+            and max(run["steps"]) <= natural)
 
 
 def _copied(old, run):

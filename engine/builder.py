@@ -500,6 +500,7 @@ def report_of(derived):
         "stored_frames": meshes.frames,
         "blend_frames": run.blends["frames"],
         "blend_seconds": run.blends["seconds"],
+        "blend_made": run.blends["made"],
         "read_frames": run.read_frames,
         "corrected": sorted(name for name, c in analysis.corrections.sequences.items() if c),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)

@@ -86,7 +86,7 @@ class Connection:
 
     def reason(self, mode="auto"):
         if mode == "off":
-            return "connection is off: the graph is the paper's, pruned by eq. (14) alone"
+            return "the graph is the paper's, pruned by eq. (14) alone"
         if not self.added:
             return "the pruned graph already leads from every motion to every other"
         return (f"the pruned graph fell into {self.components} parts; {len(self.added)} edge"

@@ -148,3 +148,17 @@ def test_a_blend_count_out_of_range_is_one_sentence(take_13_30, tmp_path, capsys
     err = capsys.readouterr().err
     assert "--blend-frames 9 is out of range" in err and "at most 8" in err
     assert not (tmp_path / "x.tvmlib").exists()
+
+
+def test_a_correction_copies_the_runs_it_keeps_though_the_natural_step_moved(libraries, tmp_path):
+    # Dropping a motion moves the natural step (the median over the textons left); a run
+    # that blend() would make again the same (same frames, same count) is copied, so a
+    # correction does not redo every transition.
+    library = libraries["gym"]
+    corrected = library.correct({"sequences": {"gym": {"drop": [library.nodes[-1].name]}}},
+                                tmp_path / "corrected.tvmlib")
+    assert corrected.natural_step != library.natural_step
+    old = {(tuple(r["exit"]), tuple(r["entry"])): r["count"] for r in library.blend_data()["edges"]}
+    new = corrected.blend_data()["edges"]
+    changed = [r for r in new if old.get((tuple(r["exit"]), tuple(r["entry"]))) != r["count"]]
+    assert corrected.report["blend_made"] == len(changed) < len(new)
