@@ -15,6 +15,21 @@ of a mirrored exercise and 2L is taken. It replaced a test that doubled L when t
 histogram alone showed no valley at L: that one relied on the sideways shift of the body's
 centre (lost when the origin follows the person) and doubled every exercise whose heading
 changed between repetitions.
+
+**Double periods of alternating repetitions** (:func:`_submultiple`, ``submultiple``). The
+reverse failure: where consecutive repetitions differ a little (HDM05's single-repetition
+clips stitched back to back change heading or side from one clip to the next), the deepest
+valley lies at two repetitions and the shortest-lag rule above misses the one-repetition
+valley, which is nearly as low but less prominent. L is halved while the profile's dip at
+L/2 is at least ``submultiple`` of its dip at L (dips below the profile's median); the
+mirror test then still doubles a half period of a left-then-right exercise.
+
+**Broad valleys of slow exercises** (``broad``). A valley's prominence is measured within
+0.3 s of it; a slow exercise's valley (a 3.9 s toe touch) is broader, so it looked shallow
+and the cluster got no textons. When a cluster's textons are made and that finds no clear
+valley, the reach is a quarter of each lag (``BROAD_REACH``). Transitions are still told
+with the 0.3 s reach: with the broad one, short pieces of transition found a period and
+stopped joining their neighbours (CMU and HDM05 precision fell).
 """
 
 import numpy as np
@@ -30,6 +45,9 @@ __all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO"]
 #: period of symmetric exercises (jumping jacks, squats, arm circles) and above 1 at whole
 #: periods.
 MIRROR_RATIO = 0.8
+
+#: Reach of a valley's depth, as a fraction of its lag, where a 0.3 s reach finds no period.
+BROAD_REACH = 0.25
 
 
 def mirror_ratio(seg, lag, theta):
@@ -81,7 +99,46 @@ def _moving_average(v, width):
     return (c[2 * half + 1:] - c[: len(v)]) / (2 * half + 1)
 
 
-def cluster_period(v, cs, ce, fps, w, p, theta=None):
+def _valleys(prof, lags, h, reach):
+    """Interior local minima of a lag profile with depth > 0, and each one's depth (dict).
+
+    A valley's depth is the lower of the highest profile values within max(h, reach * lag)
+    lags before and after it, less its own value.
+    """
+    cand, prom = [], {}
+    for i in range(1, len(lags) - 1):
+        if prof[i] <= prof[i - 1] and prof[i] <= prof[i + 1]:
+            k = max(h, int(round(reach * lags[i])))
+            depth = min(prof[max(0, i - k): i].max(), prof[i + 1: i + 1 + k].max()) - prof[i]
+            if depth > 0:
+                cand.append(i)
+                prom[i] = depth
+    return cand, prom
+
+
+def _submultiple(chosen, cand, lags, prof, level, ratio):
+    """The shortest sub-multiple of the chosen lag whose valley is nearly as low (index into lags).
+
+    A valley at L/2 whose dip below the profile's level (its median) is at least ``ratio``
+    times the dip at L means the motion already repeats at L/2; L is two repetitions that
+    differ a little (HDM05's clips stitched back to back alternate in heading or side, so the
+    profile's clearest valley lies at two clips). Applied while it holds (L/4, ...). The
+    mirror test still doubles a half period of a left-then-right exercise afterwards.
+    """
+    if not ratio:
+        return chosen
+    while True:
+        target = lags[chosen] / 2
+        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
+        if not near:
+            return chosen
+        k = min(near, key=lambda i: prof[i])
+        if level - prof[k] < ratio * (level - prof[chosen]) or level <= prof[chosen]:
+            return chosen
+        chosen = k
+
+
+def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False):
     """Period of the cluster [cs, ce] (frames) from its lag profile, and how clear it is.
 
     Parameters
@@ -96,6 +153,9 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None):
     p : engine.structure.StructureParams
     theta : slice, optional
         The azimuth histogram's columns (the half-period tests).
+    broad : bool
+        Where the 0.3 s reach finds no clear valley, try a reach of ``BROAD_REACH`` of each
+        lag (the textons of a cluster already decided on; not for telling transitions).
 
     Returns
     -------
@@ -121,30 +181,28 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None):
     lags = np.arange(lo, top + 1)
     prof = lag_profile(seg, lags, w)
     # Candidate periods are interior local minima; a valley's prominence is measured against
-    # the highest profile values within +/- h lags on each side.
+    # the highest profile values within +/- h lags on each side (0.3 s). A slow exercise's
+    # valley is broader than that, and a 0.3 s reach sees only its floor: where that finds
+    # no clear valley, a reach of a quarter of each lag is tried (CMU toe touches played
+    # at 0.7x, a 3.9 s period, had no period and no textons).
+    level = float(np.median(prof))
     h = max(2, int(round(0.3 * fps)))
-    cand, prom = [], {}
-    for i in range(1, len(lags) - 1):
-        if prof[i] <= prof[i - 1] and prof[i] <= prof[i + 1]:
-            left = prof[max(0, i - h): i].max()
-            right = prof[i + 1: i + 1 + h].max()
-            depth = min(left, right) - prof[i]
-            if depth > 0:
-                cand.append(i)
-                prom[i] = depth
-    if not cand:
-        return None, 0.0
-    periods = [i for i in cand if lags[i] <= hi]
-    if not periods:
-        return None, 0.0
-    best = max(periods, key=lambda i: prom[i])
-    # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in the
-    # profile's level.
-    if prom[best] < p.min_periodicity * float(np.median(prof)):
+    for reach in ((0.0, BROAD_REACH) if broad else (0.0,)):
+        cand, prom = _valleys(prof, lags, h, reach)
+        periods = [i for i in cand if lags[i] <= hi]
+        if not periods:
+            continue
+        best = max(periods, key=lambda i: prom[i])
+        # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in
+        # the profile's level.
+        if prom[best] >= p.min_periodicity * level:
+            break
+    else:
         return None, 0.0
     # A multiple of the period is a valley too, often as deep: take the shortest lag that
     # is nearly as prominent as the most prominent one.
     chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
+    chosen = _submultiple(chosen, cand, lags, prof, level, p.submultiple)
     L = int(lags[chosen])
     # A half period (one side then the other) can pass that test: left and right poses
     # have the same r and phi histograms and differ in theta only. Prefer 2L when the
