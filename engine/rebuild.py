@@ -1,4 +1,4 @@
-"""Deriving a library again from what it stores: corrections by hand applied in under a second.
+"""Deriving a library again from what it stores: corrections by hand applied in seconds.
 
 A library keeps its features, its automatic parse and its frame files' records, so the cheap
 stages (corrections, database, graph) can run again without reading a frame file or
