@@ -31,8 +31,8 @@ Frames are 0-based within the sequence. What each entry does, in this order:
 ``drop``
     Motions, by their names in the corrected database, left out of it and of the graph.
 
-An entry that cannot be applied (a frame outside the sequence, a texton shorter than the
-atom window, a motion that does not exist) is a :class:`CorrectionError`, one sentence
+An entry that cannot be applied (a frame outside the sequence, a cluster or texton shorter
+than the atom window, a motion that does not exist) is a :class:`CorrectionError`, one sentence
 naming the entry; a ``remove`` or ``move`` that finds nothing near (the parse changed) is
 a note, not an error.
 """
@@ -480,14 +480,18 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
     params = _params(StructureParams, structure.params)
     clusters = _boundaries(structure, entry, reach, say, where)
     kept = {c: k for k, c in enumerate(structure.clusters)}
+    w = atom_window(fps, params.window_taps, params.window_fps)
     textons = []
     for k, (cs, ce) in enumerate(clusters):
         if (cs, ce) in kept:
             textons += [replace(t, cluster=k) for t in structure.textons_of(kept[(cs, ce)])]
-        else:
-            textons += [replace(t, cluster=k) for t in textons_for(v, [(cs, ce)], fps, params, theta)]
+            continue
+        if ce - cs + 1 < len(w):  # it would be a motion of a frame or two
+            raise CorrectionError(f"{where('boundaries')} make cluster {cs}-{ce} {ce - cs + 1} frame"
+                                  f"{'s' * (ce != cs)} long, shorter than the {len(w)}-frame atom window; "
+                                  f"keep boundaries at least {len(w)} frames apart and from the last frame.")
+        textons += [replace(t, cluster=k) for t in textons_for(v, [(cs, ce)], fps, params, theta)]
     edited = _Textons(textons, clusters)
-    w = atom_window(fps, params.window_taps, params.window_fps)
     changed = _texton_edits(edited, entry, reach, len(w), say, where)
     old = {(t.start, t.end): t for t in textons}
     out = []

@@ -216,6 +216,7 @@ def test_texton_starts_representatives_and_drops(base):
     ({"textons": {"add": [None]}}, "textons.add[0] must be a frame number"),
     ({"drop": ["t30/99"]}, "drop[0] = 't30/99' names no motion"),
     ({"representatives": [0]}, "representatives[0] = 0 lies in no texton"),
+    ({"boundaries": {"add": [60, 62]}}, "boundaries make cluster 60-61 2 frames long, shorter than the 5-frame atom"),
 ])
 def test_an_invalid_correction_is_one_sentence_naming_the_entry(base, tmp_path, capsys, entry, words):
     fix = tmp_path / "bad.json"
