@@ -167,7 +167,7 @@ class StructureParams:
         profile's median is at least this fraction of the dip at L (repetitions that
         alternate a little, e.g. in heading, made the clearest valley two repetitions
         long); 0 turns the test off. Any value in 0.5-0.9 gives the same figures on the
-        development suite; 0.4 halved a CMU toe-touch texton.
+        development suite; 0.4 halved a texton of CMU 13_29.
     novelty_window : float
         "energy": length of each of the two blocks compared, seconds. 4 s was chosen by
         leave-one-group-out cross-validation on the development suite
