@@ -527,10 +527,11 @@ def _params(cls, data):
 
 # --- applying: database -------------------------------------------------------------------
 
-def apply_database(nodes, structures, corrections):
+def apply_database(nodes, structures, corrections, whole=True):
     """The database ``nodes`` (from :func:`engine.database.build_database` on the corrected
     ``structures``) with forced representatives and dropped motions; ids renumbered 0, 1, ...
-    in the same order, names kept.
+    in the same order, names kept. Where ``nodes`` are the ``whole`` library's, drops that
+    leave none are refused.
 
     Returns
     -------
@@ -553,4 +554,7 @@ def apply_database(nodes, structures, corrections):
                                       f"names no motion of the corrected sequence; its motions are "
                                       f"{', '.join(mine) or 'none'}.")
             nodes = [n for n in nodes if n.name != motion]
+    if whole and not nodes and any(entry.drop for entry in corrections.sequences.values()):
+        raise CorrectionError(f"{corrections.source}: drop leaves the library no motion; keep at least one "
+                              "(an edit needs two).")
     return [replace(n, id=k) for k, n in enumerate(nodes)]

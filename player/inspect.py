@@ -186,7 +186,8 @@ class InspectorApp(CameraControls):
         structure = (apply_structure(parse, self.library.features(name).vectors, entry, name=name,
                                      theta=self.library.features(name).theta_columns, source="corrections")
                      if entry else parse)
-        nodes = apply_database(build_database({name: structure}), {name: structure}, mine)
+        nodes = apply_database(build_database({name: structure}), {name: structure}, mine,
+                               whole=len(self.library.sequences) == 1)
         self.structure, self.nodes = structure, nodes
         self.timeline = timeline(name, structure, parse, nodes)
 

@@ -236,6 +236,16 @@ def test_a_texton_shorter_than_the_atom_window_is_refused(base):
         base.correct(c, base.path.with_name("short.tvmlib"))
 
 
+def test_dropping_every_motion_is_refused(base, tmp_path):
+    # An empty library is never of use, and replacing one with it would lose its stored meshes.
+    c = Corrections()
+    for node in base.nodes:
+        c.drop(NAME, node.name)
+    with pytest.raises(CorrectionError, match=r"drop leaves the library no motion; keep at least one"):
+        base.correct(c, tmp_path / "empty.tvmlib")
+    assert not (tmp_path / "empty.tvmlib").exists()
+
+
 def test_the_report_marks_corrected_boundaries_and_shows_the_parse_before_and_after(base, tmp_path):
     auto = base.structure(NAME).clusters
     c = Corrections()
