@@ -573,12 +573,13 @@ class Timing:
         if asked is None or miss(frames, goal) == 0:
             return
         what = "hold" if source == target else "leg"
-        kept = "" if goal == round(asked * self.fps) else f" ({goal / self.fps:g} s to keep the next key motion on time)"
+        lasts, on_time = (round(n / self.fps, 2) for n in (frames, goal))  # not 0.166895 s at 29.959 fps
+        kept = "" if goal == round(asked * self.fps) else f" ({on_time:g} s to keep the next key motion on time)"
         message = (f"{what} {leg} ({motion_label(graph, source)} -> {motion_label(graph, target)}) was asked to "
-                   f"last {asked:g} s{kept} and lasts {frames / self.fps:g} s ({frames} frames at {self.fps:g} fps), "
+                   f"last {asked:g} s{kept} and lasts {lasts:g} s ({frames} frames at {self.fps:g} fps), "
                    f"the nearest any schedule of the loop-then-transition rule makes")
         if self.strict:
-            raise DurationError(f"{message}; ask for {frames / self.fps:g} s or choose other key motions.")
+            raise DurationError(f"{message}; ask for {lasts:g} s or choose other key motions.")
         import warnings
 
         warnings.warn(message + ".", DurationWarning, stacklevel=4)

@@ -181,6 +181,14 @@ def test_a_missed_leg_warns_and_strict_raises():
         compose(g, keys, timing=timing)
 
 
+def test_a_miss_at_a_capture_frame_rate_says_seconds_to_the_hundredth():
+    # A depth camera's 29.959 fps: 5 frames are 0.166894... s, said as 0.17 s.
+    g = _two_textons()
+    keys, timing = Timing.request(g, [0, 1], fps=29.959, durations=[0.25], strict=True)
+    with pytest.raises(DurationError, match=r"lasts 0.17 s \(5 frames at 29.959 fps\).*ask for 0.17 s"):
+        compose(g, keys, timing=timing)
+
+
 def test_a_hold_plays_the_motion_on_and_the_next_leg_starts_there():
     g = _two_textons()
     keys, timing = Timing.request(g, [0, 1], fps=10, durations=[1.5], holds={0: 0.7})

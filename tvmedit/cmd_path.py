@@ -66,9 +66,9 @@ def run(args):
     fps = edit.fps
     for leg in edit.legs:
         route = " -> ".join(name(n) for n in leg.path)
-        asked = "" if leg.asked is None else f" = {leg.frames / fps:g} s, asked {leg.asked:g} s"
+        asked = "" if leg.asked is None else f" = {round(leg.frames / fps, 2):g} s, asked {leg.asked:g} s"
         if leg.asked is not None and leg.goal != round(leg.asked * fps):
-            asked += f", {leg.goal / fps:g} s to keep time"
+            asked += f", {round(leg.goal / fps, 2):g} s to keep time"
         what = f"hold {name(leg.source)}" if leg.source == leg.target else f"{name(leg.source)} -> {name(leg.target)}"
         print(f"{what}: {route}  "
               f"(cost {leg.cost:.3f}, {leg.edges} transition{'s' * (leg.edges != 1)}, {leg.frames} frames{asked})")
