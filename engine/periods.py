@@ -20,9 +20,10 @@ changed between repetitions.
 reverse failure: where consecutive repetitions differ a little (HDM05's single-repetition
 clips stitched back to back change heading or side from one clip to the next), the deepest
 valley lies at two repetitions and the shortest-lag rule above misses the one-repetition
-valley, which is nearly as low but less prominent. L is halved while the profile's dip at
-L/2 is at least ``submultiple`` of its dip at L (dips below the profile's median); the
-mirror test then still doubles a half period of a left-then-right exercise.
+valley, which is nearly as low but less prominent. L gives way to L/3 or L/2 while the
+profile's dip there is at least ``submultiple`` of its dip at L (dips below the profile's
+median); the mirror test then still doubles a half period of a left-then-right exercise.
+Thirds as well as halves: with period tolerance 0.3 an HDM05 hop got a texton of three hops.
 
 **Broad valleys of slow exercises** (``broad``). A valley's prominence is measured within
 0.3 s of it; a slow exercise's valley (a 3.9 s toe touch) is broader, so it looked shallow
@@ -45,6 +46,9 @@ __all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO"]
 #: period of symmetric exercises (jumping jacks, squats, arm circles) and above 1 at whole
 #: periods.
 MIRROR_RATIO = 0.8
+
+#: Fractions of the chosen lag tried by the sub-multiple test, most parts first.
+SUBMULTIPLES = (3, 2)
 
 #: Reach of a valley's depth, as a fraction of its lag, where a 0.3 s reach finds no period.
 BROAD_REACH = 0.25
@@ -119,23 +123,26 @@ def _valleys(prof, lags, h, reach):
 def _submultiple(chosen, cand, lags, prof, level, ratio):
     """The shortest sub-multiple of the chosen lag whose valley is nearly as low (index into lags).
 
-    A valley at L/2 whose dip below the profile's level (its median) is at least ``ratio``
-    times the dip at L means the motion already repeats at L/2; L is two repetitions that
-    differ a little (HDM05's clips stitched back to back alternate in heading or side, so the
-    profile's clearest valley lies at two clips). Applied while it holds (L/4, ...). The
-    mirror test still doubles a half period of a left-then-right exercise afterwards.
+    A valley at L/3 or L/2 (:data:`SUBMULTIPLES`) whose dip below the profile's level (its
+    median) is at least ``ratio`` times the dip at L means the motion already repeats there;
+    L is two or three repetitions that differ a little (HDM05's clips stitched back to back
+    alternate in heading or side, so the profile's clearest valley lies at two clips).
+    Applied while it holds (L/4, L/6, ...). The mirror test still doubles a half period of
+    a left-then-right exercise afterwards.
     """
     if not ratio:
         return chosen
-    while True:
-        target = lags[chosen] / 2
-        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
-        if not near:
+    while level > prof[chosen]:
+        for parts in SUBMULTIPLES:
+            target = lags[chosen] / parts
+            near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
+            k = min(near, key=lambda i: prof[i]) if near else None
+            if k is not None and level - prof[k] >= ratio * (level - prof[chosen]):
+                chosen = k
+                break
+        else:
             return chosen
-        k = min(near, key=lambda i: prof[i])
-        if level - prof[k] < ratio * (level - prof[chosen]) or level <= prof[chosen]:
-            return chosen
-        chosen = k
+    return chosen
 
 
 def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False):

@@ -41,7 +41,7 @@ Two methods are provided.
        nearly as deep, unless 2L is the true period of a left-then-right exercise: the
        *mirror test* (frame u + L nearer the mirror image of frame u than frame u itself;
        fixes half-period textons of knee raises, side bends, toe touches, twists) decides.
-       Symmetrically, L gives way to L/2 when the profile dips nearly as low there
+       Symmetrically, L gives way to L/3 or L/2 when the profile dips nearly as low there
        (``submultiple``; fixes textons two repetitions long where repetitions alternate a
        little, as HDM05's stitched clips do). A cluster whose valleys are too broad for a
        0.3 s reach (a slow exercise) is measured again with a reach of a quarter of each
@@ -163,7 +163,7 @@ class StructureParams:
         deepest (depth: how far below the profile's median the mean atom distance falls);
         0.5 chosen by cross-validation on the development suite (0.3 before).
     submultiple : float
-        "energy": the chosen lag L gives way to a valley at L/2 whose dip below the
+        "energy": the chosen lag L gives way to a valley at L/3 or L/2 whose dip below the
         profile's median is at least this fraction of the dip at L (repetitions that
         alternate a little, e.g. in heading, made the clearest valley two repetitions
         long); 0 turns the test off. Any value in 0.5-0.9 gives the same figures on the
