@@ -1,7 +1,8 @@
 """Analyse TVM sequences and write a library: features, structure, database, graph, meshes.
 
-INPUT is a sequence folder of PLY, OBJ or OFF frames, a quoted glob of frame files (one
-sequence), or a quoted glob of folders (one sequence each); give as many as you like
+INPUT is a sequence folder of PLY, OBJ, OFF, Draco or glTF/GLB frames or with a sequence
+manifest (``scvv_animation.json``), a quoted glob of frame files (one sequence), or a quoted
+glob of folders (one sequence each); give as many as you like
 (several people, several takes). A sequence is named after its folder; write NAME=INPUT to
 name it yourself, e.g. ``tvmedit build walk=capture/A/walk run=capture/A/run -o lib``.
 
