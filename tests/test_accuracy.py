@@ -4,7 +4,8 @@ Targets, per take: cluster-boundary precision and recall >= 0.9 (one-to-one matc
 1 s of a true exercise start), and the median texton length within 15 % of the true period
 for >= 90 % of the detected clusters. A 30 fps variant guards that the defaults, given in
 seconds, are not fitted to 10 fps. Features are cached next to the generated frames
-(``engine.evaluate.sequence_features``), so a rerun costs seconds.
+(``engine.evaluate.sequence_features``), so a rerun costs seconds. One HDM05 take of the
+development suite guards the sub-multiple step of ``engine.periods``.
 """
 
 import pytest
@@ -50,3 +51,24 @@ def test_paper_method_runs_and_covers_the_take(take_13_30):
     *_, s = scores(take_13_30, StructureParams(method="paper"))
     assert s.clusters[0][0] == 0 and s.clusters[-1][1] == len(s.curve) - 1
     assert len(s.textons) >= 2
+
+
+def test_hops_stitched_from_single_clips_get_one_hop_textons():
+    # HDM05 actor bk, five exercises stitched from single-repetition clips (a take of the
+    # development suite). Consecutive hops differ a little, so the lag profile's clearest
+    # valley lies at two hops (17 frames); the sub-multiple test takes the one-hop valley.
+    import sys
+    from conftest import ROOT, SHARED
+    from engine.evaluate import load_truth, texton_length_accuracy
+    if not (SHARED / "data" / "hdm05").is_dir():
+        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import devsuite
+    actor, plan, seed, options = devsuite.HDM_SOURCES[3]
+    folder = devsuite.hdm_source(actor, plan, seed, **options)
+    rows = texton_length_accuracy(scores(folder)[3], load_truth(folder), details=True)[1]
+    hops = [r for r in rows if r[1] == 4]   # the last block: hopping on both legs
+    assert hops and hops[0][4], rows
+    rows = texton_length_accuracy(scores(folder, StructureParams(submultiple=0))[3], load_truth(folder),
+                                  details=True)[1]
+    assert not [r for r in rows if r[1] == 4][0][4], rows   # without the test: two hops
