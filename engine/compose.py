@@ -300,7 +300,8 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
     loops = _check_loops(loops)
     keys = [node_by_key(graph, key) for key in keys]
     if len(keys) < 2:
-        raise TvmError(f"An edit needs at least two key motions; got {len(keys)}.")
+        raise TvmError(f"An edit needs at least two key motions, where it starts and where it goes; "
+                       f"got {len(keys)}: add the motion to go to.")
     forbidden = {node_by_key(graph, key) for key in forbidden}
     index = SearchIndex.of(graph, weight) if index is None else index
 

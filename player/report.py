@@ -163,6 +163,9 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     return {"texton_starts": [int(x) for x in markers.get_xdata()], "size": list(size)}
 
 
+#: Where along its arc an edge's weight is written (0: at the source, 1: at the target).
+LABEL_AT = 0.35
+
 #: Label colour of the edges added to connect the graph (and of boundaries removed by hand).
 ADDED_COLOUR = "#c0262d"
 #: Colour of the cluster boundaries added or moved by hand.
@@ -297,8 +300,13 @@ def _arrow(ax, arrow_class, positions, edge, radius, **style):
     patch = arrow_class((x1, y1), (x2, y2), connectionstyle=f"arc3,rad={rad}", arrowstyle="-|>",
                         mutation_scale=18, shrinkA=0, shrinkB=0, **style)
     ax.add_patch(patch)
-    # Midpoint of the quadratic Bezier that arc3 draws: chord midpoint + rad/2 * (dy, -dx).
-    return ((x1 + x2) / 2 + rad / 2 * (y2 - y1), (y1 + y2) / 2 - rad / 2 * (x2 - x1))
+    # The label sits a third of the way along the quadratic Bezier that arc3 draws (control
+    # point: chord midpoint + rad * (dy, -dx)), nearer the source, so the labels of i -> j and
+    # j -> i stay apart even where the two arcs run close.
+    t = LABEL_AT
+    cx, cy = (x1 + x2) / 2 + rad * (y2 - y1), (y1 + y2) / 2 - rad * (x2 - x1)
+    return ((1 - t) ** 2 * x1 + 2 * t * (1 - t) * cx + t ** 2 * x2,
+            (1 - t) ** 2 * y1 + 2 * t * (1 - t) * cy + t ** 2 * y2)
 
 
 def _fmt(value):
