@@ -30,7 +30,7 @@ class _Recorded(NamedTuple):
     paths: list
 
 
-def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None, workers=1):
+def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=None, workers=None):
     """Derive ``library`` again from its stored features, with corrections by hand.
 
     The automatic parse is the stored one, so nothing is parsed again; corrections
@@ -52,9 +52,11 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     log : callable, optional
         Called with one-line messages (a correction that found nothing to act on).
     workers : int or None
-        Processes reading the frames of new motions; default 1, this process: the few dozen
-        to few hundred frames of a correction are read no faster by worker processes on two
-        loaded cores, which also pay for sending each frame back (None: all cores).
+        Processes that make the in-between frames of the transitions a correction changed
+        and read the frames of new motions; None (default): all cores. The in-between frames
+        dominate a correction of a blended library (about 0.5 s of one core a transition),
+        and on two quiet cores all of them correct the 2,033-frame gym in 1.5-1.9 s against
+        2.4-2.7 s with one (``benchmarks/correct_speed.py``); 1: this process only.
 
     Returns
     -------
