@@ -64,6 +64,7 @@ of every schedule on hundreds of small random graphs; ``benchmarks/timing_speed.
 
 import bisect
 import math
+import warnings
 import weakref
 from dataclasses import dataclass
 
@@ -492,6 +493,7 @@ class Timing:
     durations: tuple
     fps: float
     strict: bool = False
+    told: tuple = ()  # per leg planned: (the caller's leg it belongs to, or None: a final hold; seconds asked)
 
     @classmethod
     def request(cls, graph, keys, fps, durations=None, at=None, holds=None, strict=False):
@@ -550,16 +552,18 @@ class Timing:
                                      f"key motions; hold one of them.")
         if not held and all(d is None for d in durations):
             return list(keys), None
-        out_keys, out = [keys[0]], []
+        out_keys, out, told = [keys[0]], [], []
         for i, key in enumerate(keys):
             if key in held:
                 out_keys.append(key)
                 out.append(held[key])
+                told.append((i + 1 if i < legs else None, held[key]))
             if i < legs:
                 out_keys.append(keys[i + 1])
                 given = durations[i]
                 out.append(None if given is None else max(0.0, given - held.get(key, 0.0)))
-        return out_keys, cls(tuple(out), fps, bool(strict))
+                told.append((i + 1, given))
+        return out_keys, cls(tuple(out), fps, bool(strict), tuple(told))
 
     def planned(self, leg, clock):
         """Frame (a float) at which leg ``leg``'s target should begin, from ``clock``, the one at
@@ -572,16 +576,16 @@ class Timing:
         asked = self.durations[leg - 1]
         if asked is None or miss(frames, goal) == 0:
             return
-        what = "hold" if source == target else "leg"
+        number, given = self.told[leg - 1] if self.told else (leg, asked)
+        what = f"leg {number}" if source != target else f"the hold of leg {number}" if number else "the final hold"
         lasts, on_time = (round(n / self.fps, 2) for n in (frames, goal))  # not 0.166895 s at 29.959 fps
         kept = "" if goal == round(asked * self.fps) else f" ({on_time:g} s to keep the next key motion on time)"
-        message = (f"{what} {leg} ({motion_label(graph, source)} -> {motion_label(graph, target)}) was asked to "
+        kept += "" if source == target or asked == given else f" after its hold ({given:g} s in all)"
+        message = (f"{what} ({motion_label(graph, source)} -> {motion_label(graph, target)}) was asked to "
                    f"last {asked:g} s{kept} and lasts {lasts:g} s ({frames} frames at {self.fps:g} fps), "
                    f"the nearest any schedule of the loop-then-transition rule makes")
         if self.strict:
             raise DurationError(f"{message}; ask for {lasts:g} s or choose other key motions.")
-        import warnings
-
         warnings.warn(message + ".", DurationWarning, stacklevel=4)
 
 

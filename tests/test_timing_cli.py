@@ -69,6 +69,15 @@ def test_an_impossible_duration_warns_once_and_strict_exits_3(small_library):
     assert "Traceback" not in strict.stderr
 
 
+def test_a_missed_leg_after_a_hold_is_named_as_the_user_numbers_it(small_library):
+    keys = _keys_that_fit(Library.open(small_library), [5, 7])[:2]
+    result = tvmedit("path", small_library, *keys, "--durations", "1.1", "--hold", f"{keys[0]}=1")
+    lines = result.stderr.strip().splitlines()
+    assert result.returncode == 0 and len(lines) == 1, result.stderr
+    # one leg asked for 1.1 s, a hold of 1 s in it: leg 1, not "leg 2"
+    assert lines[0].startswith("warning: leg 1 ") and "after its hold (1.1 s in all)" in lines[0]
+
+
 def test_at_is_durations_from_zero_and_a_hold_loops_the_motion(small_library):
     library = Library.open(small_library)
     keys = _keys_that_fit(library, [5, 7])
