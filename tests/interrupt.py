@@ -38,6 +38,15 @@ sys.exit(main(sys.argv[5:]))
 """
 
 
+def default_sigint():
+    """``preexec_fn`` for a child that must see Ctrl-C as a user's terminal gives it: a suite run
+    as a background job (``make test &``) starts with SIGINT ignored, and a Python child that
+    inherits that never raises KeyboardInterrupt."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def run_signalled(args, *, at, signum, after=1, env=None):
     """Run ``tvmedit ARGS``, sending ``signum`` to itself after ``after`` calls of ``at``.
 
@@ -47,7 +56,8 @@ def run_signalled(args, *, at, signum, after=1, env=None):
     module, attribute = at.split(":")
     command = [sys.executable, "-c", _CHILD, module, attribute, str(after), str(int(signum)),
                *map(str, args)]
-    return subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+    return subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300,
+                          preexec_fn=default_sigint)
 
 
 def tvmedit(*args, **kwargs):

@@ -10,6 +10,7 @@ import trimesh
 
 from engine import synth
 from engine.errors import InputError
+from interrupt import default_sigint
 
 
 def _frame(folder, k):
@@ -176,7 +177,7 @@ def test_ctrl_c_is_reported_once_by_the_parent(tmp_path):
     process = subprocess.Popen([sys.executable, "-m", "tvmedit", "synth", "--preset", "walk", "--out", str(out),
                                 "--workers", "2", "--vertices", "16000", "-q"],
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                               start_new_session=True)
+                               start_new_session=True, preexec_fn=default_sigint)
     deadline = time.monotonic() + 60
     while not list(out.glob("frame_*.ply")) and time.monotonic() < deadline and process.poll() is None:
         time.sleep(0.05)
