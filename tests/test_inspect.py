@@ -145,3 +145,12 @@ def test_keys_in_a_real_window_edit_rebuild_save_and_show_the_person(xdisplay, l
         assert (np.abs(image[row] - 255 * np.array(colour[:3])).sum(axis=1) < 30).any()
     curve = np.abs(strip - 255 * np.array(COLOURS["curve"][:3])).sum(axis=2) < 60
     assert curve.any(axis=0).mean() > 0.5          # the curve runs across the timeline
+
+
+def test_a_frame_outside_the_sequence_is_one_sentence(small_library):
+    from interrupt import tvmedit
+
+    frames = Library.open(small_library).sequences[0].frames
+    result = tvmedit("inspect", small_library, "--frame", frames, env={**os.environ, "DISPLAY": ""})
+    assert result.returncode == 2 and result.stderr.count("\n") == 1
+    assert f"--frame {frames} is outside sequence" in result.stderr and f"0-{frames - 1}" in result.stderr

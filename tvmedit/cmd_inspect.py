@@ -56,8 +56,10 @@ def run(args):
     if args.seconds is not None and args.seconds <= 0:
         raise TvmError(f"--seconds must be positive, not {args.seconds:g}.")
     library = Library.open(args.library)
-    if args.sequence is not None:
-        library.sequence(args.sequence)
+    shown = library.sequence(args.sequence) if args.sequence is not None else library.sequences[0]
+    if not 0 <= args.frame < shown.frames:
+        raise TvmError(f"--frame {args.frame} is outside sequence {shown.name}, whose frames are "
+                       f"0-{shown.frames - 1}; give one of those.")
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise TvmError("no display: set DISPLAY or run under xvfb-run; `tvmedit correct` applies a "
                        "corrections file without one")
