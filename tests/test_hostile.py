@@ -11,6 +11,7 @@ costs; signals need a child process and are sampled a few times only.
 
 import contextlib
 import io
+import json
 import os
 import shutil
 import signal
@@ -172,6 +173,55 @@ def test_edit_commands_with_random_options(world, data):
             shutil.rmtree(made)
         elif made.exists():
             made.unlink()
+
+
+FRAMES = [-5, 0, 3, 40, 120, 10 ** 9, 1.5, "x", None, [1, 2]]
+
+
+@contextlib.contextmanager
+def _without_display():
+    """This process's environment without a display, as on the CI machine, for one command."""
+    saved = {k: os.environ.pop(k) for k in ("DISPLAY", "WAYLAND_DISPLAY") if k in os.environ}
+    try:
+        yield
+    finally:
+        os.environ.update(saved)
+
+
+def _corrections(frames=st.sampled_from(FRAMES)):
+    """A corrections.json as a careless user writes one: any entry may be wrong."""
+    ops = st.fixed_dictionaries({}, optional={"add": st.lists(frames, max_size=2),
+                                             "remove": st.lists(frames, max_size=2),
+                                             "move": st.lists(st.lists(frames, min_size=1, max_size=3), max_size=2)})
+    entry = st.fixed_dictionaries({}, optional={"boundaries": ops, "textons": ops,
+                                                "representatives": st.lists(frames, max_size=2),
+                                                "drop": st.lists(st.sampled_from(NAMES), max_size=2),
+                                                "colour": st.just("red")})
+    return st.one_of(st.fixed_dictionaries({"sequences": st.dictionaries(st.sampled_from(["gym", "x", ""]), entry,
+                                                                          max_size=2)}),
+                     st.sampled_from([[], "gym", {"sequences": []}, {"x": 1}]))
+
+
+@settings(SWEEP, max_examples=max(EXAMPLES // 3, 15))
+@given(data=st.data())
+def test_correct_and_inspect_with_random_input(world, data):
+    root = world["root"]
+    file = root / "corrections.json"
+    if data.draw(st.booleans()):
+        file.write_text(json.dumps(data.draw(_corrections())))
+    else:
+        file.write_bytes(data.draw(st.sampled_from([b"", b"{", b"\xff\xfe", b"null", b'{"sequences": {"gym": 5}}'])))
+    before = _snapshot(root)
+    assert_allowed(*run(["correct", world["library"], file, "-o", root / "out", "--force"]), root, before)
+    # no display here: bad options are still said first, then the missing display, in one sentence
+    options = [v for p in data.draw(_options([("--frame", NUMBERS), ("--sequence", ["gym", "x", ""]),
+                                                ("--seconds", NUMBERS), ("--size", SIZES),
+                                                ("--corrections", [file, root / "none.json"])])) for v in p]
+    with _without_display():
+        assert_allowed(*run(["inspect", world["library"], *options]), root, before)
+    Library.open(world["library"])
+    if (root / "out").exists():
+        shutil.rmtree(root / "out")
 
 
 SYNTH = [("--cycles", NUMBERS), ("--fps", NUMBERS), ("--vertices", ["0", "999", "2000", "1e9", "x", "-1"]),
