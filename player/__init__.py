@@ -14,11 +14,11 @@ PosixPath('demo.mp4')
 
 from player.camera import Camera
 from player.context import ContextError, headless_context
-from player.headless import contact_sheet, render, render_frame, render_frames
+from player.headless import contact_sheet, render, render_frame, render_frames, spread_frames
 from player.renderer import Renderer
 from player.source import ArraySource, MeshSource, vertex_normals
 
 __all__ = [
     "ArraySource", "Camera", "ContextError", "MeshSource", "Renderer", "contact_sheet",
-    "headless_context", "render", "render_frame", "render_frames", "vertex_normals",
+    "headless_context", "render", "render_frame", "render_frames", "spread_frames", "vertex_normals",
 ]

@@ -113,6 +113,18 @@ def render(edit, out, size=(640, 480), **options):
     return render_frames(edit.library, keys, out, size=size, **options)
 
 
+def spread_frames(start, end, count):
+    """Up to ``count`` evenly spaced frames from ``start`` to ``end`` inclusive, no repeats: the
+    frames a contact sheet of a long motion shows.
+
+    >>> spread_frames(10, 24, 8)
+    [10, 12, 14, 16, 18, 20, 22, 24]
+    >>> spread_frames(3, 5, 8), spread_frames(0, 149, 4)
+    ([3, 4, 5], [0, 50, 99, 149])
+    """
+    return sorted({int(round(v)) for v in np.linspace(start, end, min(count, end - start + 1))})
+
+
 def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True, camera=None,
                   grid=False, background=BACKGROUND, samples=4, force=False, shading="auto"):
     """Render ``keys`` as tiles of one PNG grid, row by row, and return the image (H, W, 3) uint8.

@@ -446,7 +446,7 @@ class _Report:
                 f"true boundaries){accuracy}</p>")
 
     def database_section(self, nodes, summary):
-        from player.headless import contact_sheet
+        from player.headless import contact_sheet, spread_frames
 
         parts = ["<h2 id='database'>Motion database</h2>",
                  "<p>The representative texton of each cluster, eq. (9): the one with the smallest "
@@ -457,7 +457,7 @@ class _Report:
             parts.append("<p>The database holds no motions.</p>")
         for node in nodes:
             self.say(f"report: contact sheet of {node.name}")
-            frames = _spread(node.start, node.end, SHEET_FRAMES)
+            frames = spread_frames(node.start, node.end, SHEET_FRAMES)
             png = f"node-{node.id:03d}.png"
             contact_sheet(self.source, [(node.sequence, f) for f in frames], self.folder / png,
                           columns=len(frames), tile=SHEET_TILE,
@@ -666,17 +666,6 @@ def _sequence_folder(sequence):
 
 def _inner(ranges):
     return [r for r in ranges if int(_start_end(r)[0]) != 0]
-
-
-def _spread(start, end, count):
-    """Up to ``count`` evenly spaced frames from ``start`` to ``end`` inclusive, no repeats.
-
-    >>> _spread(10, 24, 8)
-    [10, 12, 14, 16, 18, 20, 22, 24]
-    >>> _spread(3, 5, 8)
-    [3, 4, 5]
-    """
-    return sorted({int(round(v)) for v in np.linspace(start, end, min(count, end - start + 1))})
 
 
 def _e(text):

@@ -66,19 +66,6 @@ SHEET_PLAIN = (24, 8, (160, 120))
 SHEET_TEXTURED = (12, 4, (640, 480))
 
 
-def sheet_frames(start, end, most):
-    """Frames of ``start``-``end`` (inclusive) for a contact sheet: all of them, or ``most``
-    spread evenly from the first to the last.
-
-    >>> sheet_frames(0, 5, 24), sheet_frames(0, 149, 4)
-    ([0, 1, 2, 3, 4, 5], [0, 50, 99, 149])
-    """
-    count = end - start + 1
-    if count <= most:
-        return list(range(start, end + 1))
-    return sorted({start + round(k * (count - 1) / (most - 1)) for k in range(most)})
-
-
 def run(args):
     import numpy as np
 
@@ -94,7 +81,7 @@ def run(args):
                 raise TvmError(f"a contact sheet is a PNG image: name it like sheet.png, not {args.out}.")
             node = library.node(args.node)
             most, columns, tile = SHEET_TEXTURED if library.textured else SHEET_PLAIN
-            frames = sheet_frames(node.start, node.end, most)
+            frames = player.spread_frames(node.start, node.end, most)
             keys = [(node.sequence, f) for f in frames]
             labels = [f"{node.name} {f}" for f in frames]
             tile = args.size or tile
