@@ -232,21 +232,22 @@ def _foreign(folder):
 def refuse_inside(out, inputs=()):
     """Refuse an output inside another tvmedit output or inside one of ``inputs``."""
     resolved = Path(os.path.abspath(out))
+    holders = [source for source in map(Path, map(os.path.abspath, inputs))
+               if resolved == source or source in resolved.parents]
+    inside_input = lambda source: OutputError(  # noqa: E731
+        f"{out} is inside the input {source}; choose an output outside it.")
     # An input the user named is said as such (a synthetic take is one, though tvmedit wrote
     # it), except a library, whose rebuild is what would lose the output.
-    for source in inputs:
-        source = Path(os.path.abspath(source))
-        if (resolved == source or source in resolved.parents) and owner(source) != "library":
-            raise OutputError(f"{out} is inside the input {source}; choose an output outside it.")
+    plain = [source for source in holders if owner(source) != "library"]
+    if plain:
+        raise inside_input(plain[0])
     for parent in resolved.parents:
         kind = owner(parent)
         if kind is not None:
             raise OutputError(f"{out} is inside the tvmedit {kind} {parent}, which would lose it "
                               "when replaced; choose an output outside it.")
-    for source in inputs:
-        source = Path(os.path.abspath(source))
-        if resolved == source or source in resolved.parents:
-            raise OutputError(f"{out} is inside the input {source}; choose an output outside it.")
+    if holders:
+        raise inside_input(holders[0])
 
 
 def check_target(out, kind, force=False, inputs=(), legacy=None):
