@@ -41,7 +41,7 @@ from .load import expand_inputs, open_sequence, read_frame
 from .parallel import Workers
 from .settings import Settings
 
-__all__ = ["build", "derive", "opened", "check_target", "library_features", "Settings", "expand_inputs"]
+__all__ = ["build", "derive", "report_of", "check_target", "library_features", "Settings", "expand_inputs"]
 
 #: Frames per feature task: large enough to amortise a task's overhead, small enough to
 #: keep every worker busy on short sequences.
@@ -450,7 +450,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     return report_of(derived)
 
 
-#: What :func:`derive` made, for :func:`opened` to report.
+#: What :func:`derive` made, for :func:`report_of` to report.
 Derived = NamedTuple("Derived", [(name, object) for name in
                                  ("run", "sequences", "computed", "padded", "analysis", "meshes", "pool")])
 
