@@ -187,6 +187,18 @@ class Library:
     def _features(self):
         return libformat.load_array(self.path, "features.npy")
 
+    def _record(self, name):
+        """Sequence ``name``'s entry in the manifest."""
+        return self.manifest["sequences"][self._sequence_index[self.sequence(name).name]]
+
+    def orientation(self, name):
+        """The :class:`engine.orientation.Orientation` sequence ``name``'s frames were read with
+        (None: as their files are)."""
+        from .orientation import Orientation
+
+        where = self._record(name).get("orientation")
+        return Orientation.from_json(where) if where else None
+
     @_reads_format
     def features(self, name):
         """Features of sequence ``name``, memory-mapped (r padded to the library's width).
@@ -196,7 +208,7 @@ class Library:
         """
         from .features import BinSizes, Features
 
-        record = self.manifest["sequences"][self._sequence_index[self.sequence(name).name]]
+        record = self._record(name)
         columns = self.manifest["feature_columns"]
         rows = self._features[record["rows"][0]:record["rows"][1]]
         w_r, w_t = columns["r"], columns["theta"]
@@ -379,14 +391,11 @@ class Library:
         file as the build read it (slower; InputError when the file is gone)."""
         from .load import read_frame
         from .normals import vertex_normals
-        from .orientation import Orientation
 
         sequence, frame = key
         if (sequence, int(frame)) in self._frame_rows:
             return self.frame_mesh(key)
-        record = self.manifest["sequences"][self._sequence_index[self.sequence(sequence).name]]
-        where = record.get("orientation")
-        mesh = read_frame(self.sequence(sequence).paths[int(frame)], Orientation.from_json(where) if where else None)
+        mesh = read_frame(self.sequence(sequence).paths[int(frame)], self.orientation(sequence))
         return mesh.positions, mesh.colours, mesh.faces, vertex_normals(mesh.positions, mesh.faces)
 
     @cached_property

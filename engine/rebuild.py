@@ -66,21 +66,18 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
         frame files read.
     """
     from .corrections import Corrections
-    from .orientation import Orientation
 
     out = Path(library.path if out is None else out).absolute()
     force = out == Path(library.path).absolute() if force is None else force
     params = library.params
     settings = Settings.of(BinSizes(**params["bins"]), params["structure"],
                            params["mu"] if mu is None else mu, params.get("skip_bad_frames", False),
-                           params.get("connect", "auto"), params.get("blend_frames"))
+                           library.connect, params.get("blend_frames"))
     corrections = library.corrections() if corrections is None else Corrections.coerce(corrections)
     sequences, computed = [], []
     for record in library.manifest["sequences"]:
-        frame = record.get("orientation")
         sequences.append(_Recorded(record["name"], float(record["fps"]), record.get("format"),
-                                   Orientation.from_json(frame) if frame else None,
-                                   [row[0] for row in record["files"]]))
+                                   library.orientation(record["name"]), [row[0] for row in record["files"]]))
         entry = library_features(library, record["feature_key"], settings.bins)
         entry.stats = {row[0]: row for row in record["files"]}
         computed.append(entry)
