@@ -283,7 +283,7 @@ class PlayerApp(CameraControls):
 
     def legend_lines(self):
         """Every motion with its key (as far as keys go), then the command keys."""
-        lines = [self.label(n) for n in self.order if n in self.keys.values()]
+        lines = [self.label(n) for n in self.keys.values()]
         hidden = len(self.order) - len(self.keys)
         if hidden > 0:
             lines.append(f"({hidden} more without a key)")
@@ -294,7 +294,7 @@ class PlayerApp(CameraControls):
     def legend_dimmed(self):
         """Indices of the legend lines to grey out: motions :meth:`unreachable` names."""
         cut = self.unreachable()
-        return {k for k, n in enumerate(n for n in self.order if n in self.keys.values()) if n in cut}
+        return {k for k, n in enumerate(self.keys.values()) if n in cut}
 
 
     def write_header(self, wall_zero, library=None):
