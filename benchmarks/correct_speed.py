@@ -10,17 +10,21 @@ Inputs, each built once with its features cached:
 
 Corrections as a user makes them in ``tvmedit inspect``: a true cluster boundary removed and
 a spurious one added in the middle of the longest cluster (the clusters they change get their
-textons found anew, and the frames of the new motions, which the library never stored, are
-read from their files), and a correction of stored motions only (a texton start moved, a
-motion dropped: the stored meshes are kept as they are, no frame file is read). Each is
-timed from opening the library to the new library opened (best of three, a fresh output
-each time), against the limit of 1 s and against a build into a new folder with the
-features cached (which reads every stored frame again).
+textons found anew; the frames of the new motions are read from their files in a library
+built with ``--keep-frames motions``, the default, which never stored them, and taken from
+the library itself with ``--keep-frames all``), and a correction of stored motions only (a
+texton start moved, a motion dropped: no frame file is read). The transitions the
+correction changes get their in-between frames made anew; the others, and the natural
+step's measured frame pairs, are taken from the library. Each is timed from opening the
+library to the new library opened (best of three, a fresh output each time), against the
+limit of 1 s and against a build into a new folder with the features cached (which reads
+every stored frame again), for both ``--keep-frames`` choices.
 
     python benchmarks/correct_speed.py
 """
 
 import json
+import shutil
 import sys
 import tempfile
 import time
@@ -71,28 +75,34 @@ def corrections_for(library, data):
             ("a texton start moved, a motion dropped", {"sequences": {"take": stored}})]
 
 
-def measure(name, data, fps, tmp):
+def measure(name, data, fps, tmp, keep):
     from engine import Library, build
 
-    path = tmp / f"{name}.tvmlib"
-    build([("take", data)], path, fps=fps, workers=2)          # fills the feature cache
+    path = tmp / f"{name}-{keep}.tvmlib"
+    build([("take", data)], path, fps=fps, workers=2, keep_frames=keep)   # fills the feature cache
     # The peer: a build of the same take into a new folder, features from the cache, every
     # stored frame read (what a correction would cost without a library to take meshes from).
-    rebuild_s, _ = timed(lambda k: build([("take", data)], tmp / f"{name}-scratch", fps=fps, workers=2), 1)
+    rebuild_s, _ = timed(lambda k: build([("take", data)], tmp / f"{name}-{keep}-scratch", fps=fps, workers=2,
+                                         keep_frames=keep), 1)
     library = Library.open(path)
     rows = []
     for label, corrections in corrections_for(library, data):
-        seconds, result = timed(lambda k: Library.open(path).correct(corrections, tmp / f"{name}-{k}", force=True))
+        seconds, result = timed(lambda k: Library.open(path).correct(corrections, tmp / f"{name}-{keep}-{k}",
+                                                                     force=True))
         rows.append((label, seconds, result.report))
     frames = sum(len(s) for s in library.sequences)
-    print(f"  {name}: {frames} frames at {fps:g} fps, {library.manifest['counts']['stored_frames']} stored; "
+    print(f"  {name}, --keep-frames {keep}: {frames} frames at {fps:g} fps, "
+          f"{library.manifest['counts']['stored_frames']} stored; "
           f"a build with features cached, into a new folder {rebuild_s:.1f} s")
     for label, seconds, report in rows:
         stages = ", ".join(f"{k} {v:.2f} s" for k, v in report["stages"].items())
         verdict = "ok" if seconds <= LIMIT_S else "OVER"
         print(f"    {label}: {seconds:.2f} s (limit {LIMIT_S:g} s: {verdict}; {rebuild_s / seconds:.0f}x faster "
               f"than that build), {report['read_frames']} frame files read; {report['clusters']} clusters, "
-              f"{report['nodes']} motions, {report['edges']} edges; {stages}")
+              f"{report['nodes']} motions, {report['edges']} edges, {report['blend_made']} transitions "
+              f"blended anew; {stages}", flush=True)
+    for folder in tmp.glob(f"{name}-{keep}*"):
+        shutil.rmtree(folder, ignore_errors=True)
 
 
 def main():
@@ -103,8 +113,9 @@ def main():
     ensure_data()
     print("correct_speed: open a library, apply corrections by hand, derive it again, open the result")
     with tempfile.TemporaryDirectory(dir=ROOT / ".cache" / "bench") as tmp:
-        measure("gym", GYM, 10, Path(tmp))
-        measure("13_29", DATA, 60, Path(tmp))
+        for keep in ("motions", "all"):
+            measure("gym", GYM, 10, Path(tmp), keep)
+            measure("13_29", DATA, 60, Path(tmp), keep)
 
 
 if __name__ == "__main__":

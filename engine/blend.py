@@ -17,11 +17,14 @@ falls in the middle, where the two nearly coincide. Every in-between frame is th
 captured frame's own mesh with its own colours (and texture), moved smoothly: its area stays
 that of a real frame, it is the person's colours, and it is never two people at once.
 
-The field is fitted as non-rigid ICP with symmetric forces, coarse to fine. About 2,000
-nodes sampled from the moving surface carry the displacement. At each step every node is
+The field is fitted as non-rigid ICP with symmetric forces, coarse to fine. Nodes sampled
+from the moving surface carry the displacement: 1,500 at the finest radius, fewer at the
+coarse ones (as many per radius-wide patch of surface, at least 200; a level's new nodes
+start from the displacement of the coarser level's), since a 20 cm Gaussian over 2,000
+nodes summed a million pairs for what 200 nodes carry as well. At each step every node is
 pulled toward its nearest point of the other surface, and every point of the other surface
-(4,000 of them) pulls its nearest node toward itself; the pulls are summed over the nodes
-with a Gaussian of radius ``sigma`` (20 cm at first, 3 cm at the end, five steps each) and
+(3,000 of them) pulls its nearest node toward itself; the pulls are summed over the nodes
+with a Gaussian of radius ``sigma`` (20 cm at first, 3 cm at the end, three steps each) and
 divided by the summed weights (normalised convolution), so the many points of a limb that
 moved away drag its few nearest nodes, and the limb, along: with a plain average of the
 pulls per node, 8% of the vertices of CMU 13_30's hardest transition stayed over 3 cm from
@@ -31,11 +34,14 @@ follow the nodes, each by a Gaussian-weighted average over its nearest six.
 Measured (``benchmarks/blend_quality.py``; pop ratio = largest step across a transition
 window / natural step): the cut's pop ratio on CMU 13_29 is median 1.77, max 2.49 over 15
 transitions, on 13_30 median 3.30, max 4.50 (10), on the synthetic gym max 3.09 (16);
-blended, at most 0.95, 0.99 and 0.96. In-between frames keep their area within 3% of the
-interpolated area of their ends, and lie 0.33-0.53 of the cut from the nearer end. One
-transition of 17,000-vertex frames costs 0.55 s on one core (0.61 s at most): the two fields
-0.44 s, nearly flat in vertices (0.41 s at a quarter of them: the node and pull counts are
-fixed) and in in-between frames (0.51 s for one, 0.55 s for eight: a warp is a multiply-add).
+blended, at most 0.98, 1.00 and 0.96. In-between frames keep their area within 3% of the
+interpolated area of their ends, and lie 0.33-0.53 of the cut from the nearer end. A
+transition of 17,000-vertex frames costs 0.19 s of one core, 0.22 s at most, over 13_29's
+15 (it was 0.55 s with 2,000 nodes at every radius, 4,000 pulling points and five steps,
+for pop ratios of 0.95-0.99: the coarse levels' node counts gave the most, steps and points
+a third more); a warp is a multiply-add, so in-between frames cost little (0.20 s with one,
+0.26 s with eight), and k-d trees (scipy's ``cKDTree``, unbalanced: built in half the time)
+are built once per frame.
 
 The alternative, implicit-surface interpolation (signed distance fields on a voxel grid,
 blended, surfaces re-extracted by marching cubes), was rejected: at 1 cm around a person
@@ -54,18 +60,21 @@ import numpy as np
 
 from .normals import vertex_normals
 
-__all__ = ["MAX_FRAMES", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
+__all__ = ["MAX_FRAMES", "preload", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
            "BlendRun", "blend", "frame_count", "side", "check_count", "blend_library"]
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
-#: Nodes carrying the displacement field (sampled from the moving surface).
-NODES = 2000
+#: Nodes carrying the displacement field at the finest radius (sampled from the moving surface).
+NODES = 1500
+#: Fewest nodes at the coarsest radius, and node density of coarse levels relative to the finest.
+MIN_NODES = 200
+LEVEL_DENSITY = 3.0
 #: Points of the still surface that pull on the nodes.
-TARGET_POINTS = 4000
+TARGET_POINTS = 3000
 #: Gaussian radii of the field, coarse to fine (metres), and steps at each.
 SIGMAS = (0.20, 0.12, 0.08, 0.05, 0.03)
-STEPS = 5
+STEPS = 3
 #: Nearest nodes a vertex follows.
 FOLLOW = 6
 #: Consecutive texton frame pairs a build measures the natural step on, at most (spread
@@ -74,12 +83,21 @@ FOLLOW = 6
 NATURAL_PAIRS = 240
 
 
+def preload():
+    """Import what making runs needs (scipy's k-d tree and sparse matrices) in this process,
+    so that worker processes forked after it have it: a rebuild's pool starts for a handful
+    of runs, and each worker importing scipy itself cost 0.3-0.5 s of a correction."""
+    import scipy.sparse  # noqa: F401
+    import scipy.spatial  # noqa: F401
+
+
 def _kdtree(points):
     """scipy's k-d tree of ``points``, imported on first use: an edit's schedule needs
     :func:`side` from this module, and the player must start without loading scipy."""
     from scipy.spatial import cKDTree
 
-    return cKDTree(points)
+    # Unbalanced, uncompacted: built in half the time, queried as fast, the same answers.
+    return cKDTree(points, balanced_tree=False, compact_nodes=False)
 
 
 def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
@@ -171,6 +189,12 @@ def _smoother(nodes, sigma):
     return sparse.coo_matrix((weights, (pairs["i"], pairs["j"])), shape=(len(nodes),) * 2)
 
 
+def _level_nodes(sigma):
+    """Nodes that carry the field at Gaussian radius ``sigma``: about as many per
+    ``sigma``-wide patch of the surface as at the finest radius, at most :data:`NODES`."""
+    return int(min(NODES, max(MIN_NODES, NODES * (SIGMAS[-1] / sigma) ** 2 * LEVEL_DENSITY)))
+
+
 def align(moving, still, seed=0):
     """A smooth displacement of every vertex of ``moving`` that lays it onto ``still``.
 
@@ -193,11 +217,17 @@ def align(moving, still, seed=0):
     """
     moving = np.asarray(moving, dtype=np.float64)
     still = np.asarray(still, dtype=np.float64)
-    nodes = moving[_sample(moving, NODES, seed)]
+    order = _sample(moving, NODES, seed)
+    order = order[np.random.default_rng(seed).permutation(len(order))]
     pulls = still[_sample(still, TARGET_POINTS, seed + 1)]
     still_tree = _kdtree(still)
-    shift = np.zeros_like(nodes)
+    nodes, shift = moving[:0], np.zeros((0, 3))
     for sigma in SIGMAS:
+        count = min(len(order), _level_nodes(sigma))
+        if count > len(nodes):
+            more = moving[order[len(nodes):count]]
+            carried = _follow(more, nodes, shift) if len(nodes) else np.zeros_like(more)
+            nodes, shift = np.vstack([nodes, more]), np.vstack([shift, carried])
         kernel = _smoother(nodes, sigma)
         for _ in range(STEPS):
             warped = nodes + shift
@@ -249,8 +279,13 @@ class BlendRun:
 
 def _warp(mesh, field, amount, side):
     positions = (np.asarray(mesh[0], np.float32) + np.float32(amount) * field).astype(np.float32)
-    faces = np.asarray(mesh[2], np.uint32)
-    return positions, np.asarray(mesh[1], np.uint8), faces, vertex_normals(positions, faces), side
+    return positions, np.asarray(mesh[1], np.uint8), np.asarray(mesh[2], np.uint32), side
+
+
+def _finished(run):
+    """``run`` with every in-between frame's vertex normals, computed once it is chosen."""
+    run.frames = [(p, c, f, vertex_normals(p, f), s) for p, c, f, s in run.frames]
+    return run
 
 
 def side(index, count):
@@ -276,9 +311,11 @@ def _run(outgoing, incoming, fields, count):
     return frames
 
 
-def _steps(outgoing, incoming, frames):
-    points = [np.asarray(outgoing[0]), *(f[0] for f in frames), np.asarray(incoming[0])]
-    trees = [_kdtree(p) for p in points]
+def _steps(ends, frames):
+    """Chamfer steps from the exit frame through ``frames`` to the entry frame; ``ends`` holds
+    ``(points, tree)`` of the exit and entry frames (built once per transition)."""
+    points = [ends[0][0], *(f[0] for f in frames), ends[1][0]]
+    trees = [ends[0][1], *(_kdtree(f[0]) for f in frames), ends[1][1]]
     return [chamfer(points[i], points[i + 1], trees[i], trees[i + 1], stride=4) for i in range(len(points) - 1)]
 
 
@@ -327,7 +364,8 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
     BlendRun
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
-    jump = chamfer(a, b)
+    ends = ((a, _kdtree(a)), (b, _kdtree(b)))
+    jump = chamfer(a, b, ends[0][1], ends[1][1], stride=4)
     if count == 0 or (count is None and jump <= natural):
         return BlendRun([], [jump], jump)
     fields = (align(a, b, seed), align(b, a, seed))
@@ -335,11 +373,11 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
     previous = None
     while True:
         frames = _run(outgoing, incoming, fields, n)
-        run = BlendRun(frames, _steps(outgoing, incoming, frames), jump)
+        run = BlendRun(frames, _steps(ends, frames), jump)
         if previous is not None and max(run.steps) >= 0.95 * max(previous.steps):
-            return previous  # the cut's own residual dominates: more frames would not help
+            return _finished(previous)  # the cut's own residual dominates: more frames would not help
         if count is not None or max(run.steps) <= natural or n >= MAX_FRAMES:
-            return run
+            return _finished(run)
         previous, n = run, n + 1
 
 
@@ -361,20 +399,47 @@ def _stored(folder, rows):
 
 
 def _steps_task(task):
-    """Steps between pairs of consecutive texton frames of the library being written:
-    ``(folder, [(row, next row), ...])`` -> list of float (as :func:`texton_steps`)."""
-    folder, pairs = task
-    return [texton_steps([mesh[0] for mesh in _stored(folder, pair)])[0] for pair in pairs]
+    """Steps between consecutive texton frames of the library being written:
+    ``(folder, [[row, next row, ...], ...])`` -> list of float, the steps of each run of rows
+    one after another (as :func:`texton_steps`; a frame's k-d tree serves both its pairs)."""
+    folder, runs = task
+    return [step for run in runs for step in texton_steps([mesh[0] for mesh in _stored(folder, run)])]
 
 
-def _natural(folder, rows, graph, pool):
+def _runs(pairs):
+    """``pairs`` of ``(sequence, frame)`` (each the first frame of a pair) grouped into runs of
+    consecutive frames: lists of ``(sequence, frame)`` one frame longer than their pairs."""
+    runs = []
+    for sequence, frame in pairs:
+        if runs and runs[-1][-1] == (sequence, frame):
+            runs[-1].append((sequence, frame + 1))
+        else:
+            runs.append([(sequence, frame), (sequence, frame + 1)])
+    return runs
+
+
+def _natural(folder, rows, graph, pool, known):
     """The natural step of the library being written, over at most :data:`NATURAL_PAIRS`
-    pairs of consecutive texton frames spread evenly over them."""
-    pairs = [(rows[data["sequence"], f], rows[data["sequence"], f + 1])
-             for _, data in sorted(graph.nodes(data=True)) for f in range(data["start"], data["end"])]
+    pairs of consecutive texton frames spread evenly over them, and ``{(sequence, frame):
+    step}`` of those pairs. A pair in ``known`` (the library being replaced measured it, on
+    the same frame files) is not measured again: a correction of a few motions measures only
+    the pairs of their new textons, not the 240 of every texton (1.3 s of the 2,033-frame gym's
+    correction on one core, before)."""
+    pairs = [(data["sequence"], f) for _, data in sorted(graph.nodes(data=True))
+             for f in range(data["start"], data["end"])]
     pairs = pairs[::max(1, -(-len(pairs) // NATURAL_PAIRS))]
-    chunks = [pairs[k:k + 16] for k in range(0, len(pairs), 16)]
-    return natural_step(pool.map(_steps_task, ((str(folder), chunk) for chunk in chunks)))
+    todo = [p for p in pairs if p not in known]
+    chunks = [[]]
+    for run in _runs(todo):
+        for k in range(0, len(run) - 1, 8):  # pieces of 8 pairs, tasks of 16 pairs at most
+            if sum(len(r) - 1 for r in chunks[-1]) + len(run[k:k + 9]) - 1 > 16:
+                chunks.append([])
+            chunks[-1].append(run[k:k + 9])
+    chunks = [chunk for chunk in chunks if chunk]
+    tasks = ((str(folder), [[rows[q] for q in run] for run in chunk]) for chunk in chunks)
+    measured = dict(zip(todo, (step for steps in pool.map(_steps_task, tasks) for step in steps)))
+    steps = {p: known[p] if p in known else measured[p] for p in pairs}
+    return natural_step([list(steps.values())]), steps
 
 
 def _blend_task(task):
@@ -388,7 +453,7 @@ def _blend_task(task):
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
-def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
+def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, keep_natural=False):
     """Make and store the in-between frames of every edge of ``graph`` (a build's stage after
     the meshes): ``blend_*.npy`` in ``folder`` (see :mod:`engine.libformat`).
 
@@ -412,6 +477,12 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
     old : engine.library.Library or None
         The library being replaced: a run it holds for the same frames of the same files, the
         same natural step and count, is copied instead of made again.
+    keep_natural : bool
+        Keep ``old``'s natural step rather than measure it on the new motions (a rebuild from
+        corrections by hand: the capture's pace is what it was, and a correction then makes
+        anew only the runs of the transitions it changed; measured again, the median moves a
+        little with the motions and every run that could not reach it is made again, all
+        nine of a 60 fps take's after one motion was dropped).
 
     Returns
     -------
@@ -424,9 +495,14 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
     arrays = mesh_arrays(folder)
     offsets = frame_offsets(folder, arrays).tolist()
     rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
-    natural = _natural(folder, rows, graph, pool)
+    data = _old_data(old, keys)
+    known = {(name, frame): step for name, frame, step in data.get("pair_steps", [])}
+    if keep_natural and data.get("natural_step", 0) > 0:
+        natural, measured = float(data["natural_step"]), known
+    else:
+        natural, measured = _natural(folder, rows, graph, pool, known)
     textures = _textures(folder, len(arrays["positions"]), len(offsets))
-    reuse = _old_runs(old, keys, natural, count)
+    reuse = _old_runs(data, natural, count)
     edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
              for u, v, d in sorted(graph.edges(data=True))]
     fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
@@ -451,7 +527,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None):
     finally:
         if progress is not None:
             progress.close()
-    data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records}
+    data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records,
+            "pair_steps": [[name, frame, step] for (name, frame), step in measured.items()]}
     return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(fresh),
             "bounds": writer.bounds, "max_counts": writer.max_counts}
 
@@ -465,23 +542,32 @@ def _textures(folder, vertices, frames):
     return texture_arrays(folder, vertices, frames) if (Path(folder) / "uvs.npy").exists() else None
 
 
-def _old_runs(old, keys, natural, count):
-    """``{(exit, entry): (first row, count, jump, steps)}`` of the runs ``old`` holds that a new
-    build would make the same: same frame files and count option, and a run :func:`blend`
-    gives again at this natural step (:func:`_same_run`; a correction that changes the
-    motions changes the natural step a little, and should not make every run again)."""
+def _old_data(old, keys):
+    """What ``old``'s ``blends.json`` holds about the sequences read from the same frame files
+    (``keys``: sequence -> feature key) as the library being written: its ``edges`` between
+    such sequences and its measured ``pair_steps`` of them; ``{}`` when there is nothing."""
     from .errors import TvmError
 
     try:
         data = old.blend_data() if old is not None else {}
     except TvmError:  # a damaged library being replaced lends nothing
         return {}
-    if not data or data.get("blend_frames") != count:
+    if not data:
         return {}
     same = {name for name, key in data.get("feature_keys", {}).items() if keys.get(name) == key}
+    return dict(data, edges=[e for e in data["edges"] if e["exit"][0] in same and e["entry"][0] in same],
+                pair_steps=[row for row in data.get("pair_steps", []) if row[0] in same])
+
+
+def _old_runs(data, natural, count):
+    """``{(exit, entry): (first row, count, jump, steps)}`` of the runs of the old library's
+    ``data`` (:func:`_old_data`) that a new build would make the same: same count option, and
+    a run :func:`blend` gives again at this natural step (:func:`_same_run`; a correction that
+    changes the motions changes the natural step a little, and should not make every run again)."""
+    if not data or data.get("blend_frames") != count:
+        return {}
     return {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
-            for e in data["edges"] if e["exit"][0] in same and e["entry"][0] in same
-            and (count is not None or _same_run(e, data["natural_step"], natural))}
+            for e in data["edges"] if count is not None or _same_run(e, data["natural_step"], natural)}
 
 
 def _same_run(run, was, natural):

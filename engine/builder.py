@@ -34,7 +34,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import atomic, featcache, libformat, meshstore
-from .blend import blend_library
+from .blend import blend_library, preload
 from .errors import InputError, TvmError
 from .features import SAMPLE_FRAMES, FeatureAccumulator, Features, frame_histograms, frame_origin, moves_across
 from .load import expand_inputs, open_sequence, read_frame
@@ -314,7 +314,7 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
         records,
         params={"bins": bins.to_json(), "structure": settings.params, "mu": settings.mu,
                 "skip_bad_frames": settings.skip_bad_frames, "connect": settings.connect,
-                "blend_frames": settings.blend_frames},
+                "blend_frames": settings.blend_frames, "keep_frames": settings.keep_frames},
         feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
         counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
                 "stored_frames": meshes.frames, "blend_frames": run.blends["frames"]},
@@ -368,7 +368,7 @@ def _open_old(out, open_library):
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
           units=None, mirror=None, connect="auto", corrections=None, blend_frames=None,
-          open_library=None):
+          keep_frames="motions", open_library=None):
     """Write a library from TVM sequences and return its report (``engine.build``, that is
     :func:`engine.library.build`, returns it opened).
 
@@ -416,7 +416,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         In-between frames at every transition (:mod:`engine.blend`), 0 to
         ``engine.blend.MAX_FRAMES``; None (default): as many as keep every step at or below
         the natural step; 0 keeps the paper's cut.
-
+    keep_frames : {"motions", "all"}
+        Store the frames of the database motions only (default), or every frame of every
+        sequence (``engine.settings.KEEP_FRAMES``): a larger library whose corrections by hand
+        never read a frame file, even with the capture folder gone.
     open_library : callable or None
         Opens the library being replaced (``Library.open``), to reuse its features,
         corrections and meshes; None: nothing is reused from it.
@@ -430,7 +433,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
 
     run = _Run(progress, log)
     out = Path(out).absolute()
-    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames)
+    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames, keep_frames)
     given = None if corrections is None else Corrections.coerce(corrections or None)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -455,7 +458,8 @@ Derived = NamedTuple("Derived", [(name, object) for name in
                                  ("run", "sequences", "computed", "padded", "analysis", "meshes", "pool")])
 
 
-def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=None, log=None, parses=None):
+def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=None, log=None, parses=None,
+           keep_natural=False):
     """The stages after the features, written into the library folder ``tmp``.
 
     Structure (unless ``parses``, the automatic parse of every sequence, are given),
@@ -463,7 +467,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     from the same frame files, else read) and the library's other files. ``sequences`` need
     ``name``, ``fps``, ``format``, ``orientation`` and ``paths``; ``computed`` are their
     features as :func:`library_features` gives them; ``settings`` a :class:`Settings`.
-    :func:`build` and :func:`engine.rebuild.rebuild` both go through here.
+    :func:`build` and :func:`engine.rebuild.rebuild` both go through here; a rebuild keeps
+    ``old``'s natural step (``keep_natural``, see :func:`engine.blend.blend_library`).
 
     Returns
     -------
@@ -476,13 +481,17 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     analysis = _motion_graph(sequences, padded, settings.params, settings.mu, run, corrections, parses,
                              settings.connect)
     index = {seq.name: k for k, seq in enumerate(sequences)}
-    needed = sorted({(index[node.sequence], frame)
-                     for node in analysis.nodes for frame in range(node.start, node.end + 1)})
+    if settings.keep_frames == "all":
+        needed = [(s, frame) for s, entry in enumerate(computed) for frame in range(len(entry.features))]
+    else:
+        needed = sorted({(index[node.sequence], frame)
+                         for node in analysis.nodes for frame in range(node.start, node.end + 1)})
     needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
+    preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshstore.write, tmp, needed, pool, run, old, meshstore.reusable(old, computed))
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
-                           pool, run.bar, old)
+                           pool, run.bar, old, keep_natural)
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 

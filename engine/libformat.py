@@ -34,7 +34,9 @@ A library is a directory written by :func:`engine.build` and opened by
     the in-between frames (:mod:`engine.blend`) as the frames above (no keys; texture rows into
     ``textures.npy``), run after run; per graph edge ``{"from", "to", "first", "count", "jump",
     "steps", "exit", "entry"}`` (first row, Chamfer of the cut and of each step in metres, exit
-    and entry ``[sequence, frame]``), ``natural_step``, ``blend_frames``, ``feature_keys``.
+    and entry ``[sequence, frame]``), ``natural_step``, ``blend_frames``, ``feature_keys``, and
+    ``pair_steps`` (``[sequence, frame, step]`` of the texton frame pairs the natural step is the
+    median of, which a rebuild does not measure again; optional).
 ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     only where some stored frame is textured: (V, 2) float32 texture coordinates beside
     ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame

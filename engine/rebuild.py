@@ -5,7 +5,9 @@ stages (corrections, database, graph) can run again without reading a frame file
 computing a feature: :func:`rebuild` makes the sequences and features the builder's last
 stages need (:func:`engine.builder.derive`) from the library itself. Meshes are copied from
 the library; only the frames of a motion it never stored (a new representative texton,
-after a boundary was added) are read from their files.
+after a boundary was added) are read from their files, and none from a library built with
+``keep_frames="all"``. The library's natural step is kept, so only the transitions the
+correction changed get their in-between frames made anew (:mod:`engine.blend`).
 """
 
 from pathlib import Path
@@ -36,7 +38,9 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     The automatic parse is the stored one, so nothing is parsed again; corrections
     (:mod:`engine.corrections`), database, graph and meshes are made again and written
     atomically. No feature is recomputed and no frame file is read, except those of a motion
-    whose frames ``library`` does not store.
+    whose frames ``library`` does not store (none when it keeps every frame). The natural step
+    is ``library``'s: transitions the correction leaves as they were keep their in-between
+    frames, and only the others are blended.
 
     Parameters
     ----------
@@ -53,10 +57,10 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
         Called with one-line messages (a correction that found nothing to act on).
     workers : int or None
         Processes that make the in-between frames of the transitions a correction changed
-        and read the frames of new motions; None (default): all cores. The in-between frames
-        dominate a correction of a blended library (about 0.5 s of one core a transition),
-        and on two quiet cores all of them correct the 2,033-frame gym in 1.5-1.9 s against
-        2.4-2.7 s with one (``benchmarks/correct_speed.py``); 1: this process only.
+        and read the frames of new motions; None (default): all cores, whose worker processes
+        are forked with scipy already imported (``engine.blend.preload``); 1: this process
+        only. The in-between frames of changed transitions are most of a correction of a
+        blended library (``benchmarks/correct_speed.py``).
 
     Returns
     -------
@@ -72,7 +76,7 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     params = library.params
     settings = Settings.of(BinSizes(**params["bins"]), params["structure"],
                            params["mu"] if mu is None else mu, params.get("skip_bad_frames", False),
-                           library.connect, params.get("blend_frames"))
+                           library.connect, params.get("blend_frames"), params.get("keep_frames", "motions"))
     corrections = library.corrections() if corrections is None else Corrections.coerce(corrections)
     sequences, computed = [], []
     for record in library.manifest["sequences"]:
@@ -86,5 +90,5 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with atomic.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(workers) as pool:
         derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
-                         parses=parses)
+                         parses=parses, keep_natural=True)
     return report_of(derived)

@@ -11,7 +11,12 @@ from . import params
 from .errors import ParameterError
 from .features import BinSizes
 
-__all__ = ["Settings"]
+__all__ = ["Settings", "KEEP_FRAMES"]
+
+#: Which frames a library stores: ``"motions"``, those of its database motions (what can be
+#: played); ``"all"``, every frame of every sequence, so that a correction by hand never reads
+#: a frame file, ``inspect`` shows any frame at once, and the capture folder may move.
+KEEP_FRAMES = ("motions", "all")
 
 
 class Settings(NamedTuple):
@@ -24,9 +29,10 @@ class Settings(NamedTuple):
     skip_bad_frames: bool
     connect: str = "auto"
     blend_frames: int | None = None
+    keep_frames: str = "motions"
 
     @classmethod
-    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None):
+    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None, keep_frames="motions"):
         from . import structure as structure_module
         from .blend import check_count
         from .connect import MODES
@@ -34,9 +40,12 @@ class Settings(NamedTuple):
 
         if connect not in MODES:
             raise params.ParameterError(f"connect={connect!r} is not one of {', '.join(map(repr, MODES))}.")
+        if keep_frames not in KEEP_FRAMES:
+            raise params.ParameterError(f"keep_frames={keep_frames!r} is not one of "
+                                        f"{', '.join(map(repr, KEEP_FRAMES))}.")
         return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
                    MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect,
-                   check_count(blend_frames))
+                   check_count(blend_frames), keep_frames)
 
 
 def _check_mu(mu):

@@ -17,6 +17,7 @@ import pytest
 import engine
 from engine import Library
 from engine.corrections import CorrectionError, Corrections, apply_structure
+from engine.errors import ParameterError
 from engine.database import build_database
 from engine.graph import build_graph
 from engine.library import INFO_SCHEMA
@@ -129,6 +130,61 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
     again = Library.open(scratch)
     assert [(n.start, n.end, n.kind) for n in again.nodes] == [(n.start, n.end, n.kind) for n in fixed.nodes]
     assert _edges(again.graph) == _edges(fixed.graph)
+    # A correction keeps the capture's natural step, so the transitions it did not change keep
+    # their in-between frames as they were; a build from scratch measures it on its own motions.
+    assert fixed.natural_step == base.natural_step
+    assert again.natural_step == pytest.approx(base.natural_step, rel=0.1)
+    ends = lambda e: (tuple(e["exit"]), tuple(e["entry"]))  # noqa: E731
+    before = {ends(e): e for e in base.blend_data()["edges"]}
+    kept = [e for e in fixed.blend_data()["edges"] if ends(e) in before]
+    assert kept and fixed.report["blend_made"] == len(fixed.blend_data()["edges"]) - len(kept)
+    for e in kept:
+        was = before[ends(e)]
+        assert (e["count"], e["steps"]) == (was["count"], was["steps"])
+        for k in range(e["count"]):
+            assert (fixed.blend_row(e["first"] + k)[0] == base.blend_row(was["first"] + k)[0]).all()
+
+
+@pytest.fixture(scope="module")
+def base_all(take, tmp_path_factory):
+    """The take's library with every frame stored (``keep_frames="all"``)."""
+    out = tmp_path_factory.mktemp("lib") / "t30-all.tvmlib"
+    return engine.build([take], out, workers=2, cache=False, keep_frames="all")
+
+
+def test_a_library_that_keeps_every_frame_is_corrected_with_the_capture_folder_gone(base_all, take, tmp_path):
+    auto = [s for s, _ in base_all.structure(NAME).clusters]
+    truth = _truth(take)
+    true = next(b for b in auto[1:] if min(abs(b - t) for t in truth) <= 10)
+    longest = max(base_all.structure(NAME).clusters, key=lambda c: c[1] - c[0])
+    spurious = (longest[0] + longest[1]) // 2
+    starts = sorted(set(auto) - {true} | {spurious})
+    clusters = [(s, e - 1) for s, e in zip(starts, starts[1:] + [len(base_all.sequence(NAME))])]
+    structure, nodes, graph = _expected(base_all, clusters)
+    assert len(base_all.stored_frames()) == len(base_all.sequence(NAME))
+    assert base_all.params["keep_frames"] == "all"
+
+    restore = _away(take)                                # no frame file at all
+    try:
+        fixed = base_all.correct({"sequences": {NAME: {"boundaries": {"remove": [true], "add": [spurious]}}}},
+                                 tmp_path / "fixed.tvmlib")
+        shown = fixed.source_mesh((NAME, 3))             # inspect's view of any frame
+    finally:
+        restore()
+    assert fixed.report["read_frames"] == 0
+    assert fixed.structure(NAME).clusters == clusters
+    assert [(n.start, n.end, n.kind) for n in fixed.nodes] == [(n.start, n.end, n.kind) for n in nodes]
+    assert _edges(fixed.graph) == _edges(graph)
+    assert fixed.params["keep_frames"] == "all" and len(fixed.stored_frames()) == len(base_all.stored_frames())
+    assert (shown[0] == base_all.frame_mesh((NAME, 3))[0]).all()
+    for node in fixed.nodes:                             # every motion plays, frames as captured
+        assert (fixed.frame_mesh((NAME, node.end))[0] == base_all.frame_mesh((NAME, node.end))[0]).all()
+
+
+def test_keep_frames_must_be_motions_or_all(take, tmp_path):
+    with pytest.raises(ParameterError, match="keep_frames='some' is not one of 'motions', 'all'"):
+        engine.build([take], tmp_path / "x.tvmlib", keep_frames="some")
+    assert not (tmp_path / "x.tvmlib").exists()
 
 
 def test_a_correction_of_stored_motions_only_reads_no_frame_file_at_all(base, take, tmp_path):

@@ -15,7 +15,10 @@ and the blending; the library is the same whichever is used.
 --corrections FILE applies corrections by hand on top of the automatic parse (cluster
 boundaries and texton starts to add, remove or move, representatives to force, motions to
 drop; see ``engine.corrections``) and stores them in the library, so a later rebuild with
-other parameters applies them again; --no-corrections leaves them out.
+other parameters applies them again; --no-corrections leaves them out. --keep-frames all
+stores every frame, not only the database motions', so that corrections never read a frame
+file and the library is inspected, corrected and played without the capture folder (a
+larger library).
 
 At every transition of the motion graph the build makes in-between frames that carry the
 exit frame smoothly onto the entry frame (a different reconstruction, so otherwise a pop):
@@ -125,6 +128,11 @@ def add_arguments(parser):
                             "onto the entry frame; 0 keeps the paper's cut (default: as many as keep "
                             "every step at or below the natural step between captured frames)")
 
+    group.add_argument("--keep-frames", choices=("motions", "all"), default="motions",
+                       help="motions (default): store the frames of the database motions only; all: store "
+                            "every frame, a larger library whose corrections by hand (tvmedit correct, "
+                            "inspect) never read a frame file, with or without the capture folder")
+
     group = parser.add_argument_group("speed")
     group.add_argument("--workers", type=int, default=None, metavar="N",
                        help="local worker processes reading frames (default: all cores; 1: none)")
@@ -165,7 +173,7 @@ def run(args):
                     workers=args.workers, dask=args.dask, force=args.force,
                     cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror,
                     corrections=False if args.no_corrections else args.corrections,
-                    blend_frames=args.blend_frames)
+                    blend_frames=args.blend_frames, keep_frames=args.keep_frames)
     if args.quiet:
         return 0
     report = library.report

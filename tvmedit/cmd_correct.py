@@ -4,8 +4,10 @@ FILE is a corrections.json (see ``engine.corrections``; ``tvmedit inspect`` writ
 sequence, cluster boundaries and texton starts to add, remove or move, textons forced as
 their cluster's representative, and motions to drop. It replaces the corrections the
 library holds. Nothing is recomputed from the frames: features and the automatic parse are
-the library's own, and only the frames of a motion the library never stored are read. The
-library is replaced atomically (or written to -o OUT). For example:
+the library's own, and only the frames of a motion the library never stored are read (none
+from a library built with --keep-frames all); transitions the correction leaves as they
+were keep their in-between frames. The library is replaced atomically (or written to -o
+OUT). For example:
 
   {"sequences": {
     "gym": {"boundaries": {"add": [412], "remove": [118], "move": [[240, 236]]},
