@@ -87,18 +87,24 @@ def _away(take, keep=()):
     return restore
 
 
-def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_clusters(base, take, tmp_path):
-    auto = [s for s, _ in base.structure(NAME).clusters]
+def _boundary_fix(library, take):
+    """A true boundary of ``library``'s parse to remove, a spurious one to add in the middle of
+    its longest cluster (checked: no true boundary within a second), and the clusters they give."""
+    auto = [s for s, _ in library.structure(NAME).clusters]
     truth = _truth(take)
     true = next(b for b in auto[1:] if min(abs(b - t) for t in truth) <= 10)
-    longest = max(base.structure(NAME).clusters, key=lambda c: c[1] - c[0])
+    longest = max(library.structure(NAME).clusters, key=lambda c: c[1] - c[0])
     spurious = (longest[0] + longest[1]) // 2
     assert min(abs(spurious - t) for t in truth) > 10
+    starts = sorted(set(auto) - {true} | {spurious})
+    return true, spurious, [(s, e - 1) for s, e in zip(starts, starts[1:] + [len(library.sequence(NAME))])]
+
+
+def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_clusters(base, take, tmp_path):
+    true, spurious, clusters = _boundary_fix(base, take)
     fix = tmp_path / "corrections.json"
     fix.write_text(json.dumps({"sequences": {NAME: {"boundaries": {"remove": [true], "add": [spurious]}}}}))
 
-    starts = sorted(set(auto) - {true} | {spurious})
-    clusters = [(s, e - 1) for s, e in zip(starts, starts[1:] + [len(base.sequence(NAME))])]
     structure, nodes, graph = _expected(base, clusters)
     stored = set(base.stored_frames())
     new_frames = sorted({f for n in nodes for f in range(n.start, n.end + 1)} - {f for _, f in stored})
@@ -153,13 +159,7 @@ def base_all(take, tmp_path_factory):
 
 
 def test_a_library_that_keeps_every_frame_is_corrected_with_the_capture_folder_gone(base_all, take, tmp_path):
-    auto = [s for s, _ in base_all.structure(NAME).clusters]
-    truth = _truth(take)
-    true = next(b for b in auto[1:] if min(abs(b - t) for t in truth) <= 10)
-    longest = max(base_all.structure(NAME).clusters, key=lambda c: c[1] - c[0])
-    spurious = (longest[0] + longest[1]) // 2
-    starts = sorted(set(auto) - {true} | {spurious})
-    clusters = [(s, e - 1) for s, e in zip(starts, starts[1:] + [len(base_all.sequence(NAME))])]
+    true, spurious, clusters = _boundary_fix(base_all, take)
     structure, nodes, graph = _expected(base_all, clusters)
     assert len(base_all.stored_frames()) == len(base_all.sequence(NAME))
     assert base_all.params["keep_frames"] == "all"
