@@ -55,11 +55,14 @@ Two methods are provided.
        own (precision 0.50 on the suite's take with 2 s of standing still). A cluster of at
        most ``max_transition`` seconds that shows no period, or changes pose at under half
        the pace of its neighbour, joins the next cluster that repeats.
-    4. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
+    4. **Boundaries between whole periods** (:func:`engine.onsets.settle`). Novelty blocks
+       cut cycles at any phase, so its peak wanders with the tempo; each boundary moves, by
+       up to ``refine_reach`` s, to where whole periods of its two clusters differ most.
+    5. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
        of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
        suite's takes with 3 s transitions); each boundary moves back, by up to
        ``onset_reach`` seconds, to where the motion left the old exercise's poses.
-    5. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
+    6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
        clusters of at most one texton each is dropped.
@@ -94,7 +97,7 @@ from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, ato
                     atom_window, block_means, lag_profile, novelty)
 from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
-from .onsets import onset
+from .onsets import onset, settle
 from .periods import cluster_period
 from .transitions import absorb_transitions, merge_weak
 from .params import MAX_FPS, number
@@ -187,6 +190,9 @@ class StructureParams:
         "energy": a cluster of at most this many seconds that shows no period (not one whole
         texton), or changes pose at under half the pace of its neighbour (standing still), is
         a transition and joins the exercise it leads into; 0 keeps it.
+    refine_reach : float
+        "energy": a boundary moves by up to this many seconds to where blocks of whole periods
+        before and after it differ most (engine.onsets.settle); 0 keeps the novelty peak.
     onset_reach : float
         "energy": a boundary moves back by up to this many seconds from its novelty peak to
         where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
@@ -212,6 +218,7 @@ class StructureParams:
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
     max_transition: float = _param(4.0, at_least=0, at_most=3600)
+    refine_reach: float = _param(1.5, at_least=0, at_most=60)
     onset_reach: float = _param(2.0, at_least=0, at_most=60)
     weak_boundary: float = _param(0.25, at_least=0, at_most=1)
 
@@ -414,8 +421,15 @@ def _parse_energy(v, fps, p, w, theta, n, step):
     count = lambda cs, ce, P: len(_textons_by_period(v, cs, ce, P, w, 0))  # noqa: E731
     if p.max_transition > 0:
         clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count)
+    if p.refine_reach > 0 and len(clusters) > 1:
+        # Step 4: each boundary between whole periods of its two clusters (engine.onsets).
+        periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+        starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster)
+        if starts != [cs for cs, _ in clusters]:
+            clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
+            periods = None
     if p.onset_reach > 0:
-        # Step 4: each boundary moves back from its novelty peak to where the motion left the
+        # Step 5: each boundary moves back from its novelty peak to where the motion left the
         # old exercise (engine.onsets), never onto the old cluster's first frame.
         starts = [0] + [max(onset(v, clusters[i - 1][0], cs, fps, reach=p.onset_reach), clusters[i - 1][0] + 1)
                         for i, (cs, _) in enumerate(clusters) if i]
