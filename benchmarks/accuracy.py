@@ -1,6 +1,6 @@
 """Motion-structure accuracy on the development suite, per group, pooled, and held out.
 
-    python benchmarks/accuracy.py [--groups synth cmu ...] [--methods energy paper] [--no-cv] [--takes]
+    python benchmarks/accuracy.py [--groups synth cmu ...] [--methods energy paper] [--no-cv] [--takes] [--errors]
 
 Every take of the suite (``benchmarks/devsuite.py``: the synthetic actor varied, the same
 actor drifting across the volume, CMU 13_29/13_30 warped, mirrored and cut, and HDM05 people
@@ -10,7 +10,9 @@ left out) and texton-length accuracy (median texton length within 15 % of the tr
 summed over a group's takes. Then leave-one-group-out cross-validation: for each group, the
 setting of :data:`GRID` with the best mean score on the *other* groups is chosen and its
 figures on the held-out group are printed; "held-out pooled" sums those. ``--takes`` also
-prints each take's line.
+prints each take's line; ``--errors`` each take's errors (missed and false cluster starts, in
+seconds, a false one with its confidence; clusters whose texton length is wrong, median
+against true period), with the defaults and, per held-out group, with the setting chosen.
 """
 
 import argparse
@@ -63,7 +65,19 @@ def line(label, p, r, a, extra=""):
     return f"{label:28s} {p:5.2f} {r:6.2f} {a:6.2f} {extra}"
 
 
-def table(takes, params, per_take=False):
+def errors(take, result):
+    """One line naming a take's errors (empty when there are none)."""
+    s, fps = result.structure, take.fps
+    found, true = {d for d, _ in result.matches}, {t for _, t in result.matches}
+    starts = [cs for cs, _ in s.clusters[1:]]
+    out = [f"missed {t / fps:.1f} s" for t in sorted(seg["start"] for seg in result.segments[1:]) if t not in true]
+    out += [f"false {cs / fps:.1f} s ({c:.2f})" for cs, c in zip(starts, s.boundary_confidence[1:]) if cs not in found]
+    out += [f"texton c{ci} {med / fps:.2f} s for {period / fps:.2f} s"
+            for ci, _, med, period, ok in result.texton_rows if not ok]
+    return f"    {take.group} {take.name}: " + "; ".join(out) if out else ""
+
+
+def table(takes, params, per_take=False, show_errors=False):
     """Print per-group and pooled figures; returns the scores by group."""
     groups = {}
     for take, result in zip(takes, run(takes, params)):
@@ -72,13 +86,15 @@ def table(takes, params, per_take=False):
             n = len(result.segments) - 1
             print(line(f"  {take.name}", result.precision, result.recall, result.texton_accuracy,
                        f"{result.detected:3d} found {n:3d} true"))
+        if show_errors and errors(take, result):
+            print(errors(take, result))
     for group, scores in groups.items():
         print(line(group, *pool(scores), f"({len(scores)} takes)"))
     print(line("pooled", *pool([s for v in groups.values() for s in v])))
     return groups
 
 
-def cross_validate(takes, base):
+def cross_validate(takes, base, show_errors=False):
     """Leave one group out: choose a :data:`GRID` setting on the rest, report on the group."""
     by_setting = []
     for setting in GRID:
@@ -93,6 +109,9 @@ def cross_validate(takes, base):
         held += scores[group]
         chosen = ", ".join(f"{k}={v:g}" for k, v in setting.items())
         print(line(f"held out: {group}", *pool(scores[group]), f"chosen on the rest: {chosen}"))
+        for take, result in zip([t for t in takes if t.group == group], scores[group]):
+            if show_errors and errors(take, result):
+                print(errors(take, result))
     print(line("held-out pooled", *pool(held)))
 
 
@@ -102,13 +121,15 @@ def main(argv=None):
     ap.add_argument("--methods", nargs="+", default=["energy"], choices=list(METHODS))
     ap.add_argument("--no-cv", action="store_true", help="skip the cross-validation")
     ap.add_argument("--takes", action="store_true", help="print every take's figures too")
+    ap.add_argument("--errors", action="store_true", help="print every take's missed and false cluster starts "
+                    "and wrong texton lengths, with the defaults and held out")
     args = ap.parse_args(argv)
     takes = devsuite.takes(args.groups)
     for method in args.methods:
         print(f"== method {method}: {'group':18s} prec recall texton")
-        table(takes, StructureParams(**METHODS[method]), args.takes)
+        table(takes, StructureParams(**METHODS[method]), args.takes, args.errors)
         if method == "energy" and not args.no_cv and len({t.group for t in takes}) > 1:
-            cross_validate(takes, METHODS[method])
+            cross_validate(takes, METHODS[method], args.errors)
 
 
 if __name__ == "__main__":
