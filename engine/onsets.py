@@ -75,7 +75,8 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0):
     reach : float
         Seconds a boundary may move either way.
     min_gap : float
-        Least distance, in seconds, between a moved boundary and its neighbours.
+        Least distance, in seconds, between a moved boundary and its neighbours (or the
+        sequence's ends); a boundary already nearer stays no nearer.
 
     Returns
     -------
@@ -99,16 +100,17 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0):
         P = P / step
         return max(2, int(round(P * max(2, round(window * f / P)))))
 
-    old = [cs for cs, _ in clusters]
+    old = [cs for cs, _ in clusters] + [len(v)]
     out = [0]
     gap, k = max(1, int(round(min_gap * f))), int(round(reach * f))
     for i in range(1, len(clusters)):
-        b = old[i] // step
-        lo = max(out[-1] // step + gap, b - k)
-        hi = min(b + k, (old[i + 1] // step - gap) if i + 1 < len(old) else n - 2)
+        # Never nearer a neighbour than min_gap, nor nearer than it already is.
+        b, prev, nxt = old[i] // step, out[-1] // step, old[i + 1] // step
+        lo = max(prev + max(1, min(gap, b - prev)), b - k)
+        hi = min(nxt - max(1, min(gap, nxt - b)), b + k)
         before, after = block(periods[i - 1]), block(periods[i])
         a0, a1 = max(0, lo - before), min(n, hi + after)
-        D = distance_matrix(r[a0:a1]) if hi > lo else None
+        D = distance_matrix(r[a0:a1])
         best, at = -np.inf, b
         for t in range(lo, hi + 1):
             i0, i1 = max(a0, t - before) - a0, min(a1, t + after) - a0

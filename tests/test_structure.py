@@ -198,3 +198,24 @@ def test_a_long_shortest_cluster_still_finds_boundaries(min_cluster, novelty_win
     vectors, starts = cyclic_sequence([(150, 12), (150, 9), (150, 15)])
     s = parse(vectors, 10, StructureParams(min_cluster=min_cluster, novelty_window=novelty_window))
     assert len(s.clusters) > 1
+
+
+@pytest.mark.parametrize("slow, quick, change", [(45, 7, 110), (42, 10, 105)])
+def test_boundary_between_a_slow_and_a_quick_exercise_lies_where_the_motion_changes(slow, quick, change):
+    # Three slow cycles, then quick ones about other poses. The novelty's 4 s blocks cut the
+    # slow cycles part-way, and its peak lies 1.4 s early; placed between whole periods of
+    # each side (refine_reach), the boundary is the frame where the motion changes.
+    rng = np.random.default_rng(1)
+
+    def cycles(n, period, centre, amp):
+        phase = 2 * np.pi * np.arange(n) / period
+        return np.stack([centre[0] + amp * np.sin(phase), centre[1] + amp * np.cos(phase),
+                         centre[2] + 0.5 * amp * np.sin(2 * phase)], axis=1)
+
+    v = np.vstack([cycles(change, slow, (0, 0, 0), 1.0), cycles(200 - change, quick, (0.8, 0.3, 0.2), 0.6)])
+    v = v * 0.2 + rng.normal(0, 0.005, v.shape)
+    peaks = parse(v, 10, StructureParams(refine_reach=0)).clusters
+    settled = parse(v, 10).clusters
+    assert len(peaks) == 2 and abs(peaks[1][0] - change) > 10, peaks
+    assert len(settled) == 2 and abs(settled[1][0] - change) <= 1, settled
+    assert [len(t) for t in parse(v, 10).textons_of(1)][:3] == [quick] * 3
