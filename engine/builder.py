@@ -25,6 +25,7 @@ never half of one.
 """
 
 import dataclasses
+import os
 import sys
 import time
 import warnings
@@ -351,7 +352,7 @@ def _open_inputs(inputs, fps, log, frame=None):
 
 def check_target(out, force, sequences):
     """Refuse an ``out`` that is not a library of ours, holds user files or lies in an input."""
-    inputs = {str(Path(path).parent) for seq in sequences for path in seq.paths}
+    inputs = {os.path.dirname(os.fspath(path)) or "." for seq in sequences for path in seq.paths}
     atomic.check_target(out, "library", force, inputs=sorted(inputs), legacy=libformat.legacy_foreign)
 
 
