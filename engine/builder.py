@@ -35,7 +35,8 @@ from typing import NamedTuple
 import numpy as np
 
 from . import atomic, featcache, libformat, meshstore
-from .blend import blend_library, preload
+from .blend import preload
+from .blendstore import blend_library, loop_frames
 from .errors import InputError, TvmError
 from .features import SAMPLE_FRAMES, FeatureAccumulator, Features, frame_histograms, frame_origin, moves_across
 from .load import expand_inputs, open_sequence, read_frame
@@ -469,7 +470,7 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     ``name``, ``fps``, ``format``, ``orientation`` and ``paths``; ``computed`` are their
     features as :func:`library_features` gives them; ``settings`` a :class:`Settings`.
     :func:`build` and :func:`engine.rebuild.rebuild` both go through here; a rebuild keeps
-    ``old``'s natural step (``keep_natural``, see :func:`engine.blend.blend_library`).
+    ``old``'s natural step (``keep_natural``, see :func:`engine.blendstore.blend_library`).
 
     Returns
     -------
@@ -481,20 +482,29 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     padded = [entry.features.pad_r(width) for entry in computed]
     analysis = _motion_graph(sequences, padded, settings.params, settings.mu, run, corrections, parses,
                              settings.connect)
-    index = {seq.name: k for k, seq in enumerate(sequences)}
-    if settings.keep_frames == "all":
-        needed = [(s, frame) for s, entry in enumerate(computed) for frame in range(len(entry.features))]
-    else:
-        needed = sorted({(index[node.sequence], frame)
-                         for node in analysis.nodes for frame in range(node.start, node.end + 1)})
-    needed = [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
+    rooms = {node.id: analysis.structures[node.sequence].clusters[node.cluster] for node in analysis.nodes}
+    needed = _needed(sequences, computed, analysis, settings, rooms)
     preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshstore.write, tmp, needed, pool, run, old, meshstore.reusable(old, computed))
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
-                           pool, run.bar, old, keep_natural)
+                           pool, run.bar, old, keep_natural, rooms)
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
+
+
+def _needed(sequences, computed, analysis, settings, rooms):
+    """The frames a library stores, ``(sequence index, frame, path, orientation)``: every frame
+    (``keep_frames="all"``), else those of the database motions and of the neighbouring
+    repetitions their loops are closed onto (:mod:`engine.wraps`)."""
+    index = {seq.name: k for k, seq in enumerate(sequences)}
+    if settings.keep_frames == "all":
+        needed = [(s, frame) for s, entry in enumerate(computed) for frame in range(len(entry.features))]
+    else:
+        frames = {(node.sequence, frame) for node in analysis.nodes for frame in range(node.start, node.end + 1)}
+        frames |= loop_frames(analysis.graph, settings.blend_frames, rooms)
+        needed = sorted((index[name], frame) for name, frame in frames)
+    return [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
 
 
 def report_of(derived):

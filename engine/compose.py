@@ -338,7 +338,34 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
         starts.append(len(schedule))
     length = end - start + 1
     schedule += _entries(keys[-1], sequence, _cycle(start, end, entry, length * (loops or 1)))
+    schedule = _close_loops(graph, schedule, rests=loops is None)
     return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts)
+
+
+def _close_loops(graph, schedule, rests):
+    """``schedule`` with the last frames of every cycle that wraps replaced by its texton's
+    loop-closing frames (:mod:`engine.wraps`; the graph's node attribute ``wrap`` counts them).
+    A visit is a run of entries of one node with no in-between frame; ``rests``: the last one
+    goes on after the schedule. The length is unchanged."""
+    from .wraps import closing, window
+
+    if not any(count for _, count in graph.nodes(data="wrap")):
+        return schedule
+    closed, i = list(schedule), 0
+    while i < len(closed):
+        node, j = closed[i].node, i
+        while j < len(closed) and closed[j].node == node and closed[j].blend is None:
+            j += 1
+        count, at = graph.nodes[node].get("wrap", 0), graph.nodes[node].get("wrap_at", "end")
+        if count and j > i:
+            _, start, end = _texton(graph, node)
+            marks = closing([e.frame for e in closed[i:j]], start, end, count, at, rests and j == len(closed))
+            for k, mark in enumerate(marks):
+                if mark is not None:
+                    closed[i + k] = ScheduleEntry(node, closed[i + k].sequence, closed[i + k].frame,
+                                                  ((node, node), mark))
+        i = max(j, i + 1)
+    return closed
 
 
 def _route(graph, source, entry, target, goal, weight, forbidden, index):
@@ -524,6 +551,23 @@ class Playhead:
                 self.played += 1
                 return blend[0]
         frame = visit.start + (visit.entry - visit.start + visit.shown) % visit.length
+        closing = self._closing(visit, frame)
         visit.shown += 1
         self.played += 1
+        if closing is not None:
+            return closing
         return ScheduleEntry(visit.node, visit.sequence, frame)
+
+    def _closing(self, visit, frame):
+        """The loop-closing frame shown instead of texton frame ``frame`` (:mod:`engine.wraps`),
+        or None: where the visit plays the texton's whole closing window and wraps next to it,
+        as :func:`compose` marks it."""
+        data = self.graph.nodes[visit.node]
+        count, at = data.get("wrap", 0), data.get("wrap_at", "end")
+        index = frame - (visit.end - count + 1 if at == "end" else visit.start)
+        if not (count and 0 <= index < count and visit.shown > index):
+            return None
+        left = visit.remaining()   # frames still to show, this one included
+        if left is not None and left < count - index + (at == "end"):
+            return None
+        return ScheduleEntry(visit.node, visit.sequence, frame, ((visit.node, visit.node), index))

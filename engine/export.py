@@ -7,8 +7,10 @@ so frames skipped at build time do not shift it), and for each transition the ed
 its weight, so the edit can be traced back to the capture; ``key_starts`` gives the frame at
 which each key motion begins and each leg its ``asked_s`` and ``achieved_s`` seconds. An
 in-between frame made at a transition (:mod:`engine.blend`) is marked
-``"blend": [[from, to], i]``; its source is the captured frame it was warped from. The folder is written under a
-temporary name and renamed into place, so a failure never leaves a half-written export.
+``"blend": [[from, to], i]``; its source is the captured frame it was warped from. A frame of
+a loop's closing (:mod:`engine.wraps`) is marked ``"blend": [[n, n], i]``; its source is the
+texton frame it warps. The folder is written under a temporary name and renamed into place,
+so a failure never leaves a half-written export.
 
 Replacing an existing folder (``force``) is allowed only where that folder is a previous
 export holding nothing else (:func:`engine.atomic.check_target`); any other folder, the

@@ -72,7 +72,10 @@ INFO_SCHEMA = {
                                "intensity": {"type": ["number", "null"]},
                                "kind": {"enum": ["cycle", "once"],
                                         "description": "cycle: a texton played cyclically; once: a "
-                                                       "one-shot motion played through once"}},
+                                                       "one-shot motion played through once"},
+                               "closing_frames": {**_INT, "description": "texton frames warped onto "
+                                                  "the neighbouring repetition where its loop wraps, "
+                                                  "so the wrap does not pop (engine.wraps); 0: none"}},
             },
         },
         "edges": {

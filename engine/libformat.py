@@ -34,9 +34,9 @@ A library is a directory written by :func:`engine.build` and opened by
     the in-between frames (:mod:`engine.blend`) as the frames above (no keys; texture rows into
     ``textures.npy``), run after run; per graph edge ``{"from", "to", "first", "count", "jump",
     "steps", "exit", "entry"}`` (first row, Chamfer of the cut and of each step in metres, exit
-    and entry ``[sequence, frame]``), ``natural_step``, ``blend_frames``, ``feature_keys``, and
-    ``pair_steps`` (``[sequence, frame, step]`` of the texton frame pairs the natural step is the
-    median of, which a rebuild does not measure again; optional).
+    and entry ``[sequence, frame]``); ``wraps`` likewise per closed loop (:mod:`engine.wraps`:
+    from = to, exit the end, entry the start, ``at``, ``texton``); ``natural_step``, ``blend_frames``,
+    ``feature_keys``, ``pair_steps`` (``[sequence, frame, step]`` the natural step is the median of).
 ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     only where some stored frame is textured: (V, 2) float32 texture coordinates beside
     ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
@@ -539,7 +539,8 @@ def read_blends(path, frames):
     against the ``frames`` rows of ``blend_frames.npy``."""
     data = read_json(path, "blends.json")
     try:
-        runs = {(int(e["from"]), int(e["to"])): (int(e["first"]), int(e["count"])) for e in data["edges"]}
+        runs = {(int(e["from"]), int(e["to"])): (int(e["first"]), int(e["count"]))
+                for e in [*data["edges"], *data.get("wraps", [])]}
         natural = float(data["natural_step"])
     except (KeyError, TypeError, ValueError) as error:
         raise damaged(path, error) from None

@@ -255,8 +255,11 @@ class Library:
         unpruned, transitions, stored_mu = self._graph_data
         graph = graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else mu, self.connect)
         for (i, j), (_, count) in self._blends[1].items():
-            if count and graph.has_edge(i, j):
+            if count and i != j and graph.has_edge(i, j):
                 graph.edges[i, j]["blend"] = count
+        for wrap in self._blends[2].get("wraps", []):   # loops closed (engine.wraps)
+            if wrap["count"] and graph.has_node(wrap["from"]):
+                graph.nodes[wrap["from"]].update(wrap=int(wrap["count"]), wrap_at=wrap.get("at", "end"))
         return graph
 
     @cached_property
@@ -324,7 +327,8 @@ class Library:
         return [self.path, *sorted(folders)]
 
     def stored_frames(self):
-        """Keys ``(sequence, frame)`` of every stored texton frame, in storage order (the
+        """Keys ``(sequence, frame)`` of every stored frame (texton frames, the frames their loops are
+        closed onto, every frame with ``keep_frames="all"``), in storage order (the
         in-between frames are stored apart; an edit's schedule names them by their ``key``)."""
         return list(self._frame_rows)
 
@@ -470,7 +474,7 @@ class Library:
             })
         nodes = [{"id": n.id, "name": n.name, "sequence": n.sequence, "start": n.start, "end": n.end,
                   "cluster": n.cluster, "texton_distance": n.texton_distance, "intensity": n.intensity,
-                  "kind": n.kind}
+                  "kind": n.kind, "closing_frames": int(self.graph.nodes[n.id].get("wrap", 0))}
                  for n in self._nodes]
         runs = self.blend_runs()
         edges = [{"from": int(i), "to": int(j), "weight": float(d["weight"]),

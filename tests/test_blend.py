@@ -89,7 +89,7 @@ def test_edits_play_the_in_between_frames_between_exit_and_entry(libraries):
     count = library.graph.edges[u, v]["blend"]
     transition = edit.transitions[0]
     assert transition.blend == count
-    marked = [i for i, entry in enumerate(edit.schedule) if entry.blend is not None]
+    marked = [i for i, entry in enumerate(edit.schedule) if entry.blend is not None and entry.blend[0] == (u, v)]
     assert marked == list(range(transition.index - count, transition.index))
     assert [edit.schedule[i].blend for i in marked] == [((u, v), i) for i in range(count)]
     # Every frame of the first texton is still shown before the run (section 8).
@@ -110,8 +110,10 @@ def test_path_json_and_export_mark_the_in_between_frames(libraries, tmp_path, ca
     assert main(["path", str(library.path), str(u), str(v), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     marked = [entry for entry in data["schedule"] if "blend" in entry]
-    assert marked and all(entry["blend"][0] == [u, v] for entry in marked)
-    assert data["transitions"][0]["blend_frames"] == len(marked)
+    between = [entry for entry in marked if entry["blend"][0] == [u, v]]
+    assert between and data["transitions"][0]["blend_frames"] == len(between)
+    # The others close a loop (engine.wraps): frames of the motion, marked [[n, n], i].
+    assert all(e["blend"][0] == [e["node"], e["node"]] for e in marked if e not in between)
 
     assert main(["export", str(library.path), str(u), str(v), "-o", str(tmp_path / "out"), "-q"]) == 0
     record = json.loads((tmp_path / "out" / "edit.json").read_text())
@@ -150,15 +152,21 @@ def test_a_blend_count_out_of_range_is_one_sentence(take_13_30, tmp_path, capsys
     assert not (tmp_path / "x.tvmlib").exists()
 
 
-def test_a_correction_copies_the_runs_it_keeps_though_the_natural_step_moved(libraries, tmp_path):
-    # Dropping a motion moves the natural step (the median over the textons left); a run
-    # that blend() would make again the same (same frames, same count) is copied, so a
-    # correction does not redo every transition.
+def test_a_correction_keeps_the_natural_step_and_copies_every_run_it_keeps(libraries, tmp_path):
+    # Dropping a motion would move the natural step (the median over the textons left), and
+    # with it the runs that cannot reach it; a correction keeps the library's, so it makes
+    # only the runs of transitions that are new, and copies the others frame for frame.
     library = libraries["gym"]
     corrected = library.correct({"sequences": {"gym": {"drop": [library.nodes[-1].name]}}},
                                 tmp_path / "corrected.tvmlib")
-    assert corrected.natural_step != library.natural_step
-    old = {(tuple(r["exit"]), tuple(r["entry"])): r["count"] for r in library.blend_data()["edges"]}
-    new = corrected.blend_data()["edges"]
-    changed = [r for r in new if old.get((tuple(r["exit"]), tuple(r["entry"]))) != r["count"]]
-    assert corrected.report["blend_made"] == len(changed) < len(new)
+    assert corrected.natural_step == library.natural_step
+    ends = lambda r: (tuple(r["exit"]), tuple(r["entry"]))  # noqa: E731
+    old = {ends(r): r for r in library.blend_data()["edges"] + library.blend_data()["wraps"]}
+    new = corrected.blend_data()["edges"] + corrected.blend_data()["wraps"]
+    kept = [r for r in new if ends(r) in old]
+    assert corrected.report["blend_made"] == len(new) - len(kept) < len(new)
+    for r in kept:
+        was = old[ends(r)]
+        assert r["count"] == was["count"]
+        for k in range(r["count"]):
+            assert (corrected.blend_row(r["first"] + k)[0] == library.blend_row(was["first"] + k)[0]).all()

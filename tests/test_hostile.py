@@ -306,7 +306,7 @@ def test_damaged_frames(world, data, tmp_path_factory):
 
 #: Points inside the commands where a signal lands: (command, module:function, calls before it).
 MOMENTS = [("build", "engine.featcache:stat_list", 1), ("build", "engine.libformat:link_meshes", 1),
-           ("build", "engine.blend:blend_library", 1),
+           ("build", "engine.blendstore:blend_library", 1),
            ("build", "engine.libformat:write_manifest", 1), ("build", "engine.atomic:mark", 1),
            ("export", "engine.export:write_ply", 3), ("export", "engine.atomic:mark", 1),
            ("render", "player.headless:_draw", 2), ("rename", "engine.atomic:write_text", 1)]

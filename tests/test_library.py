@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from engine import Library, LibraryError, UnknownMotion, build
+from engine.blendstore import loop_frames
 from engine.builder import expand_inputs
 from engine.featcache import cache_dir
 from engine.normals import vertex_normals
@@ -96,9 +97,12 @@ def test_reopened_library_matches_the_analysis_in_memory(built, take_13_30):
     assert library.graph.graph["unpruned"] == graph.graph["unpruned"]
     assert library.graph.graph["transitions"] == graph.graph["transitions"]
 
-    # Exactly the texton frames of the database are stored, each as it was read.
+    # Exactly the texton frames of the database are stored, and the neighbouring repetitions'
+    # frames their loops are closed onto (engine.wraps), each as it was read.
     by_name = {s.name: s for s in sequences}
     wanted = {(n.sequence, f) for n in library.nodes for f in range(n.start, n.end + 1)}
+    rooms = {n.id: library.structure(n.sequence).clusters[n.cluster] for n in library.nodes}
+    wanted |= loop_frames(library.graph, library.params["blend_frames"], rooms)
     assert set(library.stored_frames()) == wanted
     low, high = np.full(3, np.inf), np.full(3, -np.inf)
     most = [0, 0]

@@ -102,6 +102,9 @@ def run(args):
               f"{n['texton_distance']:7.4f}")
     if any(n.get("kind") == "once" for n in info["nodes"]):
         print("  (once: a stretch that does not repeat, played through once; cycle: a texton played cyclically)")
+    closed = [f"{n['name']} ({n['closing_frames']})" for n in info["nodes"] if n.get("closing_frames")]
+    if closed:
+        print(f"  loops closed, frames warped where the texton wraps: {', '.join(closed)}")
     hint = options.as_flags(advice(library.nodes))
     if hint:
         print(f"note: {hint}")

@@ -75,9 +75,11 @@ def run(args):
     print(f"schedule: {len(edit.schedule)} frames ({len(edit.schedule) / fps:.1f} s at {fps:g} fps)")
     runs, previous = [], None
     for entry in edit.schedule:
-        if (entry.node, entry.blend is None) != previous:
-            runs.append([entry.node, entry.sequence, [entry.frame], entry.blend])
-            previous = (entry.node, entry.blend is None)
+        # A loop's closing frame ([[n, n], i], engine.wraps) stands for its texton frame.
+        transit = entry.blend is not None and entry.blend[0][0] != entry.blend[0][1]
+        if (entry.node, transit) != previous:
+            runs.append([entry.node, entry.sequence, [entry.frame], entry.blend if transit else None])
+            previous = (entry.node, transit)
         else:
             runs[-1][2].append(entry.frame)
     for node, sequence, frames, blend in runs:

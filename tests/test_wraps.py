@@ -1,0 +1,131 @@
+"""A looping motion does not pop where its texton wraps from its last frame to its first
+(engine.wraps), on real takes and the synthetic gym, in edits, the player's playhead and exports."""
+
+import numpy as np
+import pytest
+
+from conftest import built_library
+from engine import Library, blend
+from engine.compose import Playhead
+from engine.wraps import closing, pace, window
+
+
+@pytest.fixture(scope="module")
+def libraries(take_13_29, take_13_30, synth_gym):
+    """The three takes, built at default options, once per version of the engine's code."""
+    return {name: Library.open(built_library(name, take))
+            for name, take in (("13_29", take_13_29), ("13_30", take_13_30), ("gym", synth_gym))}
+
+
+def _loop(library, node):
+    """Keys of the frames a looping motion shows around its wrap, with its closing frames in
+    place of the captured ones they warp, and the captured frames those are."""
+    n, data = library.nodes[node], library.graph.nodes[node]
+    k, at = data.get("wrap", 0), data.get("wrap_at", "end")
+    warped = window(n.start, n.end, at, k)[0]
+    closed = [(n.sequence, f, ((node, node), i)) for i, f in enumerate(warped)]
+    if at == "end":
+        return [(n.sequence, n.end - k)] + closed + [(n.sequence, n.start)], warped, k
+    return [(n.sequence, n.end)] + closed + [(n.sequence, n.start + k)], warped, k
+
+
+def test_every_loop_wraps_within_a_natural_step_where_the_cut_did_not(libraries):
+    raw, closed = {}, 0
+    for name, library in libraries.items():
+        natural = library.natural_step
+        for node in library.nodes:
+            if node.kind == "once":
+                continue
+            keys, warped, k = _loop(library, node.id)
+            meshes = [library.frame_mesh(key)[0] for key in keys]
+            steps = [blend.chamfer(a, b) for a, b in zip(meshes, meshes[1:])]
+            # A pop is a step beyond natural motion, and beyond what the capture itself steps
+            # across the same phase (a fast motion steps more in every frame).
+            at = library.graph.nodes[node.id].get("wrap_at", "end")
+            goal = max(natural, pace(lambda f: library.source_mesh((node.sequence, f)), node.start, node.end, at))
+            wrap = blend.chamfer(library.frame_mesh((node.sequence, node.end))[0],
+                                 library.frame_mesh((node.sequence, node.start))[0])
+            # Closed, the loop's largest step is smaller than the wrap's was, and within 1.25
+            # of the capture's pace unless the wrap was already beyond it.
+            assert max(steps) <= max(1.25 * goal, wrap), (name, node.name, k, [round(s / goal, 2) for s in steps])
+            assert k == 0 or max(steps) < 0.98 * wrap, (name, node.name, k, wrap / goal)
+            raw.setdefault(name, []).append(wrap / goal)
+            closed += k > 0
+            for i, frame in enumerate(warped):   # each is a captured frame of the texton, moved
+                positions, colours, faces, _ = library.frame_mesh(keys[1 + i])
+                source = library.frame_mesh((node.sequence, frame))
+                assert np.array_equal(colours, source[1]) and np.array_equal(faces, source[2])
+                area = blend.surface_area(positions, faces) / blend.surface_area(source[0], source[2])
+                assert abs(area - 1) <= 0.10, (name, node.name, i)
+                # Moved toward the neighbouring repetition, but still its own pose: less than the
+                # wrap's jump away from the captured frame.
+                assert blend.chamfer(positions, source[0]) < wrap, (name, node.name, i)
+    # Without the closing frames a wrap of a real take pops by nearly twice that.
+    assert max(max(r) for r in raw.values()) > 1.5 and closed >= 3
+
+
+def _closed_motions(libraries):
+    """Every (library, motion) whose loop is closed, at either end, in the real takes."""
+    found = [(library, n) for library in (libraries["13_29"], libraries["13_30"]) for n in library.nodes
+             if library.graph.nodes[n.id].get("wrap")]
+    assert {library.graph.nodes[n.id]["wrap_at"] for library, n in found} == {"end", "start"}
+    return found
+
+
+def test_an_edit_shows_the_closing_frames_only_in_cycles_that_wrap(libraries):
+    for library, node in _closed_motions(libraries):
+        _check_edit(library, node)
+
+
+def _check_edit(library, node):
+    other = next(n for n in library.nodes if n.id != node.id and n.kind != "once")
+    edit = library.edit([node.id, other.id, node.id], loops=3)
+    k, at = library.graph.nodes[node.id]["wrap"], library.graph.nodes[node.id]["wrap_at"]
+    plain = library.graph.copy()
+    for n in plain.nodes:
+        plain.nodes[n].pop("wrap", None), plain.nodes[n].pop("wrap_at", None)
+    from engine.compose import compose
+
+    bare = compose(plain, [node.id, other.id, node.id], loops=3)
+    assert len(edit.schedule) == len(bare.schedule)            # lengths and timing are unchanged
+    marks = [e.blend[1] for e in edit.schedule if e.blend is not None and e.blend[0] == (node.id, node.id)]
+    assert marks and marks == list(range(k)) * (len(marks) // k)
+    # Each closing run stands for the window's captured frames and is followed by the texton's
+    # first frame; every other entry is the edit's as it was.
+    for i, (e, was) in enumerate(zip(edit.schedule, bare.schedule)):
+        u = e.blend[0][0] if e.blend is not None and e.blend[0][0] == e.blend[0][1] else None
+        if u is None:
+            assert e == was
+            continue
+        n, data = library.nodes[u], library.graph.nodes[u]
+        assert (e.node, e.frame) == (was.node, was.frame) == (u, window(n.start, n.end, data["wrap_at"],
+                                                                        data["wrap"])[0][e.blend[1]])
+        if e.blend[1] == data["wrap"] - 1 and data["wrap_at"] == "end":
+            assert (edit.schedule[i + 1].node, edit.schedule[i + 1].frame) == (u, n.start)
+        if e.blend[1] == 0 and data["wrap_at"] == "start":
+            assert (edit.schedule[i - 1].node, edit.schedule[i - 1].frame) == (u, n.end)
+    # The player's playhead shows the same frames.
+    head = Playhead(library.graph, node.id)
+    shown = [head.advance()]
+    head.queue(other.id)
+    head.queue(node.id)
+    shown += [head.advance() for _ in range(len(edit.schedule) - 1)]
+    last = len(edit.schedule) - (node.end - node.start + 1)    # the playhead rests and closes its last cycle
+    assert shown[:last] == edit.schedule[:last]
+
+
+def test_closing_marks_only_whole_windows_next_to_a_wrap():
+    # Entered inside the window: that first partial window is shown as captured.
+    assert closing([12, 13, 10, 11, 12, 13, 10], 10, 13, 2) == [None, None, None, None, 0, 1, None]
+    # Left at the window's first frame: nothing is closed.
+    assert closing([10, 11, 12], 10, 13, 2) == [None, None, None]
+    assert closing([10, 11, 12, 13], 10, 13, 0) == [None] * 4
+    # At the start: only after a wrap, and only where the whole window is played.
+    assert closing([10, 11, 12, 13, 10, 11], 10, 13, 2, "start") == [None, None, None, None, 0, 1]
+    assert closing([12, 13, 10], 10, 13, 2, "start") == [None, None, None]
+
+
+def test_a_library_without_blending_closes_no_loop(take_13_30, tmp_path):
+    library = Library.open(built_library("13_30", take_13_30, blend_frames=0))
+    assert not library.blend_data()["wraps"]
+    assert not any(count for _, count in library.graph.nodes(data="wrap"))
