@@ -338,15 +338,16 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
         starts.append(len(schedule))
     length = end - start + 1
     schedule += _entries(keys[-1], sequence, _cycle(start, end, entry, length * (loops or 1)))
-    schedule = _close_loops(graph, schedule, rests=loops is None)
+    schedule = _close_loops(graph, schedule)
     return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts)
 
 
-def _close_loops(graph, schedule, rests):
-    """``schedule`` with the last frames of every cycle that wraps replaced by its texton's
-    loop-closing frames (:mod:`engine.wraps`; the graph's node attribute ``wrap`` counts them).
-    A visit is a run of entries of one node with no in-between frame; ``rests``: the last one
-    goes on after the schedule. The length is unchanged."""
+def _close_loops(graph, schedule):
+    """``schedule`` with the frames next to every wrap of a cycle replaced by its texton's
+    loop-closing frames (:mod:`engine.wraps`; the graph's node attributes ``wrap`` and
+    ``wrap_at`` say how many and where). A visit is a run of entries of one node with no
+    in-between frame; the last one is taken to go on, as the player rests in the last key
+    motion (and an exported edit may be looped). The length is unchanged."""
     from .wraps import closing, window
 
     if not any(count for _, count in graph.nodes(data="wrap")):
@@ -359,7 +360,7 @@ def _close_loops(graph, schedule, rests):
         count, at = graph.nodes[node].get("wrap", 0), graph.nodes[node].get("wrap_at", "end")
         if count and j > i:
             _, start, end = _texton(graph, node)
-            marks = closing([e.frame for e in closed[i:j]], start, end, count, at, rests and j == len(closed))
+            marks = closing([e.frame for e in closed[i:j]], start, end, count, at, rests=j == len(closed))
             for k, mark in enumerate(marks):
                 if mark is not None:
                     closed[i + k] = ScheduleEntry(node, closed[i + k].sequence, closed[i + k].frame,
