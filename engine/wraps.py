@@ -6,9 +6,9 @@ and ``start`` are close poses, but the period is a whole number of frames and no
 repetitions are the same: measured as the symmetric mean Chamfer distance
 (:func:`engine.blend.chamfer`) over the larger of the library's natural step and the
 capture's own step across the same phase (:func:`pace`), the wrap jumps up to 1.87 on CMU
-13_29 and 1.50 on 13_30, once per cycle, and a looping motion is where an edit spends most
-of its time. Closed, the largest step around a wrap is 1.53 and 1.35; a closing is kept
-only where it makes the largest step smaller than the wrap's (it does for 6 of 11 motions;
+13_29 and 1.52 on 13_30, once per cycle, and a looping motion is where an edit spends most
+of its time. Closed, the largest step around a wrap is 1.53 and 1.37; a closing is kept
+only where it makes the largest step smaller than the wrap's (it does for 8 of 11 motions;
 the synthetic gym's wraps, at most 0.72, need none).
 
 Method: a cross-fade with the neighbouring repetition, as loops of captured motion are
