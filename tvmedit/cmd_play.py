@@ -19,7 +19,8 @@ playing, or already last in the queue, is ignored.
 Playback runs at the library's frame rate on its own clock; the window redraws at the
 display rate in between. With --log every displayed sequence frame is written as one JSON
 line, {"t", "node", "sequence", "frame", "queue"} (t in seconds since start, node ids as in
-`tvmedit info --json`; an in-between frame also has "blend": [[from, to], i]). Lines with an "event" key are not frames: "start" (first line),
+`tvmedit info --json`; an in-between frame also has "blend": [[from, to], i], a frame of
+a loop's closing "blend": [[n, n], i]). Lines with an "event" key are not frames: "start" (first line),
 "queued" (with "hold" in seconds for Shift+key), "unqueued" and "refused" (with the queue
 after the key press), and "stop" (last line, with the redraw rate); skip them to read frames
 only.
