@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from engine.features import SAMPLE_FRAMES
+from engine.orientation import SAMPLES, feature_frame
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
@@ -147,22 +148,52 @@ def _accumulator(centroids):
     return FeatureAccumulator(follow=follow)
 
 
+#: The axes features are computed in: "stored" (tvmedit's, the builder's default) or "body"
+#: (the body's own over the take, :func:`engine.orientation.feature_frame`, as ``build
+#: --body-frame`` does); ``TVMEDIT_DEV_FRAME=body python benchmarks/accuracy.py`` scores that.
+FRAME = os.environ.get("TVMEDIT_DEV_FRAME", "stored")
+
+
+def _prefix():
+    # The stored axes keep the cache's older names.
+    return f"{ORIGIN}-" if FRAME == "stored" else f"{ORIGIN}-{FRAME}-"
+
+
+def _body(n, frame_at):
+    """The body's own frame of a take of ``n`` frames (``frame_at(k)``: the positions of frame
+    k) where FRAME is "body", else the identity."""
+    if FRAME != "body":
+        return np.eye(3)
+    return feature_frame([frame_at(k) for k in _spread(n)])[0]
+
+
+def _spread(n):
+    """Indices of the frames a sequence's frame of reference is detected from (as engine.load)."""
+    return np.unique(np.linspace(0, n - 1, min(SAMPLES, n)).round().astype(int))
+
+
 def _frames_features(folder, start=0, stop=None):
-    """Features of frames [start, stop) of a folder, about their own first frame (cached)."""
-    from engine.load import iter_frames, open_sequence
+    """Features of frames [start, stop) of a folder, about their own first frame (and in their
+    own body frame where FRAME is "body"), as if they were a take of their own (cached)."""
+    from dataclasses import replace
+
+    from engine.load import iter_frames, open_sequence, read_frame
 
     sequence = open_sequence(str(folder))
     stop = len(sequence.paths) if stop is None else stop
-    path = CACHE / "features" / f"{ORIGIN}-{folder.name}-{start}-{stop}.npz"
+    path = CACHE / "features" / f"{_prefix()}{folder.name}-{start}-{stop}.npz"
     if path.exists():
         with np.load(path) as z:
             return z["vectors"], slice(*z["theta"])
     from engine.builder import origin_follows
 
     paths = sequence.paths[start:stop]
-    follows = origin_follows(paths, sequence.orientation)
+    body = _body(len(paths), lambda k: read_frame(paths[k], sequence.orientation, "geometry").positions)
+    body = tuple(map(tuple, body.tolist()))
+    orientation = replace(sequence.orientation, features=body).for_features()
+    follows = origin_follows(paths, orientation)
     acc = _accumulator([[0, 0, 0], [1, 0, 0]] if follows else [])
-    for _, frame in iter_frames(paths, orientation=sequence.orientation, detail="geometry"):
+    for _, frame in iter_frames(paths, orientation=orientation, detail="geometry"):
         acc.add(frame.positions)
     f = acc.result()
     theta = f.theta_columns
@@ -297,7 +328,7 @@ def synth_take(group, name, options, vertices=6000):
     opts = dict(options)
     extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander") if k in opts}
     fps = float(opts.get("fps", 10))
-    path = CACHE / "features" / f"{ORIGIN}-synth-{name}-{_key(options, vertices, synth.VERSION)}.npz"
+    path = CACHE / "features" / f"{_prefix()}synth-{name}-{_key(options, vertices, synth.VERSION)}.npz"
     poses, labels, motions, periods = synth.plan(**opts)
     per = {m: float(np.mean(p)) for m, p in zip(motions, periods)}
     truth = truth_of(labels, np.array([per[m] for m in labels]), fps)
@@ -315,6 +346,8 @@ def synth_take(group, name, options, vertices=6000):
             centre = verts[rng.integers(len(verts))]
             verts = verts[np.linalg.norm(verts - centre, axis=1) > 0.15]
         frames.append(verts)
+    body = _body(len(frames), frames.__getitem__)
+    frames = [verts @ body.T for verts in frames]
     picks = np.unique(np.linspace(0, len(frames) - 1, SAMPLE_FRAMES).round().astype(int))
     acc = _accumulator([frames[k].mean(axis=0) for k in picks])
     for verts in frames:

@@ -159,11 +159,12 @@ def origin_follows(paths, orientation=None, first=None):
 
 def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     paths = list(sequence.paths)
+    orientation = sequence.orientation.for_features()   # in the body's own frame where asked
     skipped, first = [], None
     # The origin is the centroid of the first usable frame; everything else waits on it.
     for k, path in enumerate(paths):
         t0 = time.perf_counter()
-        frame, reason = _read(path, skip_bad_frames, sequence.orientation, "geometry")
+        frame, reason = _read(path, skip_bad_frames, orientation, "geometry")
         if frame is None:
             skipped.append((str(path), reason))
             bar.update()
@@ -174,7 +175,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     if first is None:
         raise InputError(f"no usable frames in sequence {sequence.name!r}: all {len(paths)} were bad.")
     t0 = time.perf_counter()
-    follow = origin_follows(paths[first:], sequence.orientation, frame.positions)
+    follow = origin_follows(paths[first:], orientation, frame.positions)
     accumulator = FeatureAccumulator(bins, follow=follow)
     accumulator.add(frame.positions)
     run.add_times(0.0, time.perf_counter() - t0)
@@ -182,7 +183,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     kept = [str(Path(paths[first]).resolve())]
     rest = paths[first + 1:]
     chunks = [rest[i:i + FEATURE_CHUNK] for i in range(0, len(rest), FEATURE_CHUNK)]
-    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, sequence.orientation, follow) for chunk in chunks)
+    tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, orientation, follow) for chunk in chunks)
     for chunk, (rows, read_s, compute_s) in zip(chunks, pool.map(_feature_task, tasks)):
         for path, row in zip(chunk, rows):
             if isinstance(row, str):
@@ -198,7 +199,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
 def _sequence_features(sequence, bins, skip_bad_frames, pool, old, cache, run):
     """The features of one sequence: from the library being replaced, the cache, or computed."""
     stats = featcache.stat_list(sequence.paths)
-    key = featcache.key(stats, bins, skip_bad_frames, sequence.orientation)
+    key = featcache.key(stats, bins, skip_bad_frames, sequence.orientation.for_features())
     entry = library_features(old, key, bins) or (_from_cache(key, bins) if cache else None)
     if entry is None:
         bar = run.bar(len(sequence.paths), f"features {sequence.name}")
@@ -333,8 +334,8 @@ def _union(a, b):
 
 def _open_inputs(inputs, fps, log, frame=None):
     """Open every input sequence (no mesh read yet, but a few to detect its frame of
-    reference, unless ``frame``, a dict of ``up``, ``units`` and ``mirror``, fixes it); names
-    must be unique."""
+    reference, unless ``frame``, a dict of ``up``, ``units``, ``mirror`` and ``body_frame``,
+    fixes it); names must be unique."""
     expanded = expand_inputs(inputs)
     if not expanded:
         raise InputError("no input sequences given; name at least one sequence folder.")
@@ -369,7 +370,7 @@ def _open_old(out, open_library):
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None, connect="auto", corrections=None, blend_frames=None,
+          units=None, mirror=None, body_frame=False, connect="auto", corrections=None, blend_frames=None,
           keep_frames="motions", open_library=None):
     """Write a library from TVM sequences and return its report (``engine.build``, that is
     :func:`engine.library.build`, returns it opened).
@@ -410,6 +411,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     up, units, mirror : str, str, bool or None
         The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
         given is detected per sequence (:func:`engine.orientation.detect`).
+    body_frame : bool
+        Compute every sequence's features in the body's own frame
+        (:func:`engine.orientation.feature_frame`): a take parses alike however it is turned,
+        at a cost in the development suite's figures (README, *Frames of reference*).
     corrections : Corrections, dict, str, Path or None
         Corrections by hand applied on top of the parse (:mod:`engine.corrections`), or the
         file holding them; None keeps those of the library being replaced, if any; False
@@ -437,7 +442,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     out = Path(out).absolute()
     settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames, keep_frames)
     given = None if corrections is None else Corrections.coerce(corrections or None)
-    sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror})
+    sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror,
+                                                "body_frame": bool(body_frame)})
     out.parent.mkdir(parents=True, exist_ok=True)
     atomic.clean_stale(out)
     check_target(out, force, sequences)

@@ -126,12 +126,13 @@ def pool(scores):
     return precision, recall, (float(np.mean(rows)) if rows else float("nan"))
 
 
-def score_take(folder, params=None, bins=None, cache_dir=None):
-    """Parse the take in ``folder`` (its features cached) and :func:`score` it against its truth.json."""
+def score_take(folder, params=None, bins=None, cache_dir=None, frame="stored"):
+    """Parse the take in ``folder`` (its features cached, computed in ``frame``: see
+    :func:`sequence_features`) and :func:`score` it against its truth.json."""
     from .structure import parse
 
     truth = load_truth(folder)
-    features = sequence_features(folder, bins=bins, cache_dir=cache_dir)
+    features = sequence_features(folder, bins=bins, cache_dir=cache_dir, frame=frame)
     fps = float(truth["fps"])
     t0 = time.perf_counter()
     structure = parse(features.vectors, fps, params, theta=features.theta_columns)
@@ -266,8 +267,12 @@ def load_truth(folder):
     return json.loads((Path(folder) / "truth.json").read_text())
 
 
-def sequence_features(folder, bins=None, cache_dir=None):
+def sequence_features(folder, bins=None, cache_dir=None, frame="stored"):
     """Features of a sequence folder, kept in the feature cache (:mod:`engine.featcache`).
+
+    ``frame`` is ``"stored"``: in tvmedit's axes, as the builder computes them by default, or
+    ``"body"``: in the body's own frame, as it does with ``body_frame``
+    (:func:`engine.orientation.feature_frame`).
 
     Loading about 17,000-vertex PLY frames costs far more than the histograms; tests and
     benchmarks that score many parameter settings on the same takes read them once. The
@@ -281,15 +286,19 @@ def sequence_features(folder, bins=None, cache_dir=None):
     from .load import iter_frames, open_sequence
 
     bins = bins or BinSizes()
-    sequence = open_sequence(str(folder))   # in the frame of reference the builder would use
+    if frame not in ("body", "stored"):
+        raise ValueError(f"frame must be 'body' or 'stored', not {frame!r}")
+    # in the frame of reference the builder would use
+    sequence = open_sequence(str(folder), body_frame=frame == "body")
     paths = sequence.paths
+    orientation = sequence.orientation.for_features()
     stats = featcache.stat_list(paths)
-    key = featcache.key(stats, bins, orientation=sequence.orientation)
+    key = featcache.key(stats, bins, orientation=orientation)
     found = featcache.read(key, bins, cache_dir)
     if found is not None:
         return found[0]
-    acc = FeatureAccumulator(bins, follow=origin_follows(paths, sequence.orientation))
-    for _, frame in iter_frames(paths, orientation=sequence.orientation, detail="geometry"):
+    acc = FeatureAccumulator(bins, follow=origin_follows(paths, orientation))
+    for _, frame in iter_frames(paths, orientation=orientation, detail="geometry"):
         acc.add(frame.positions)
     features = acc.result()
     featcache.write(key, features, {"paths": [row[0] for row in stats], "skipped": []}, cache_dir)

@@ -356,7 +356,7 @@ def expand_inputs(inputs):
     return expanded
 
 
-def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None):
+def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None, body_frame=False):
     """List a sequence's frames, read its timing and detect its frame of reference.
 
     The frame rate comes from ``fps`` when given, else ``sequence.json`` beside the frames
@@ -366,7 +366,8 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None)
 
     ``up``, ``units`` and ``mirror`` fix the frame of reference (:func:`engine.orientation.detect`);
     what is not given is detected from up to a dozen frames sampled across the sequence, read
-    without their textures.
+    without their textures. ``body_frame`` has features computed in the body's own frame
+    (:func:`engine.orientation.feature_frame`), so the take parses alike however it is turned.
     """
     manifest = _manifest(source)
     captured = frame_paths(source)
@@ -394,7 +395,8 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None)
     paths = [captured[k] for k in resample(times, rate)] if times is not None else list(captured)
     fmt = _format_of(captured, manifest)
     try:
-        orientation = detect(_sample_positions(captured), fmt, up=up, units=units, mirror=mirror)
+        orientation = detect(_sample_positions(captured), fmt, up=up, units=units, mirror=mirror,
+                             body_frame=body_frame)
     except ValueError as error:
         raise InputError(f"{error}.") from None
     return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,

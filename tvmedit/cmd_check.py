@@ -49,7 +49,8 @@ def run(args):
 
     from engine.load import iter_frames, open_sequence, warn_skipped
 
-    sequence = open_sequence(args.input, fps=args.fps, up=args.up, units=args.units, mirror=args.mirror)
+    sequence = open_sequence(args.input, fps=args.fps, up=args.up, units=args.units, mirror=args.mirror,
+                             body_frame=args.body_frame)
     counts, faces, coloured, textured, sizes = [], [], 0, 0, set()
     skipped = []
     paths = sequence.captured or sequence.paths
