@@ -21,7 +21,9 @@ What a build found, in the order of the paper:
   the two frames side by side for the cheapest and the costliest.
 * **Blending** (:mod:`engine.blend`), per transition: a filmstrip of the frames around it as
   an edit plays them, with the in-between frames and with the paper's cut, and the step curve
-  (Chamfer distance between consecutive displayed frames) with the natural step marked.
+  (Chamfer distance between consecutive displayed frames) with the natural step marked; and
+  per loop the build closed (:mod:`engine.wraps`), the frames around its wrap as it plays and
+  as captured.
 
 The page is self-contained: ``index.html`` with PNG files beside it, referenced relatively,
 no script and no external style. ``report.json`` holds the same numbers (the texton starts
@@ -585,7 +587,36 @@ class _Report:
                                    for png, (w, h) in zip(row["images"], sizes)))
         if not summary["blending"]["transitions"]:
             parts.append("<p>This library holds no transitions to blend.</p>")
-        return "\n".join(parts)
+        return "\n".join(parts + self._loops_part(nodes, natural, summary))
+
+    def _loops_part(self, nodes, natural, summary):
+        """Each loop the build closed (:mod:`engine.wraps`): its wrap as captured and closed."""
+        from player.headless import contact_sheet
+
+        data = self.library.blend_data() if hasattr(self.library, "blend_data") else {}
+        wraps = [w for w in data.get("wraps", []) if w["count"]]
+        summary["blending"]["loops"] = wraps
+        if not wraps:
+            return []
+        by_id = {node.id: node for node in nodes}
+        parts = ["<h3>Loops</h3><p>Where a motion's texton wraps from its last frame to its first "
+                 "further than the capture itself steps there, the build warps the frames next to the "
+                 "wrap onto the neighbouring repetition's (marked <i>w</i>); above, the loop as it plays, "
+                 "below, as captured.</p>"]
+        for wrap in wraps:
+            node = by_id[wrap["from"]]
+            keys = _loop_window(node, wrap["count"], wrap.get("at", "end"))
+            for row, png in ((keys["closed"], f"loop-{node.id:03d}.png"), (keys["captured"], f"loop-{node.id:03d}-cut.png")):
+                contact_sheet(self.source, [k for k, _ in row], self.folder / png, columns=len(row),
+                              tile=STRIP_TILE, labels=[label for _, label in row])
+            worst = max(wrap["steps"]) / natural if natural else float("nan")
+            parts.append(f"<p>{_e(node.name)}: {wrap['count']} frame(s) warped at its {wrap.get('at', 'end')}; "
+                         f"largest step {worst:.2f} natural steps (the wrap as captured: "
+                         f"{wrap['jump'] / natural if natural else float('nan'):.2f})</p>"
+                         + "".join(f"<img src='{png}' width='{STRIP_TILE[0] * len(keys['closed'])}' "
+                                   f"height='{STRIP_TILE[1]}' alt='{png}'><br>"
+                                   for png in (f"loop-{node.id:03d}.png", f"loop-{node.id:03d}-cut.png")))
+        return parts
 
     def _framing(self, key, size):
         from player.camera import Camera
@@ -605,6 +636,22 @@ def _blend_window(source, target, data):
     edge = (source.id, target.id)
     between = [((source.sequence, x, (edge, k)), f"b{k + 1}") for k in range(data.get("blend", 0))]
     return {"blended": before + between + after, "cut": before + after}
+
+
+def _loop_window(node, count, at):
+    """Keys and labels of the frames around a texton's wrap, with its closing frames and without."""
+    from engine.wraps import window
+
+    warped = window(node.start, node.end, at, count)[0]
+    closing = [((node.sequence, f, ((node.id, node.id), k)), f"w{f}") for k, f in enumerate(warped)]
+    plain = [((node.sequence, f), f"{f}") for f in warped]
+    if at == "end":
+        before, after = [node.end - count], [node.start, node.start + 1]
+    else:
+        before, after = [node.end - 1, node.end], [node.start + count]
+    before = [((node.sequence, f), f"{f}") for f in before]
+    after = [((node.sequence, f), f"{f}") for f in after]
+    return {"closed": before + closing + after, "captured": before + plain + after}
 
 
 def _window_steps(source, window, run):

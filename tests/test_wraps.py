@@ -128,3 +128,22 @@ def test_a_library_without_blending_closes_no_loop(take_13_30, tmp_path):
     library = Library.open(built_library("13_30", take_13_30, blend_frames=0))
     assert not library.blend_data()["wraps"]
     assert not any(count for _, count in library.graph.nodes(data="wrap"))
+
+
+def test_the_report_shows_each_closed_loop_as_it_plays_and_as_captured(ctx, libraries, tmp_path):
+    import imageio.v3 as iio
+
+    from player.report import write_report
+
+    library = libraries["13_30"]
+    out = tmp_path / "report"
+    write_report(library, out, progress=False)
+    page = (out / "index.html").read_text()
+    closed = [n for n in library.nodes if library.graph.nodes[n.id].get("wrap")]
+    assert "<h3>Loops</h3>" in page and closed
+    for node in closed:
+        assert f"{node.name}: {library.graph.nodes[node.id]['wrap']} frame(s) warped" in page
+        for png in (f"loop-{node.id:03d}.png", f"loop-{node.id:03d}-cut.png"):
+            assert f"src='{png}'" in page
+            image = iio.imread(out / png)
+            assert image[..., :3].astype(float).std() > 8.0, png
