@@ -82,9 +82,9 @@ def _natural(folder, rows, graph, pool, known):
 
 def _blend_task(task):
     """One edge's run, ``("edge", folder, exit row, entry row, natural, count)``, or one
-    texton's loop closing, ``("wrap", folder, [row of end, of end - 1, ...], start row,
-    natural, limit)`` -> ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun`
-    has them)."""
+    texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit), natural)``
+    (the rows of the texton's frames and of its neighbours' that it may be closed onto) ->
+    ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
     import time
 
     started = time.process_time()
@@ -182,7 +182,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     tasks = [("edge", str(folder), rows[a], rows[b], natural, count) for a, b in fresh]
     tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit, end + limit + 1) if (seq, f) in rows},
                (start, end, at, limit), natural)
-              for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end) not in reuse]
+              for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end, at, limit) not in reuse]
+    plans = {u: limit for u, _, (_, limit) in loops}
     made = pool.map(_blend_task, tasks)
     progress = bar(len(edges) + len(loops), "blends", unit="run") if bar is not None else None
     records, closings, seconds = [], [], 0.0
@@ -191,7 +192,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
         with MeshWriter(folder, prefix="blend_") as writer:
             for u, v, a, b in jobs:
                 wrap = u == v
-                key = ("wrap", *b) if wrap else (a, b)
+                key = ("wrap", *b, a, plans[u]) if wrap else (a, b)
                 frames, steps, jump, cpu = _copied(old, reuse[key], wrap) if key in reuse else next(made)
                 if wrap:  # a loop's closing: the texton frames it warps, in play order
                     seq, at, warped = b[0], a, window(b[1], b[2], a, len(frames))[0]
@@ -205,7 +206,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
                 record = {"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
                           "steps": steps, "exit": list(a), "entry": list(b)}
                 if wrap:
-                    record.update(at=at, texton=[seq, graph.nodes[u]["start"], graph.nodes[u]["end"]])
+                    record.update(at=at, limit=plans[u],
+                                  texton=[seq, graph.nodes[u]["start"], graph.nodes[u]["end"]])
                 (records if u != v else closings).append(record)
                 seconds += cpu
                 if progress is not None:
@@ -256,8 +258,10 @@ def _old_runs(data, natural, count):
     runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
             for e in data["edges"] if count is not None or _same_run(e, data["natural_step"], natural)}
     if data["natural_step"] == natural:  # a loop's closing is kept at the same natural step only
-        runs.update({("wrap", *w["texton"]): (w["first"], w["count"], w["jump"], w["steps"])
-                     for w in data.get("wraps", [])})
+        # The same texton closed at the same end and as far: a correction that moves its
+        # cluster's edge may change where it is closed, and then it is closed anew.
+        runs.update({("wrap", *w["texton"], w["at"], w["limit"]): (w["first"], w["count"], w["jump"], w["steps"])
+                     for w in data.get("wraps", []) if "limit" in w})
     return runs
 
 

@@ -143,6 +143,7 @@ class Composition:
     transitions: list
     loops: int | None = 1
     cycle: int = field(default=0, repr=False)  # frames in one cycle of the last key motion
+    steady: list = field(default=None, repr=False)  # with loops=None: the cycle repeated after it
     library: object = field(default=None, repr=False)  # set by Library.edit: where frames come from
     starts: list = field(default_factory=list)  # schedule index at which each key motion begins
     fps: float | None = None  # set by Library.edit: frames a second, for lengths in seconds
@@ -151,7 +152,7 @@ class Composition:
         """Iterate the schedule; without end when ``loops`` is None."""
         yield from self.schedule
         if self.loops is None:
-            yield from itertools.cycle(self.schedule[len(self.schedule) - self.cycle:])
+            yield from itertools.cycle(self.steady or self.schedule[len(self.schedule) - self.cycle:])
 
     def legs_json(self):
         """Each leg's JSON, with ``asked_s`` (null where no time was asked) and ``achieved_s``
@@ -337,9 +338,14 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
         clock = len(schedule) if planned is None else planned
         starts.append(len(schedule))
     length = end - start + 1
-    schedule += _entries(keys[-1], sequence, _cycle(start, end, entry, length * (loops or 1)))
+    # Played for ever (loops=None), the cycle after the first is the one repeated: its loop is
+    # closed as the playhead closes it, which the first may not be when entered in its window.
+    more = length if loops is None else 0
+    schedule += _entries(keys[-1], sequence, _cycle(start, end, entry, length * (loops or 1) + more))
     schedule = _close_loops(graph, schedule)
-    return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts)
+    steady = schedule[len(schedule) - more:] if more else None
+    schedule = schedule[:len(schedule) - more]
+    return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts, steady=steady)
 
 
 def _close_loops(graph, schedule):

@@ -1,6 +1,8 @@
 """The meshes a library stores: which frames, and whether they are linked, copied or read.
 
-Only the frames of database motions can ever be played, so only they are stored
+Only the frames of database motions can ever be played, so by default only they are stored,
+with the few frames of the neighbouring repetitions their loops are closed onto
+(:mod:`engine.wraps`), or every frame with ``keep_frames="all"``
 (:class:`engine.libformat.MeshWriter` writes the flat arrays). Which ones is known only
 after the database is made, and reading them is what a build costs after the features, so
 a build or a rebuild takes them from the library being replaced wherever it can:
@@ -69,8 +71,8 @@ def _next_read(results, missing):
         return next(results)
     except InputError as error:
         raise InputError(f"{str(error).rstrip('.')}; the library needs {missing} frame(s) it did not "
-                         "store before, for motions that changed, so put the sequence's frame files "
-                         "back where it was built from.") from None
+                         "store before (of motions that changed, or that their loops are closed onto), "
+                         "so put the sequence's frame files back where it was built from.") from None
 
 
 def write(tmp, needed, pool, run, old=None, stored=None):

@@ -7,7 +7,9 @@ stages need (:func:`engine.builder.derive`) from the library itself. Meshes are 
 the library; only the frames of a motion it never stored (a new representative texton,
 after a boundary was added) are read from their files, and none from a library built with
 ``keep_frames="all"``. The library's natural step is kept, so only the transitions the
-correction changed get their in-between frames made anew (:mod:`engine.blend`).
+correction changed get their in-between frames made anew (:mod:`engine.blend`). A library
+built before loops were closed (:mod:`engine.wraps`) has its loops closed by its first
+rebuild, which reads the few neighbouring frames they are closed onto.
 """
 
 from pathlib import Path

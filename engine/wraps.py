@@ -135,7 +135,8 @@ def close_loop(meshes, start, end, at, limit, natural):
     -------
     engine.blend.BlendRun
         ``count = len(run)`` warped frames in play order (``side`` is the frame's index; none
-        where the wrap is at most ``natural``); ``jump`` is the wrap's own step (``end`` to
+        where the wrap is at most ``max(natural, pace)``, or where no closing lowers its
+        largest step below the wrap's); ``jump`` is the wrap's own step (``end`` to
         ``start``), ``steps`` those from the last captured frame before the window (or ``end``)
         through the window to ``start`` (or the first captured frame after it).
     """

@@ -16,6 +16,7 @@ import pytest
 
 import engine
 from engine import Library
+from engine.blend import chamfer
 from engine.blendstore import loop_frames
 from engine.corrections import CorrectionError, Corrections, apply_structure
 from engine.errors import ParameterError
@@ -23,6 +24,7 @@ from engine.database import build_database
 from engine.graph import build_graph
 from engine.library import INFO_SCHEMA
 from engine.structure import Structure, StructureParams, texton_curve, textons_for
+from engine.wraps import window
 from tvmedit.cli import main
 
 NAME = "t30"
@@ -129,6 +131,7 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
     assert fixed.corrections() == Corrections.load(fix)
     for node in fixed.nodes:                                                # every motion plays
         assert len(fixed.frame_mesh((NAME, node.end))[0]) > 1000
+    _check_closings(fixed)
     for key in set(fixed.stored_frames()) & stored:                         # copied frames are the same
         assert all((a == b).all() for a, b in zip(fixed.frame_mesh(key), base.frame_mesh(key)))
 
@@ -153,6 +156,18 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
         assert (e["count"], e["steps"]) == (was["count"], was["steps"])
         for k in range(e["count"]):
             assert (fixed.blend_row(e["first"] + k)[0] == base.blend_row(was["first"] + k)[0]).all()
+
+
+def _check_closings(library):
+    """Every loop-closing frame (engine.wraps) lies on the texton frame it stands for: nearer it
+    than the texton's wrap jumps (a closing reused for another frame would not)."""
+    for node in library.nodes:
+        data = library.graph.nodes[node.id]
+        warped = window(node.start, node.end, data.get("wrap_at", "end"), data.get("wrap", 0))[0]
+        jump = chamfer(library.frame_mesh((NAME, node.end))[0], library.frame_mesh((NAME, node.start))[0])
+        for i, frame in enumerate(warped):
+            closed = library.frame_mesh((NAME, frame, ((node.id, node.id), i)))[0]
+            assert chamfer(closed, library.frame_mesh((NAME, frame))[0]) < jump, (node.name, frame)
 
 
 @pytest.fixture(scope="module")
@@ -183,6 +198,7 @@ def test_a_library_that_keeps_every_frame_is_corrected_with_the_capture_folder_g
     assert (shown[0] == base_all.frame_mesh((NAME, 3))[0]).all()
     for node in fixed.nodes:                             # every motion plays, frames as captured
         assert (fixed.frame_mesh((NAME, node.end))[0] == base_all.frame_mesh((NAME, node.end))[0]).all()
+    _check_closings(fixed)
 
 
 def test_keep_frames_must_be_motions_or_all(take, tmp_path):

@@ -147,3 +147,24 @@ def test_the_report_shows_each_closed_loop_as_it_plays_and_as_captured(ctx, libr
             assert f"src='{png}'" in page
             image = iio.imread(out / png)
             assert image[..., :3].astype(float).std() > 8.0, png
+
+
+def test_an_edit_played_for_ever_closes_its_loop_as_the_playhead_does():
+    # The last motion entered at the first frame of its closing window (at its start): the
+    # first cycle cannot close it (no wrap before it), every later one does.
+    import networkx as nx
+
+    from engine.compose import compose
+
+    g = nx.DiGraph()
+    g.add_node(0, name="walk", sequence="a", start=10, end=15)
+    g.add_node(1, name="run", sequence="b", start=30, end=38, wrap=2, wrap_at="start")
+    g.add_edge(0, 1, weight=0.5, exit_frame=12, entry_frame=30)
+    edit = compose(g, ["walk", "run"], loops=None)
+    head = Playhead(g, "walk")
+    played = [head.advance()]
+    head.queue("run")
+    played += [head.advance() for _ in range(len(edit.schedule) + 3 * 9 - 1)]
+    forever = edit.frames()
+    assert [next(forever) for _ in played] == played
+    assert sum(e.blend == ((1, 1), 0) for e in played) == 3

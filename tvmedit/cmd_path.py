@@ -18,7 +18,8 @@ last key motion still plays --loops cycles.
 
 --json prints {"legs": [{"from", "to", "path", "cost", "edges", "frames", "asked_s",
 "achieved_s"}], "key_starts": [frame each key motion begins at], "fps", "schedule": [{"node",
-"sequence", "frame"}, with "blend": [[from, to], i] on in-between frames], "transitions":
+"sequence", "frame"}, with "blend": [[from, to], i] on in-between frames and [[n, n], i] on
+a loop's closing frames], "transitions":
 [...]} with node ids as in `tvmedit info --json`; a leg
 asked a length also has "goal_frames" and "loops" (extra cycles of each motion on its path).
 An unknown motion is refused with the list of known names; an unreachable pair exits with
