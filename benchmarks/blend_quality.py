@@ -10,6 +10,9 @@ distance between consecutive displayed frames (all vertices). "cut" is the paper
 exit frame to entry frame (``--blend-frames 0``); "blended" plays the in-between frames
 between them. The bar: blended <= 1.25 on every edge.
 
+Then every looping motion's wrap from its texton's last frame to its first (``engine.wraps``),
+as captured and closed, over the capture's own step across that phase.
+
 Then the cost, on one core (CPU time of ``engine.blend.blend`` for one transition, reading
 aside): per transition of 13_29 (17,000-vertex frames, limit 2 s), how it grows with the
 vertex count (every k-th vertex of the same two frames) and with the number of in-between
@@ -83,7 +86,36 @@ def quality(names, workers, folder):
         ok &= met
         print(f"   pop ratio: cut median {np.median(cuts):.2f} max {max(cuts):.2f}; blended median "
               f"{np.median(blends):.2f} max {max(blends):.2f} (limit {LIMIT_RATIO}: {'met' if met else 'NOT MET'})")
+        loops(library)
     return libraries, ok
+
+
+def loops(library):
+    """Every cyclic motion's wrap (engine.wraps): its largest step over the capture's own step
+    there (and the natural step), as captured and with the loop closed."""
+    from engine.wraps import pace, window as closing_window
+
+    rows = []
+    for node in library.nodes:
+        if node.kind == "once":
+            continue
+        data = library.graph.nodes[node.id]
+        k, at = data.get("wrap", 0), data.get("wrap_at", "end")
+        mesh = lambda f: library.source_mesh((node.sequence, f))  # noqa: E731
+        goal = max(library.natural_step, pace(mesh, node.start, node.end, at))
+        warped = closing_window(node.start, node.end, at, k)[0]
+        keys = [(node.sequence, f, ((node.id, node.id), i)) for i, f in enumerate(warped)]
+        keys = ([(node.sequence, node.end - k)] + keys + [(node.sequence, node.start)] if at == "end"
+                else [(node.sequence, node.end)] + keys + [(node.sequence, node.start + k)])
+        points = [library.frame_mesh(key)[0] for key in keys]
+        closed = max(blend.chamfer(p, q) for p, q in zip(points, points[1:]))
+        wrap = blend.chamfer(mesh(node.end)[0], mesh(node.start)[0])
+        rows.append((wrap / goal, closed / goal))
+        print(f"   loop {node.name:<10} {k} frame(s) at its {at:<5}  wrap {wrap / goal:4.2f}  closed "
+              f"{closed / goal:4.2f}  (of the capture's own step there, {goal / library.natural_step:.2f} natural)")
+    if rows:
+        print(f"   loops: wrap max {max(r[0] for r in rows):.2f}, closed max {max(r[1] for r in rows):.2f}; "
+              f"{sum(r[1] < r[0] for r in rows)} of {len(rows)} closed")
 
 
 def ends(library, u, v):

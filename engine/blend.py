@@ -36,11 +36,11 @@ window / natural step): the cut's pop ratio on CMU 13_29 is median 1.77, max 2.4
 transitions, on 13_30 median 3.30, max 4.50 (10), on the synthetic gym max 3.09 (16);
 blended, at most 0.98, 1.00 and 0.96. In-between frames keep their area within 3% of the
 interpolated area of their ends, and lie 0.33-0.53 of the cut from the nearer end. A
-transition of 17,000-vertex frames costs 0.19 s of one core, 0.22 s at most, over 13_29's
+transition of 17,000-vertex frames costs 0.15 s of one core, 0.17 s at most, over 13_29's
 15 (it was 0.55 s with 2,000 nodes at every radius, 4,000 pulling points and five steps,
 for pop ratios of 0.95-0.99: the coarse levels' node counts gave the most, steps and points
-a third more); a warp is a multiply-add, so in-between frames cost little (0.20 s with one,
-0.26 s with eight), and k-d trees (scipy's ``cKDTree``, unbalanced: built in half the time)
+a third more); a warp is a multiply-add, so in-between frames cost little (0.15 s with one,
+0.21 s with eight), and k-d trees (scipy's ``cKDTree``, unbalanced: built in half the time)
 are built once per frame.
 
 The alternative, implicit-surface interpolation (signed distance fields on a voxel grid,
