@@ -60,7 +60,7 @@ import numpy as np
 
 from .normals import vertex_normals
 
-__all__ = ["MAX_FRAMES", "preload", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
+__all__ = ["MAX_FRAMES", "preload", "kdtree", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
            "BlendRun", "blend", "frame_count", "side", "check_count"]
 
 #: Most in-between frames one transition gets.
@@ -85,6 +85,11 @@ def preload():
     of runs, and each worker importing scipy itself cost 0.3-0.5 s of a correction."""
     import scipy.sparse  # noqa: F401
     import scipy.spatial  # noqa: F401
+
+
+def kdtree(points):
+    """scipy's k-d tree of ``points`` (N, 3), for :func:`chamfer`'s ``tree_a`` and ``tree_b``."""
+    return _kdtree(points)
 
 
 def _kdtree(points):

@@ -142,13 +142,25 @@ def close_loop(meshes, start, end, at, limit, natural):
     """
     import numpy as np
 
-    from .blend import BlendRun, align, chamfer
+    from .blend import BlendRun, align, chamfer, kdtree
     from .normals import vertex_normals
 
-    jump = chamfer(meshes(end)[0], meshes(start)[0], stride=4)
+    cache = {}
+
+    def mesh(frame):  # each frame read once, with its k-d tree built once
+        if frame not in cache:
+            positions, colours, faces = meshes(frame)
+            positions = np.asarray(positions)
+            cache[frame] = (positions, colours, faces, kdtree(positions))
+        return cache[frame]
+
+    def step(a, b):
+        return chamfer(a[0], b[0], a[3], b[3], stride=4)
+
+    jump = step(mesh(end), mesh(start))
     if natural <= 0 or limit <= 0:
         return BlendRun([], [jump], jump)
-    goal = max(natural, pace(meshes, start, end, at))
+    goal = max(natural, step(*(mesh(f) for f in _crossing(start, end, at))))
     if jump <= goal:
         return BlendRun([], [jump], jump)
     fields, best = {}, None
@@ -157,22 +169,28 @@ def close_loop(meshes, start, end, at, limit, natural):
         run = []
         for index, (frame, target) in enumerate(zip(frames, targets)):
             if frame not in fields:
-                fields[frame] = align(meshes(frame)[0], meshes(target)[0])
+                fields[frame] = align(mesh(frame)[0], mesh(target)[0])
             share = (index + 1) / count if at == "end" else (count - index) / count
-            positions, colours, faces = meshes(frame)
+            positions, colours, faces, _ = mesh(frame)
             positions = (np.asarray(positions, np.float32) + np.float32(share) * fields[frame]).astype(np.float32)
-            run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), index))
+            run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
         ends = (frames[0] - 1, start) if at == "end" else (end, frames[-1] + 1)
-        points = [np.asarray(meshes(ends[0])[0]), *(p for p, _, _, _ in run), np.asarray(meshes(ends[1])[0])]
-        steps = [chamfer(a, b, stride=4) for a, b in zip(points, points[1:])]
+        points = [mesh(ends[0]), *run, mesh(ends[1])]
+        steps = [step(a, b) for a, b in zip(points, points[1:])]
         if best is not None and max(steps) >= 0.95 * max(best.steps):
             break  # more frames would not help
-        best = BlendRun([(p, c, f, vertex_normals(p, f), i) for p, c, f, i in run], steps, jump)
+        best = BlendRun([(p, c, f, None, i) for i, (p, c, f, _) in enumerate(run)], steps, jump)
         if max(steps) <= goal:
             break
     if max(best.steps) >= jump:  # the warps' own residual outweighs the wrap: keep the cut
         return BlendRun([], [jump], jump)
+    best.frames = [(p, c, f, vertex_normals(p, f), i) for p, c, f, _, i in best.frames]
     return best
+
+
+def _crossing(start, end, at):
+    """The two captured frames whose step is the capture's own pace at the wrap (:func:`pace`)."""
+    return (start - 1, start) if at == "end" else (end, end + 1)
 
 
 def pace(meshes, start, end, at):
@@ -182,5 +200,5 @@ def pace(meshes, start, end, at):
     frame; its wrap pops only where it jumps more than the capture does there."""
     from .blend import chamfer
 
-    pair = (start - 1, start) if at == "end" else (end, end + 1)
+    pair = _crossing(start, end, at)
     return chamfer(meshes(pair[0])[0], meshes(pair[1])[0], stride=4)
