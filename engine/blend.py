@@ -312,12 +312,23 @@ def _run(outgoing, incoming, fields, count):
     return frames
 
 
-def _steps(ends, frames):
+def _steps(ends, frames, stop=None):
     """Chamfer steps from the exit frame through ``frames`` to the entry frame; ``ends`` holds
-    ``(points, tree)`` of the exit and entry frames (built once per transition)."""
+    ``(points, tree)`` of the exit and entry frames (built once per transition). With ``stop``,
+    None as soon as one step reaches it: the middle step, where the run switches from one
+    frame's warp to the other's and the fields' residual shows, is measured first, so a count
+    that would not help is told by one step rather than all (the same answer, sooner)."""
     points = [ends[0][0], *(f[0] for f in frames), ends[1][0]]
-    trees = [ends[0][1], *(_kdtree(f[0]) for f in frames), ends[1][1]]
-    return [chamfer(points[i], points[i + 1], trees[i], trees[i + 1], stride=4) for i in range(len(points) - 1)]
+    trees = {0: ends[0][1], len(points) - 1: ends[1][1]}
+    steps = [0.0] * (len(points) - 1)
+    for i in sorted(range(len(steps)), key=lambda i: abs(2 * i + 1 - len(steps))):
+        for k in (i, i + 1):
+            if k not in trees:
+                trees[k] = _kdtree(points[k])
+        steps[i] = chamfer(points[i], points[i + 1], trees[i], trees[i + 1], stride=4)
+        if stop is not None and steps[i] >= stop:
+            return None
+    return steps
 
 
 def check_count(count):
@@ -374,9 +385,10 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
     previous = None
     while True:
         frames = _run(outgoing, incoming, fields, n)
-        run = BlendRun(frames, _steps(ends, frames), jump)
-        if previous is not None and max(run.steps) >= 0.95 * max(previous.steps):
+        steps = _steps(ends, frames, None if previous is None else 0.95 * max(previous.steps))
+        if steps is None:
             return _finished(previous)  # the cut's own residual dominates: more frames would not help
+        run = BlendRun(frames, steps, jump)
         if count is not None or max(run.steps) <= natural or n >= MAX_FRAMES:
             return _finished(run)
         previous, n = run, n + 1

@@ -176,8 +176,14 @@ def close_loop(meshes, start, end, at, limit, natural):
             run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
         ends = (frames[0] - 1, start) if at == "end" else (end, frames[-1] + 1)
         points = [mesh(ends[0]), *run, mesh(ends[1])]
-        steps = [step(a, b) for a, b in zip(points, points[1:])]
-        if best is not None and max(steps) >= 0.95 * max(best.steps):
+        steps = [0.0] * (len(points) - 1)
+        stop = None if best is None else 0.95 * max(best.steps)
+        # The step at the wrap first: a count that would not help is told by it alone.
+        for i in sorted(range(len(steps)), reverse=at == "end"):
+            steps[i] = step(points[i], points[i + 1])
+            if stop is not None and steps[i] >= stop:
+                break
+        if stop is not None and max(steps) >= stop:
             break  # more frames would not help
         best = BlendRun([(p, c, f, None, i) for i, (p, c, f, _) in enumerate(run)], steps, jump)
         if max(steps) <= goal:
