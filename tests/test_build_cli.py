@@ -181,3 +181,17 @@ def test_build_reports_a_file_left_out_and_refuses_a_bad_sequence_name(take_13_3
     err = capsys.readouterr().err
     assert err.startswith("error: ") and "sequence name 7" in err and err.count("\n") == 1
     assert not (tmp_path / "named.tvmlib").exists()
+
+
+def test_keep_frames_all_stores_every_frame_and_info_says_so(take_13_30, tmp_path, capsys):
+    out = tmp_path / "all.lib"
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q", "--keep-frames", "all"]) == 0
+    library = Library.open(out)
+    assert library.params["keep_frames"] == "all"
+    assert sorted(library.stored_frames()) == [("gym", f) for f in range(60)]
+    capsys.readouterr()
+    assert main(["info", str(out)]) == 0
+    assert "stored: 60 frames" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as exit_:
+        main(["build", _small(take_13_30), "-o", str(tmp_path / "x.lib"), "--keep-frames", "some"])
+    assert exit_.value.code == 2 and "invalid choice: 'some'" in capsys.readouterr().err
