@@ -48,6 +48,7 @@ from .errors import LibraryError, TvmError
 from .params import MAX_LOOPS, whole
 from .graph import node_by_key
 from .search import SearchIndex, best_path, motion_label
+from .wraps import closed_at, closing
 
 #: Most frames a key motion of the player may be held for (an hour at 1,000 fps).
 MAX_HOLD = 3_600_000
@@ -354,8 +355,6 @@ def _close_loops(graph, schedule):
     ``wrap_at`` say how many and where). A visit is a run of entries of one node with no
     in-between frame; the last one is taken to go on, as the player rests in the last key
     motion (and an exported edit may be looped). The length is unchanged."""
-    from .wraps import closing, window
-
     if not any(count for _, count in graph.nodes(data="wrap")):
         return schedule
     closed, i = list(schedule), 0
@@ -570,11 +569,11 @@ class Playhead:
         or None: where the visit plays the texton's whole closing window and wraps next to it,
         as :func:`compose` marks it."""
         data = self.graph.nodes[visit.node]
-        count, at = data.get("wrap", 0), data.get("wrap_at", "end")
-        index = frame - (visit.end - count + 1 if at == "end" else visit.start)
-        if not (count and 0 <= index < count and visit.shown > index):
+        count = data.get("wrap", 0)
+        if not count:
             return None
-        left = visit.remaining()   # frames still to show, this one included
-        if left is not None and left < count - index + (at == "end"):
+        index = closed_at(visit.shown, frame, visit.start, visit.end, count, data.get("wrap_at", "end"),
+                          visit.remaining())
+        if index is None:
             return None
         return ScheduleEntry(visit.node, visit.sequence, frame, ((visit.node, visit.node), index))

@@ -35,7 +35,7 @@ shows the captured frames, so transitions (whose in-between frames start from ca
 frames) are as they were.
 """
 
-__all__ = ["MAX_CLOSING", "closing", "plan", "window", "close_loop", "pace"]
+__all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "pace"]
 
 #: Most texton frames a loop's closing warps.
 MAX_CLOSING = 4
@@ -102,17 +102,28 @@ def closing(frames, start, end, count, at="end", rests=False):
     >>> closing([12, 13, 10, 11, 12, 13], 10, 13, 2, at="start")
     [None, None, 0, 1, None, None]
     """
-    first = end - count + 1 if at == "end" else start
-    shown, marks = len(frames), []
-    for i, frame in enumerate(frames):
-        j = frame - first
-        if not 0 <= j < count:
-            marks.append(None)
-        elif at == "end":
-            marks.append(j if i > j and (rests or i + count - j < shown) else None)
-        else:
-            marks.append(j if i > j and (rests or i + count - j <= shown) else None)
-    return marks
+    return [closed_at(i, frame, start, end, count, at, None if rests else len(frames) - i)
+            for i, frame in enumerate(frames)]
+
+
+def closed_at(shown, frame, start, end, count, at, left):
+    """The index of the closing frame shown instead of texton frame ``frame``, or None: the one
+    rule :func:`closing` and the realtime playhead (:class:`engine.compose.Playhead`) apply.
+
+    ``shown`` frames of the visit came before it; ``left`` are still to show, this one
+    included (None: the visit goes on). The frame is replaced where the visit shows the whole
+    window (its first frame comes after the visit's entry) and wraps right after the window
+    (``at="end"``) or has wrapped right before it (``at="start"``).
+
+    >>> closed_at(2, 12, 10, 13, 2, "end", 6), closed_at(2, 12, 10, 13, 2, "end", 2)
+    (0, None)
+    """
+    index = frame - (end - count + 1 if at == "end" else start)
+    if not (count and 0 <= index < count and shown > index):
+        return None
+    if left is not None and left < count - index + (at == "end"):
+        return None
+    return index
 
 
 def close_loop(meshes, start, end, at, limit, natural):
@@ -160,7 +171,7 @@ def close_loop(meshes, start, end, at, limit, natural):
     jump = step(mesh(end), mesh(start))
     if natural <= 0 or limit <= 0:
         return BlendRun([], [jump], jump)
-    goal = max(natural, step(*(mesh(f) for f in _crossing(start, end, at))))
+    goal = max(natural, pace(lambda frame: mesh(frame)[:3], start, end, at))
     if jump <= goal:
         return BlendRun([], [jump], jump)
     fields, best = {}, None
@@ -194,11 +205,6 @@ def close_loop(meshes, start, end, at, limit, natural):
     return best
 
 
-def _crossing(start, end, at):
-    """The two captured frames whose step is the capture's own pace at the wrap (:func:`pace`)."""
-    return (start - 1, start) if at == "end" else (end, end + 1)
-
-
 def pace(meshes, start, end, at):
     """The step the capture itself makes where the loop wraps: from the neighbouring repetition
     into the texton's first frame (``start - 1`` to ``start``, ``at="end"``) or out of its last
@@ -206,5 +212,5 @@ def pace(meshes, start, end, at):
     frame; its wrap pops only where it jumps more than the capture does there."""
     from .blend import chamfer
 
-    pair = _crossing(start, end, at)
+    pair = (start - 1, start) if at == "end" else (end, end + 1)
     return chamfer(meshes(pair[0])[0], meshes(pair[1])[0], stride=4)

@@ -72,6 +72,7 @@ def _param_help(cls):
 def add_arguments(parser):
     from engine.features import BinSizes
     from engine.graph import MU
+    from engine.settings import KEEP_FRAMES
 
     parser.add_argument("inputs", nargs="+", metavar="INPUT", type=_input,
                         help="sequence folder, quoted glob, or NAME=INPUT")
@@ -128,7 +129,7 @@ def add_arguments(parser):
                             "onto the entry frame; 0 keeps the paper's cut (default: as many as keep "
                             "every step at or below the natural step between captured frames)")
 
-    group.add_argument("--keep-frames", choices=("motions", "all"), default="motions",
+    group.add_argument("--keep-frames", choices=KEEP_FRAMES, default="motions",
                        help="motions (default): store the frames of the database motions only; all: store "
                             "every frame, a larger library whose corrections by hand (tvmedit correct, "
                             "inspect) never read a frame file, with or without the capture folder")
