@@ -74,3 +74,22 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons():
     rows = texton_length_accuracy(scores(folder, StructureParams(submultiple=0, refine_reach=0))[3],
                                   load_truth(folder), details=True)[1]
     assert not [r for r in rows if r[1] == 4][0][4], rows   # without the test: two hops
+
+
+def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled():
+    # CMU 13_30 played 1.4x (a take of the development suite): the first exercise's lag
+    # profile dips at 12 frames and, nearly as deep, at 23 (its true period, 22.6 frames),
+    # and the mirror test does not flag 12 as half a left-right cycle. A period repeats, so
+    # the profile must dip near 36 too; it does not, and the texton is two halves long.
+    import sys
+    from conftest import ROOT, SHARED
+    from engine.evaluate import score
+    from engine.structure import parse
+    if not (SHARED / "tools" / "mocap2tvm.py").exists():
+        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import devsuite
+    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
+    rows = score(parse(take.vectors, take.fps, theta=take.theta), take.truth, take.fps).texton_rows
+    first = [r for r in rows if r[1] == 1][0]   # (cluster, true segment, median, period, right)
+    assert first[4] and first[2] > 0.85 * first[3], rows
