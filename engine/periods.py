@@ -38,7 +38,9 @@ is used, no new threshold.
 Measured with ``benchmarks/accuracy.py`` (precision / recall / texton accuracy; every take
 scored as before or better, none worse). Stored axes: pooled 0.97/0.95/0.94 -> 0.97/0.95/0.96,
 HDM05 texton 0.80 -> 0.83, CMU 0.98 -> 1.00. Body frame (``TVMEDIT_DEV_FRAME=body``): pooled
-0.94/0.93/0.90 -> 0.94/0.93/0.92, HDM05 texton 0.69 -> 0.72, CMU 0.96 -> 0.98. Still wrong:
+0.94/0.93/0.90 -> 0.94/0.93/0.92, HDM05 texton 0.69 -> 0.72, CMU 0.96 -> 0.98. Held out (leave
+one group out): stored 0.918/0.947/0.896 -> 0.918/0.947/0.904, body
+0.902/0.874/0.900 -> 0.902/0.874/0.908. Still wrong:
 HDM05 kicks whose clearest valley lies at two kicks while the one-kick valley is a third as
 deep (consecutive clips differ), and clusters holding two exercises (a missed boundary).
 
