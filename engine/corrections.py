@@ -470,7 +470,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
     engine.structure.Structure
         A new structure; ``structure`` is not changed.
     """
-    from .structure import Structure, StructureParams, Texton, texton_curve, textons_for
+    from .structure import Structure, StructureParams, Texton, parser_view, texton_curve, textons_for
 
     say = say or (lambda message: None)
     where = lambda label: _entry(source, name, label)  # noqa: E731
@@ -478,6 +478,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
     fps = structure.fps
     reach = max(1, int(round(REACH * fps)))
     params = _params(StructureParams, structure.params)
+    view = parser_view(v, params, theta)   # what the parser measured textons on
     clusters = _boundaries(structure, entry, reach, say, where)
     kept = {c: k for k, c in enumerate(structure.clusters)}
     w = atom_window(fps, params.window_taps, params.window_fps)
@@ -499,12 +500,12 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
         if (start, end) in old and (start, end) not in changed:
             out.append(replace(old[start, end], cluster=k))
         else:
-            out.append(Texton(start, end, k, atom_distance(v, end, start, w), texton_confidence(v, start, end, w)))
+            out.append(Texton(start, end, k, atom_distance(view, end, start, w), texton_confidence(view, start, end, w)))
     for k, frame in enumerate(entry.representatives):
         if not any(t.start <= frame <= t.end for t in out):
             raise CorrectionError(f"{where(f'representatives[{k}]')} = {frame} lies in no texton; "
                                   "add a texton start before it first.")
-    curve = texton_curve(v, clusters, out, fps, params)
+    curve = texton_curve(v, clusters, out, fps, params, theta)
     # A boundary kept from the automatic parse keeps its confidence; one drawn by hand is sure.
     sure = dict(zip((cs for cs, _ in structure.clusters), structure.boundary_confidence))
     return Structure(clusters, out, curve, fps, dict(structure.params),

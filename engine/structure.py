@@ -27,7 +27,12 @@ Two methods are provided.
     put the best earlier match 0.15-0.4 away on normalised histograms) or never. This
     method keeps the paper's quantities and changes how the decisions are taken:
 
-    1. **Clusters by novelty.** On a copy of the sequence reduced to about 10 fps (block
+    0. **Azimuth histograms smoothed** (:func:`engine.azimuth.azimuth_smoothed`): the
+       parser reads each theta histogram convolved with (1/4, 1/2, 1/4) around the circle.
+       A body turned a fraction of a 5 degree bin (its own frame's front, or a capture
+       turned a little) moved whole shares of vertices across hard bin edges and moved
+       boundaries (see that function for the figures).
+    1. **Clusters by novelty** (:mod:`engine.boundaries`). On a copy of the sequence reduced to about 10 fps (block
        means of frames), a two-block statistic is evaluated at every frame t: the energy
        distance between the frames of the ``novelty_window`` seconds before t and after t,
        2 E|X - Y| - E|X - X'| - E|Y - Y'| on frame distances, i.e. a checkerboard kernel
@@ -94,9 +99,11 @@ from dataclasses import asdict, dataclass, field, fields
 import numpy as np
 
 from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, atoms_along_lag,
-                    atom_window, block_means, lag_profile, novelty)
+                    atom_window, lag_profile, novelty)
+from .boundaries import novelty_clusters, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
+from .azimuth import azimuth_smoothed
 from .onsets import onset, settle
 from .periods import cluster_period
 from .transitions import absorb_transitions, merge_weak
@@ -109,6 +116,7 @@ __all__ = [
     "parse",
     "textons_for",
     "texton_curve",
+    "parser_view",
     "atom_window",
     "atom_distance",
     "atom_distances_to",
@@ -329,50 +337,6 @@ class Structure:
         )
 
 
-def _novelty_curve(vectors, fps, p: StructureParams):
-    # The two-block novelty on the sequence reduced to about ``analysis_fps``, and the step.
-    step = max(1, int(round(fps / p.analysis_fps)))
-    v = block_means(vectors, step)
-    f = fps / step
-    block = max(3, int(round(p.novelty_window * f)))
-    # A block shorter than half the shortest cluster says too little, but never ask for more
-    # than the block holds: novelty() would then skip every frame and find no boundary.
-    return novelty(v, block, min_block=min(block, max(3, int(round(0.5 * p.min_cluster * f))))), step
-
-
-def _energy_clusters(vectors, fps, p: StructureParams, n, step):
-    T = len(vectors)
-    f = fps / step
-    sep = max(2, int(round(p.min_cluster * f)))
-    # Non-maximum suppression over local maxima only (a broad peak's shoulder is not a
-    # second boundary): strongest first, none closer than ``sep``. When a new motion begins
-    # with poses of the old one (standing before the first squat) the peak splits in two
-    # and the later top is the higher; an earlier local maximum within ``sep`` and at least
-    # ``twin_peak`` as high is taken instead.
-    # Near the ends a block is short and unreliable; an end cluster may be a little shorter.
-    edge = max(2, int(round(0.75 * sep)))
-    is_peak = np.zeros(len(n), dtype=bool)
-    is_peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
-    bounds, claimed = [], []
-    for t in np.argsort(-n, kind="stable"):
-        t = int(t)
-        if n[t] < p.novelty_threshold:
-            break
-        if not is_peak[t] or t < edge or len(n) - t < edge:
-            continue
-        if any(abs(t - q) < sep for q in claimed):
-            continue
-        early = [u for u in range(max(edge, t - sep + 1), t)
-                 if is_peak[u] and n[u] >= p.twin_peak * n[t] and all(abs(u - q) >= sep for q in claimed)]
-        bounds.append(early[0] if early else t)
-        # Both the peak and the boundary chosen for it keep others ``sep`` away.
-        claimed += [t, bounds[-1]]
-    bounds.sort()
-    starts = [0] + [min(T - 1, t * step) for t in bounds]
-    starts = sorted(set(starts))
-    return [(s, e - 1) for s, e in zip(starts, starts[1:] + [T])]
-
-
 def _textons_by_period(v, cs, ce, P, w, ci):
     # Whole periods only: from the most repeatable atom of the first period, each next
     # texton starts at the minimum of d_A(t, t_first) within P +/- 25 %; a period that does
@@ -416,7 +380,7 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
 
 
 def _parse_energy(v, fps, p, w, theta, n, step):
-    clusters = _energy_clusters(v, fps, p, n, step)
+    clusters = novelty_clusters(v, fps, p, n, step)
     periods = None
     count = lambda cs, ce, P: len(_textons_by_period(v, cs, ce, P, w, 0))  # noqa: E731
     if p.max_transition > 0:
@@ -462,11 +426,11 @@ def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None
     list of Texton
     """
     p = params or StructureParams()
-    v = np.asarray(vectors, dtype=np.float64)
+    v = parser_view(vectors, p, theta)
     return _textons_of_clusters(v, clusters, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta)
 
 
-def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructureParams | None = None):
+def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructureParams | None = None, theta=None):
     """d_A(t, t_first) of every frame, Figure 4: :attr:`Structure.curve` for given clusters and textons.
 
     Returns
@@ -474,8 +438,26 @@ def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructurePar
     (T,) float64
     """
     p = params or StructureParams()
-    v = np.asarray(vectors, dtype=np.float64)
+    v = parser_view(vectors, p, theta)
     return _curve(v, clusters, textons, atom_window(fps, p.window_taps, p.window_fps))
+
+
+def parser_view(vectors, params=None, theta=None):
+    """The feature rows as the parser reads them: float64, and for method "energy" with the
+    theta columns given, azimuth histograms smoothed (:func:`engine.azimuth.azimuth_smoothed`).
+
+    Everything that decides or measures a structure (:func:`parse`, :func:`textons_for`,
+    :func:`texton_curve`, :mod:`engine.corrections`) reads this view, so a texton's d_T and
+    confidence are the same whether the parser or a correction made it.
+
+    Returns
+    -------
+    (T, D) float64
+    """
+    p = params or StructureParams()
+    if p.method == "energy" and theta is not None:
+        return azimuth_smoothed(vectors, theta)
+    return np.asarray(vectors, dtype=np.float64)
 
 
 def _parse_paper(v, fps, p, w):
@@ -582,8 +564,9 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
         raise ValueError(f"feature vectors must have shape (T, D) with T >= 1, got {v.shape}")
     if not (fps > 0):
         raise ValueError(f"the frame rate must be positive, got {fps!r}")
+    v = parser_view(v, p, theta)
     w = atom_window(fps, p.window_taps, p.window_fps)
-    curve, step = _novelty_curve(v, fps, p) if len(v) >= 2 else (np.zeros(1), 1)
+    curve, step = novelty_curve(v, fps, p) if len(v) >= 2 else (np.zeros(1), 1)
     if len(v) < 2:
         clusters, textons = [(0, len(v) - 1)], []
     elif p.method == "paper":

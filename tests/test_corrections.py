@@ -66,7 +66,7 @@ def _expected(library, clusters):
                                 "window_taps": tuple(library.params["structure"]["window_taps"])})
     fps = library.sequence(NAME).fps
     textons = textons_for(f.vectors, clusters, fps, params, theta=f.theta_columns)
-    structure = Structure(clusters, textons, texton_curve(f.vectors, clusters, textons, fps, params), fps)
+    structure = Structure(clusters, textons, texton_curve(f.vectors, clusters, textons, fps, params, f.theta_columns), fps)
     nodes = build_database({NAME: structure})
     return structure, nodes, build_graph(nodes, {NAME: f.vectors}, mu=library.mu)
 
