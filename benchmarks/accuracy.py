@@ -112,7 +112,8 @@ def cross_validate(takes, base, show_errors=False):
         for take, result in zip([t for t in takes if t.group == group], scores[group]):
             if show_errors and errors(take, result):
                 print(errors(take, result))
-    print(line("held-out pooled", *pool(held)))
+    p, r, a = pool(held)
+    print(line("held-out pooled", p, r, a, f"({p:.3f} / {r:.3f} / {a:.3f})"))
 
 
 def main(argv=None):

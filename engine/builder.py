@@ -370,7 +370,7 @@ def _open_old(out, open_library):
 
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None, body_frame=False, connect="auto", corrections=None, blend_frames=None,
+          units=None, mirror=None, body_frame=True, connect="auto", corrections=None, blend_frames=None,
           keep_frames="motions", open_library=None):
     """Write a library from TVM sequences and return its report (``engine.build``, that is
     :func:`engine.library.build`, returns it opened).
@@ -413,8 +413,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         given is detected per sequence (:func:`engine.orientation.detect`).
     body_frame : bool
         Compute every sequence's features in the body's own frame
-        (:func:`engine.orientation.feature_frame`): a take parses alike however it is turned,
-        at a cost in the development suite's figures (README, *Frames of reference*).
+        (:func:`engine.orientation.feature_frame`), the default: a take parses alike however
+        it is turned (README, *Frames of reference*). False: in tvmedit's axes.
     corrections : Corrections, dict, str, Path or None
         Corrections by hand applied on top of the parse (:mod:`engine.corrections`), or the
         file holding them; None keeps those of the library being replaced, if any; False

@@ -267,12 +267,12 @@ def load_truth(folder):
     return json.loads((Path(folder) / "truth.json").read_text())
 
 
-def sequence_features(folder, bins=None, cache_dir=None, frame="stored"):
+def sequence_features(folder, bins=None, cache_dir=None, frame="body"):
     """Features of a sequence folder, kept in the feature cache (:mod:`engine.featcache`).
 
-    ``frame`` is ``"stored"``: in tvmedit's axes, as the builder computes them by default, or
-    ``"body"``: in the body's own frame, as it does with ``body_frame``
-    (:func:`engine.orientation.feature_frame`).
+    ``frame`` is ``"body"``: in the body's own frame, as the builder computes them by default
+    (:func:`engine.orientation.feature_frame`), or ``"stored"``: in tvmedit's axes, as it does
+    with ``body_frame=False``.
 
     Loading about 17,000-vertex PLY frames costs far more than the histograms; tests and
     benchmarks that score many parameter settings on the same takes read them once. The

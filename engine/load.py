@@ -356,7 +356,7 @@ def expand_inputs(inputs):
     return expanded
 
 
-def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None, body_frame=False):
+def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None, body_frame=True):
     """List a sequence's frames, read its timing and detect its frame of reference.
 
     The frame rate comes from ``fps`` when given, else ``sequence.json`` beside the frames
@@ -366,8 +366,9 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
 
     ``up``, ``units`` and ``mirror`` fix the frame of reference (:func:`engine.orientation.detect`);
     what is not given is detected from up to a dozen frames sampled across the sequence, read
-    without their textures. ``body_frame`` has features computed in the body's own frame
-    (:func:`engine.orientation.feature_frame`), so the take parses alike however it is turned.
+    without their textures. ``body_frame`` (the default) has features computed in the body's
+    own frame (:func:`engine.orientation.feature_frame`), so the take parses alike however it
+    is turned; False computes them in tvmedit's axes.
     """
     manifest = _manifest(source)
     captured = frame_paths(source)

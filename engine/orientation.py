@@ -36,35 +36,36 @@ tells, and the scvv capture shared with tvmedit is not mirrored (its card reads 
 once upright, though the preview image of the app and the raw camera images it textures
 with are mirrored), so ``mirror`` is off unless given.
 
-Features in the body's own frame (``body_frame``, ``--body-frame``; off by default).
+Features in the body's own frame (``body_frame``, ``--body-frame``; the default).
 Putting a take upright is not enough for it to parse the same: section 3's histograms move
-with a tilt of a degree or two (13_30 tilted 2 degrees about y moves a cluster boundary and
-splits a texton) and with a turn about up (the synthetic "wander" take of the development
-suite turned 1 degree about Z loses a boundary), and an obliquely rotated take gives up its
-up only as well as the body's principal axis does (0.5-1 degree off on the dev takes), while
-nothing in it tells which way Z was: in tvmedit's axes an oblique turn of 13_29 in
-millimetres moves a texton boundary by a frame or loses a texton. With ``body_frame``
-features are computed in a frame that is a function of the vertices and turns with them
-(:func:`feature_frame`): up is the principal axis of the sampled frames, each about its own
-centre (the body's shape, not its path); front-back is the lesser principal axis across up,
-signed by its third moment; left-right completes them (so the theta mirror of
-:mod:`engine.structure` still swaps left and right). A take and any rotation of it in any
-units then get the same features to a vertex's share of a bin and the same clusters and
-textons, frame for frame (tests/test_orientation.py, 13_29 under two random oblique
-rotations). Meshes, camera, player and report keep the frame detected above either way.
+with a tilt of a degree or two and with a turn about up, and an obliquely rotated take gives
+up its up only as well as the body's principal axis does (0.5-1 degree off on the dev takes),
+while nothing in it tells which way Z was: in tvmedit's axes an oblique turn of 13_29 in
+millimetres moves a texton boundary by a frame or loses a texton. So features are computed
+in a frame that is a function of the vertices and turns with them (:func:`feature_frame`):
+up is the principal axis of the sampled frames, each about its own centre (the body's shape,
+not its path); front-back is the lesser principal axis across up, signed by its third
+moment; left-right completes them (so the theta mirror of :mod:`engine.structure` still
+swaps left and right). A take and any rotation of it in any units then get the same
+features to a vertex's share of a bin and the same clusters and textons, frame for frame
+(tests/test_orientation.py, 13_29 under two random oblique rotations, default build).
+Meshes, camera, player and report keep the frame detected above either way.
 
-Why it is not the default: on the dev takes and the development suite's sources the body's
-frame is 0.4-3.6 degrees from Z and turned up to 11 degrees (CMU, synthetic) or 74 degrees
-(the HDM05 people, who stand turned) from tvmedit's axes, and the parser, tuned in those axes,
-scores less in it: ``TVMEDIT_DEV_FRAME=body benchmarks/accuracy.py`` pooled 0.97 / 0.95 /
-0.94 -> 0.94 / 0.93 / 0.90, held out 0.92 / 0.95 / 0.90 -> 0.90 / 0.87 / 0.90 (13_29 and
-13_30 stay 1.00 / 1.00 / 1.00). Turning every take's features by a random 2 degree tilt and
-up to 5 degrees about Z costs about as much (0.94 / 0.94 / 0.93 and 0.94 / 0.92 / 0.92
-pooled, two draws): the parser's figures hold in the axes it was tuned in, not in a truer
-frame. Most of the cost is the tilt (the phi histograms): the body's tilt alone scores 0.93 /
-0.92 / 0.90 pooled, its turn about up alone 0.96 / 0.94 / 0.93. A body whose longest axis is not clearly so, or lies more than
-:data:`FRAME_DEGREES` from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given
-against the body), has no frame of its own and keeps tvmedit's axes.
+What it costs. On the dev takes and the development suite's sources the body's frame is
+0.4-3.6 degrees from Z and turned up to 11 degrees (CMU, synthetic) or 74 degrees (the
+HDM05 people, who stand turned) from tvmedit's axes. The parser's decisions used to be taken
+on hard-edged histograms of takes facing along an axis, and scored less in the body's frame
+(development suite pooled precision / recall / texton accuracy 0.97 / 0.95 / 0.96 in
+tvmedit's axes, 0.94 / 0.93 / 0.92 in the body's; leave-one-group-out 0.918 / 0.947 / 0.904
+against 0.902 / 0.874 / 0.908), which is why it was opt-in. With the azimuth histograms
+smoothed over neighbouring bins for the parser (:func:`engine.azimuth.azimuth_smoothed`)
+and strong novelty peaks taken near the ends (:mod:`engine.boundaries`): 0.95 / 0.96 / 0.93
+in the body's frame, leave-one-group-out 0.929 / 0.958 / 0.912, better than tvmedit's axes
+(0.97 / 0.95 / 0.95, leave-one-group-out 0.92 / 0.95 / 0.90). The
+body's frame is therefore the default; ``--no-body-frame`` computes features in tvmedit's
+axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
+from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
+no frame of its own and keeps tvmedit's axes.
 """
 
 import math
@@ -260,7 +261,7 @@ def _ends(frames, direction):
     return float(np.std(lows)), float(np.std(highs))
 
 
-def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=False):
+def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=True):
     """The :class:`Orientation` of a sequence from a sample of its frames, with the reasons.
 
     Parameters
@@ -277,8 +278,8 @@ def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=Fal
         Mirror the capture back (left-right); default: no.
     body_frame : bool
         Compute features in the body's own frame (:func:`feature_frame`), so that the take
-        parses alike however it is turned; default: in tvmedit's axes. Either way the body's
-        frame is measured and reported (``reasons["features"]``).
+        parses alike however it is turned (the default); False: in tvmedit's axes. Either
+        way the body's frame is measured and reported (``reasons["features"]``).
 
     Returns
     -------
@@ -328,10 +329,10 @@ def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=Fal
     found = not np.array_equal(matrix, np.eye(3))
     if not body_frame:
         matrix = np.eye(3)
-        reasons["features"] = ("tvmedit's axes, the default (" + ("the body's own frame, --body-frame: " if found
-                               else "--body-frame would find no frame of the body's own: ") + body + ")")
+        reasons["features"] = ("tvmedit's axes, as asked (" + ("the body's own frame would be: " if found
+                               else "the body has no frame of its own: ") + body + ")")
     else:
-        reasons["features"] = (f"the body's own frame, as asked: {body}" if found
+        reasons["features"] = (f"the body's own frame: {body}" if found
                                else f"tvmedit's axes (no frame of the body's own: {body})")
     return replace(orientation, features=tuple(tuple(float(v) for v in row) for row in matrix), reasons=reasons)
 

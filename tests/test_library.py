@@ -58,8 +58,9 @@ def _in_memory(take):
     features = {}
     for sequence in sequences:
         acc = FeatureAccumulator(BinSizes())
+        in_body_axes = sequence.orientation.for_features()   # features in the body's own frame
         for path in sequence.paths:
-            acc.add(read_frame(path).positions)
+            acc.add(read_frame(path, in_body_axes).positions)
         features[sequence.name] = acc.result()
     width = max(f.r.shape[1] for f in features.values())
     vectors = {name: f.pad_r(width).vectors for name, f in features.items()}

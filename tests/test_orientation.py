@@ -3,7 +3,7 @@
 A real-motion dev take (CMU 13_30 or 13_29 as TVM, Z up, metres) is rotated and scaled to
 millimetres, written as PLY frames, and read again: tvmedit detects the up axis and the
 units, maps the frames back, and finds the same clusters and textons; for an oblique rotation
-frame for frame where features are computed in the body's own frame (``body_frame``).
+frame for frame, as features are computed in the body's own frame by default (``body_frame``).
 """
 
 import numpy as np
@@ -99,19 +99,19 @@ def test_obliquely_rotated_take_is_put_upright_and_parses_alike(take_13_30, orig
 
 
 def _parse(folder, cache_dir):
-    features = sequence_features(folder, cache_dir=cache_dir, frame="body")
+    features = sequence_features(folder, cache_dir=cache_dir)   # the builder's default: the body's frame
     s = parse(features.vectors, open_sequence(folder).fps, theta=features.theta_columns)
     return features, s.clusters, [(t.start, t.end, t.cluster) for t in s.textons]
 
 
 @pytest.mark.parametrize("seed", [1, 5])
 def test_random_rotation_and_millimetres_leave_clusters_and_textons_unchanged(take_13_29, tmp_path, seed):
-    # In tvmedit's axes 13_29 does not parse alike: put upright only as well as its principal
-    # axis allows (0.5 degrees off) and turned about Z, it has a texton boundary a frame off
-    # or a texton fewer. In the body's own frame the rotated take's features are the original's.
+    # Put upright only as well as its principal axis allows (0.5 degrees off) and turned about
+    # Z, 13_29 in tvmedit's axes had a texton boundary a frame off or a texton fewer. In the
+    # body's own frame, the default, the rotated take's features are the original's.
     rotation = _oblique_rotation(seed)
     moved = _write_moved(take_13_29, rotation, tmp_path / "moved")
-    a, b = (open_sequence(take, body_frame=True).orientation for take in (take_13_29, moved))
+    a, b = (open_sequence(take).orientation for take in (take_13_29, moved))
     assert a.is_identity and (b.units, b.up[0]) == ("mm", "(")   # stored as they were written
     assert a.reasons["features"].startswith("the body's own frame")
     # The body's frames agree: the moved take's map to it undoes the rotation exactly.
@@ -122,8 +122,8 @@ def test_random_rotation_and_millimetres_leave_clusters_and_textons_unchanged(ta
     width = max(fa.r.shape[1], fb.r.shape[1])
     assert np.abs(fa.pad_r(width).vectors - fb.pad_r(width).vectors).max() < 5e-4   # a few vertices
     assert clusters_b == clusters_a and textons_b == textons_a
-    # In tvmedit's axes the same two takes do not parse alike.
-    stored = [sequence_features(take, cache_dir=tmp_path / "stored") for take in (take_13_29, moved)]
+    # In tvmedit's axes (--no-body-frame) the same two takes do not parse alike.
+    stored = [sequence_features(take, cache_dir=tmp_path / "stored", frame="stored") for take in (take_13_29, moved)]
     parses = [parse(f.vectors, 10.0, theta=f.theta_columns) for f in stored]
     assert len({(tuple(p.clusters), tuple((t.start, t.end) for t in p.textons)) for p in parses}) == 2
 
@@ -146,8 +146,8 @@ def test_every_axis_up_is_found_and_mapped_to_z(tmp_path, axis):
 def test_dev_takes_are_read_as_they_are():
     for take in (synth_take("gym"), synth_take("walk")):
         orientation = open_sequence(take).orientation
-        assert orientation.is_identity and orientation.for_features() == orientation
-        assert "--body-frame: its longest axis" in orientation.reasons["features"]   # what it would be
+        assert orientation.is_identity   # the meshes as they are; features in the body's frame
+        assert orientation.reasons["features"].startswith("the body's own frame: its longest axis")
 
 
 def test_up_and_units_given_are_taken_as_they_are(tmp_path):

@@ -40,17 +40,18 @@ def _frames(start, end):
 
 def _read_as(manifest, name):
     """``; read as scvv, up -x, m`` where a sequence was not plain Z-up metre frames (``,
-    features in the body's axes`` where it was built with ``--body-frame``)."""
+    features in the capture's axes`` where it was built with ``--no-body-frame`` or its body
+    had no frame of its own)."""
     record = next(r for r in manifest["sequences"] if r["name"] == name)
     frame, fmt = record.get("orientation"), record.get("format", "ply")
     identity = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
-    body = frame is not None and frame.get("features", identity) != identity
-    plain = frame is None or (frame["up"] == "+z" and frame["units"] == "m" and not frame["mirrored"] and not body)
+    body = frame is None or frame.get("features", identity) != identity
+    plain = frame is None or (frame["up"] == "+z" and frame["units"] == "m" and not frame["mirrored"] and body)
     if plain and fmt in ("ply", "obj", "off"):
         return ""
     return (f"; read as {fmt}" + ("" if frame is None else f", up {frame['up']}, {frame['units']}"
                                   + (", mirrored" if frame["mirrored"] else "")
-                                  + (", features in the body's axes" if body else "")))
+                                  + ("" if body else ", features in the capture's axes")))
 
 
 def _corrections(entry):

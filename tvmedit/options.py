@@ -162,7 +162,7 @@ def up_axis(text):
 
 def add_frame_of_reference(parser):
     """--up, --units, --mirror/--no-mirror (the capture's frame, where detection is not wanted) and
-    --body-frame (features in the body's own axes)."""
+    --body-frame/--no-body-frame (features in the body's own axes, the default)."""
     group = parser.add_argument_group("frame of reference (default: detected; tvmedit check says how)")
     group.add_argument("--up", type=up_axis, default=None, metavar="AXIS",
                        help="the capture's up axis: +x, -x, +y, -y, +z or -z")
@@ -170,10 +170,10 @@ def add_frame_of_reference(parser):
                        help="the capture's length unit")
     group.add_argument("--mirror", action=argparse.BooleanOptionalAction, default=None,
                        help="swap left and right, for a capture stored as a mirror image (text reads backwards); default: no")
-    group.add_argument("--body-frame", action="store_true",
+    group.add_argument("--body-frame", action=argparse.BooleanOptionalAction, default=True,
                        help="compute features in the body's own axes (its principal axes over the take), so a "
-                            "take parses the same however it is turned; default: tvmedit's axes, which the parser "
-                            "is tuned in")
+                            "take parses the same however it is turned (default); --no-body-frame: in the "
+                            "capture's axes once put upright")
 
 
 #: Options of other commands that engine advice may name (``rebuild with mu=2``).
