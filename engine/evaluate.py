@@ -126,9 +126,10 @@ def pool(scores):
     return precision, recall, (float(np.mean(rows)) if rows else float("nan"))
 
 
-def score_take(folder, params=None, bins=None, cache_dir=None, frame="stored"):
-    """Parse the take in ``folder`` (its features cached, computed in ``frame``: see
-    :func:`sequence_features`) and :func:`score` it against its truth.json."""
+def score_take(folder, params=None, bins=None, cache_dir=None, frame="body"):
+    """Parse the take in ``folder`` (its features cached, computed in ``frame``: the body's own
+    by default, as the builder computes them; see :func:`sequence_features`) and
+    :func:`score` it against its truth.json."""
     from .structure import parse
 
     truth = load_truth(folder)

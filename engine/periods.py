@@ -258,10 +258,10 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False):
     if theta is not None and 2 * L < length and mirror_ratio(v[cs: ce + 1], L, theta) < MIRROR_RATIO:
         return (int(lags[k2]) if k2 is not None else 2 * L), depth
     # Without the azimuth columns: 2L when the profile is lower there and 3L is visible and
-    # no valley (a true period's 3L is one). With them the mirror test alone decides: an
-    # older test that doubled L when the azimuth histogram alone showed no valley at L also
-    # doubled every exercise whose heading changed from one repetition to the next (HDM05
-    # texton length 0.53 with it, 0.67 without, on the development suite).
+    # no valley (a true period's 3L is one). With them the mirror test above and the 3L-dip
+    # test below decide: an older test that doubled L when the azimuth histogram alone
+    # showed no valley at L also doubled every exercise whose heading changed from one
+    # repetition to the next (HDM05 texton length 0.53 with it, 0.67 without, on the suite).
     if theta is None and k2 is not None and prof[k2] < prof[chosen]:
         if 3 * L <= top and valley_near(3 * L) is None:
             L = int(lags[k2])

@@ -100,10 +100,10 @@ import numpy as np
 
 from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, atoms_along_lag,
                     atom_window, lag_profile, novelty)
+from .azimuth import azimuth_smoothed
 from .boundaries import novelty_clusters, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
-from .azimuth import azimuth_smoothed
 from .onsets import onset, settle
 from .periods import cluster_period
 from .transitions import absorb_transitions, merge_weak

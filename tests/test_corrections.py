@@ -23,7 +23,7 @@ from engine.errors import ParameterError
 from engine.database import build_database
 from engine.graph import build_graph
 from engine.library import INFO_SCHEMA
-from engine.structure import Structure, StructureParams, texton_curve, textons_for
+from engine.structure import Structure, StructureParams, parser_view, texton_curve, textons_for
 from engine.wraps import window
 from tvmedit.cli import main
 
@@ -259,14 +259,15 @@ def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base
 
 def test_texton_starts_representatives_and_drops(base):
     parse = base.parse(NAME)
-    vectors = base.features(NAME).vectors
+    features = base.features(NAME)
+    vectors, theta = features.vectors, features.theta_columns
     cluster = max(range(len(parse.clusters)), key=lambda k: len(parse.textons_of(k)))
     first, second, third = parse.textons_of(cluster)[:3]
     c = Corrections()
     c.move_texton(NAME, second.start, second.start + 1)
     c.remove_texton(NAME, third.start)              # joins the third texton to the second
     c.add_texton(NAME, third.start + 1)             # and splits it again one frame later
-    fixed = apply_structure(parse, vectors, c.of(NAME), name=NAME)
+    fixed = apply_structure(parse, vectors, c.of(NAME), theta=theta, name=NAME)   # as the builder calls it
     spans = [(t.start, t.end) for t in fixed.textons_of(cluster)]
     assert spans[:3] == [(first.start, second.start), (second.start + 1, third.start), (third.start + 1, third.end)]
     assert len(fixed.textons) == len(parse.textons)
@@ -274,7 +275,9 @@ def test_texton_starts_representatives_and_drops(base):
     from engine.confidence import texton_confidence
 
     edited = fixed.textons_of(cluster)[1]                 # its confidence is measured anew
-    assert edited.confidence == texton_confidence(vectors, edited.start, edited.end, atom_window(parse.fps))
+    # on the view the parser measured every texton on (azimuth smoothed)
+    view = parser_view(vectors, StructureParams(), theta)
+    assert edited.confidence == texton_confidence(view, edited.start, edited.end, atom_window(parse.fps))
     c.remove_texton(NAME, third.start + 1)          # undoing an added start leaves no entry
     assert c.of(NAME).textons["add"] == []
 

@@ -8,7 +8,7 @@ name it yourself, e.g. ``tvmedit build walk=capture/A/walk run=capture/A/run -o 
 
 The library is written beside LIB under a temporary name and renamed into place when
 complete, so an interrupted build never leaves half a library. Features, the expensive
-part, are cached by frame files and bin sizes: rebuilding with other parsing or pruning
+part, are cached by frame files, bin sizes and frame of reference: rebuilding with other parsing or pruning
 parameters reuses them (and says so). --workers and --dask spread the reading of frames
 and the blending; the library is the same whichever is used.
 

@@ -8,7 +8,9 @@ the check with one sentence naming the file, unless --skip-bad-frames is given.
 
 It prints the format, the frames and their timing, vertices and triangles, colours and
 textures, and the frame of reference: the up axis, the units and whether the capture is
-mirrored, each with the reason it was detected (--up, --units, --mirror override them).
+mirrored, each with the reason it was detected (--up, --units, --mirror override them), and
+the axes features are computed in: the body's own, found from its shape, by default
+(--no-body-frame: the capture's, once put upright).
 """
 
 from . import options
