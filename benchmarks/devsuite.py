@@ -1,6 +1,6 @@
 """The parser's development suite (issue 15): many labelled takes in groups, scored on features.
 
-A parse is judged on takes it was not tuned on. The suite holds five groups:
+A parse is judged on takes it was not tuned on. The suite holds four groups:
 
 ``synth``
     The synthetic actor (:mod:`engine.synth`) varied: builds (slim to heavy) and heights,
@@ -16,7 +16,8 @@ A parse is judged on takes it was not tuned on. The suite holds five groups:
     first frame's centre).
 ``hdm05``
     Three more people (HDM05 actors bd, bk, dg) stitched into multi-exercise takes with other
-    orders, block lengths and repetition counts (``shared/tools/hdm05_stitch.py``).
+    orders, block lengths and repetition counts (``shared/tools/hdm05_stitch.py``); four of
+    the ten mix walking in a circle, sneaking and throwing among the exercises.
 
 Real takes are turned into meshes once (``mocap2tvm.py``) and every take's features are
 cached under ``.cache/devsuite``; the synthetic actor's frames are reconstructed in memory
