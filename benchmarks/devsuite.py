@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from engine.features import SAMPLE_FRAMES
-from engine.orientation import SAMPLES, feature_frame
+from engine.orientation import feature_frame, sample_indices
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
@@ -177,12 +177,7 @@ def _body(n, frame_at):
     k) where FRAME is "body", else the identity."""
     if FRAME != "body":
         return np.eye(3)
-    return feature_frame([frame_at(k) for k in _spread(n)])[0]
-
-
-def _spread(n):
-    """Indices of the frames a sequence's frame of reference is detected from (as engine.load)."""
-    return np.unique(np.linspace(0, n - 1, min(SAMPLES, n)).round().astype(int))
+    return feature_frame([frame_at(k) for k in sample_indices(n)])[0]
 
 
 def _frames_features(folder, start=0, stop=None):

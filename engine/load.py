@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError, summarise
-from .orientation import SAMPLES, Orientation, detect
+from .orientation import Orientation, detect, sample_indices
 from .params import MAX_FPS
 from .readers import READERS, read_manifest, read_mesh, reader_for
 
@@ -409,9 +409,8 @@ def _sample_positions(paths):
     """Vertex positions of up to :data:`~engine.orientation.SAMPLES` frames spread over the
     sequence, in the files' coordinates; unreadable frames are passed over (they are
     reported when the sequence is read)."""
-    picks = sorted(set(np.linspace(0, len(paths) - 1, min(SAMPLES, len(paths))).round().astype(int).tolist()))
     sample = []
-    for k in picks:
+    for k in sample_indices(len(paths)):
         try:
             sample.append(read_frame(paths[k], detail="geometry").positions)
         except InputError:

@@ -75,7 +75,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["Orientation", "detect", "feature_frame", "parse_up", "AXES", "SNAP_DEGREES", "UNITS", "FRAME_DEGREES"]
+__all__ = ["Orientation", "detect", "feature_frame", "parse_up", "sample_indices", "AXES", "SNAP_DEGREES", "UNITS",
+           "FRAME_DEGREES", "IDENTITY"]
 
 AXES = {"+x": (1.0, 0.0, 0.0), "-x": (-1.0, 0.0, 0.0), "+y": (0.0, 1.0, 0.0),
         "-y": (0.0, -1.0, 0.0), "+z": (0.0, 0.0, 1.0), "-z": (0.0, 0.0, -1.0)}
@@ -94,6 +95,8 @@ STEADIER = 1.3
 MIN_VERTICES = 200
 #: Frames sampled across the sequence for detection.
 SAMPLES = 12
+#: The identity rotation, as :class:`Orientation` holds matrices.
+IDENTITY = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 #: Formats whose coordinates are a depth camera's (looking along +Z, facing its user).
 DEPTH_CAMERA_FORMATS = ("scvv",)
 #: Formats with a fixed up axis.
@@ -111,6 +114,21 @@ def parse_up(text):
     if key not in AXES:
         raise ValueError(f"up must be one of {', '.join(AXES)}, not {text!r}")
     return np.array(AXES[key])
+
+
+def _rows(matrix):
+    """A 3x3 matrix as a tuple of row tuples of floats (how :class:`Orientation` holds one)."""
+    return tuple(tuple(float(v) for v in row) for row in matrix)
+
+
+def sample_indices(n):
+    """Indices of the (up to :data:`SAMPLES`) frames, spread over a sequence of ``n``, that its
+    frame of reference is detected from.
+
+    >>> sample_indices(5).tolist(), len(sample_indices(1000))
+    ([0, 1, 2, 3, 4], 12)
+    """
+    return np.unique(np.linspace(0, n - 1, min(SAMPLES, n)).round().astype(int))
 
 
 def _axis_name(vector):
@@ -152,7 +170,7 @@ class Orientation:
     units: str = "m"
     mirrored: bool = False
     reasons: dict = field(default_factory=dict, compare=False, hash=False)
-    features: tuple = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+    features: tuple = IDENTITY
 
     @classmethod
     def make(cls, up, front=None, units="m", mirrored=False, reasons=None):
@@ -173,8 +191,7 @@ class Orientation:
             ex = -ex
         matrix = np.array([ex, ey, up])
         matrix[np.abs(matrix) < 1e-12] = 0.0
-        return cls(tuple(tuple(float(v) for v in row) for row in matrix), UNITS[units], _axis_name(up),
-                   units, bool(mirrored), dict(reasons or {}))
+        return cls(_rows(matrix), UNITS[units], _axis_name(up), units, bool(mirrored), dict(reasons or {}))
 
     @property
     def is_identity(self):
@@ -196,8 +213,7 @@ class Orientation:
         computed: this one followed by :attr:`features` (an :class:`Orientation` itself, for
         :func:`engine.load.read_frame`)."""
         combined = np.asarray(self.features) @ np.asarray(self.matrix)
-        return Orientation(tuple(tuple(float(v) for v in row) for row in combined), self.scale, self.up,
-                           self.units, self.mirrored, dict(self.reasons))
+        return Orientation(_rows(combined), self.scale, self.up, self.units, self.mirrored, dict(self.reasons))
 
     def to_json(self):
         return {"matrix": [list(row) for row in self.matrix], "scale": self.scale, "up": self.up,
@@ -206,10 +222,8 @@ class Orientation:
 
     @classmethod
     def from_json(cls, data):
-        features = data.get("features", ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)))
-        return cls(tuple(tuple(float(v) for v in row) for row in data["matrix"]), float(data["scale"]),
-                   data["up"], data["units"], bool(data["mirrored"]), dict(data.get("reasons", {})),
-                   tuple(tuple(float(v) for v in row) for row in features))
+        return cls(_rows(data["matrix"]), float(data["scale"]), data["up"], data["units"], bool(data["mirrored"]),
+                   dict(data.get("reasons", {})), _rows(data.get("features", IDENTITY)))
 
     def describe(self):
         """One line per decision, for ``tvmedit check``."""
@@ -336,7 +350,7 @@ def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=Tru
     else:
         reasons["features"] = (f"the body's own frame: {body}" if found
                                else f"tvmedit's axes (no frame of the body's own: {body})")
-    return replace(orientation, features=tuple(tuple(float(v) for v in row) for row in matrix), reasons=reasons)
+    return replace(orientation, features=_rows(matrix), reasons=reasons)
 
 
 def _pooled(frames):
