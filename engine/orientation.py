@@ -13,8 +13,11 @@ How up is found, in order:
 1. ``up`` given by the user (``--up +y``).
 2. The format's convention: glTF is Y up (its specification).
 3. The body's principal axis over the sequence: the direction of largest spread of the
-   vertices of frames sampled across the whole sequence (a standing person is several times
-   taller than wide; a bust with its shoulders is still taller than deep). For a depth
+   vertices of frames sampled across the whole sequence, each frame about its own centre
+   (a standing person is several times taller than wide; a bust with its shoulders is still
+   taller than deep). Centring each frame keeps the person's path out of it: pooled as they
+   lay, the frames of a person crossing the volume spread further along the path than up
+   the body (an HDM05 take jogging in circles was put on its side, up = +y). For a depth
    camera (an scvv sequence) up lies across the camera's view axis, so only X and Y are
    considered. An axis within :data:`SNAP_DEGREES` of a coordinate axis is taken as that
    axis; a clearly oblique one (a tilted camera, a rotated export) is used as measured.
@@ -364,7 +367,10 @@ def _detect_up(frames, depth_camera):
     default = np.array([0.0, 0.0, 1.0])
     if not frames or min(len(f) for f in frames) < MIN_VERTICES:
         return default, "tvmedit's default: too few vertices per frame to tell a body's axis"
-    points = _pooled(frames)
+    # Each frame about its own centre, as in feature_frame: the body's shape, not its path.
+    # Pooled as they lie, a person who jogs or walks across the volume makes the path the
+    # longest axis (an HDM05 take jogging in circles came out lying on its side, up = +y).
+    points = _pooled([f - f.mean(axis=0) for f in frames])
     axes = [0, 1] if depth_camera else [0, 1, 2]
     direction, ratio = _principal(points, axes)
     if ratio < DOMINANCE:

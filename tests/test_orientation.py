@@ -143,6 +143,21 @@ def test_every_axis_up_is_found_and_mapped_to_z(tmp_path, axis):
     assert back[:, 2].mean() == pytest.approx(frames[0][:, 2].mean(), abs=1e-3)
 
 
+@pytest.mark.parametrize("axis", ["+z", "+y"])
+def test_a_person_who_travels_across_the_volume_is_still_found_upright(axis):
+    # A walker who crosses 5 m of the capture volume (a jog in circles, a walk around the
+    # room): pooled as they lie, the sampled frames' longest axis is the path, and an HDM05
+    # take jogging in circles came out lying on its side (up = +y, "0.65 m tall").
+    walk = synth_take("walk")
+    frames = [frame.positions for _, frame in iter_frames(open_sequence(walk).paths[::8], detail="geometry")]
+    path = np.linspace(-2.5, 2.5, len(frames))
+    travelled = [p + [x, 0.3 * x, 0.0] for p, x in zip(frames, path)]
+    matrix = np.asarray(Orientation.make(parse_up(axis), front=(0, 0, 1) if axis == "+y" else None).matrix).T
+    orientation = detect([p @ matrix.T for p in travelled])
+    assert orientation.up == axis and orientation.units == "m", orientation.reasons
+    assert orientation.reasons["features"].startswith("the body's own frame"), orientation.reasons
+
+
 def test_dev_takes_are_read_as_they_are():
     for take in (synth_take("gym"), synth_take("walk")):
         orientation = open_sequence(take).orientation
