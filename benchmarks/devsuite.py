@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.features import SAMPLE_FRAMES
+from engine.features import SAMPLE_FRAMES, follow_picks
 from engine.orientation import feature_frame, sample_indices
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -168,8 +168,9 @@ FRAME = os.environ.get("TVMEDIT_DEV_FRAME", "body")
 
 
 def _prefix():
-    # The stored axes keep the cache's older names.
-    return f"{ORIGIN}-" if FRAME == "stored" else f"{ORIGIN}-{FRAME}-"
+    # The stored axes keep the cache's older names; "auto" names how many frames decided.
+    origin = f"{ORIGIN}{SAMPLE_FRAMES}" if ORIGIN == "auto" and SAMPLE_FRAMES != 12 else ORIGIN
+    return f"{origin}-" if FRAME == "stored" else f"{origin}-{FRAME}-"
 
 
 def _body(n, frame_at):
@@ -356,7 +357,7 @@ def synth_take(group, name, options, vertices=6000):
         frames.append(verts)
     body = _body(len(frames), frames.__getitem__)
     frames = [verts @ body.T for verts in frames]
-    picks = np.unique(np.linspace(0, len(frames) - 1, SAMPLE_FRAMES).round().astype(int))
+    picks = follow_picks(len(frames))
     acc = _accumulator([frames[k].mean(axis=0) for k in picks])
     for verts in frames:
         acc.add(verts)

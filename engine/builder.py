@@ -38,7 +38,7 @@ from . import atomic, featcache, libformat, meshstore
 from .blend import preload
 from .blendstore import blend_library, loop_frames
 from .errors import InputError, TvmError
-from .features import SAMPLE_FRAMES, FeatureAccumulator, Features, frame_histograms, frame_origin, moves_across
+from .features import FeatureAccumulator, Features, follow_picks, frame_histograms, frame_origin, moves_across
 from .load import expand_inputs, open_sequence, read_frame
 from .parallel import Workers
 from .settings import Settings
@@ -145,7 +145,7 @@ def origin_follows(paths, orientation=None, first=None):
     the first frame's positions, when already read) and :func:`engine.features.moves_across`
     decides; unreadable frames are left out of the sample.
     """
-    picks = np.unique(np.linspace(0, len(paths) - 1, SAMPLE_FRAMES).round().astype(int)) if paths else []
+    picks = follow_picks(len(paths))
     centroids = []
     for k in picks:
         if k == 0 and first is not None:

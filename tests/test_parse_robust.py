@@ -12,7 +12,7 @@ import pytest
 
 from engine import synth
 from engine.evaluate import score
-from engine.features import SAMPLE_FRAMES, FeatureAccumulator, moves_across
+from engine.features import FeatureAccumulator, follow_picks, moves_across
 from engine.structure import Structure, parse
 
 
@@ -23,7 +23,7 @@ def _take(drift=(0.0, 0.0), vertices=6000, **plan):
     rng = np.random.default_rng(0)
     frames = [synth.make_frame(pose, float(synth.voxel_size(vertices)), rng)[0] + np.array([*drift, 0.0]) * k / fps
               for k, pose in enumerate(poses)]
-    picks = np.unique(np.linspace(0, len(frames) - 1, SAMPLE_FRAMES).round().astype(int))
+    picks = follow_picks(len(frames))
     acc = FeatureAccumulator(follow=moves_across([frames[k].mean(axis=0) for k in picks]))
     for verts in frames:
         acc.add(verts)
@@ -47,6 +47,20 @@ def test_a_person_drifting_across_the_volume_is_parsed_one_cluster_per_exercise(
     result = score(parse(vectors, truth["fps"], theta=theta), truth)
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
     assert result.texton_accuracy == 1.0
+
+
+def test_a_short_excursion_is_enough_for_the_origin_to_follow():
+    # Two seconds of jogging 2.5 m away and back in a 30 s take (an HDM05 take jogs in a
+    # circle for 4 s among its exercises): a dozen frames spread over the take missed it.
+    poses, _, _, _ = synth.plan(motions=["jumping-jacks", "squats"], cycles=[16, 10], seed=4)
+    rng = np.random.default_rng(0)
+    away = lambda k: 2.5 * np.sin(np.pi * (k - 140) / 20) if 140 <= k < 160 else 0.0  # noqa: E731
+    frames = [synth.make_frame(pose, float(synth.voxel_size(3000)), rng)[0] + [away(k), 0.0, 0.0]
+              for k, pose in enumerate(poses[:300])]
+    centres = [frames[k].mean(axis=0) for k in follow_picks(len(frames))]
+    assert moves_across(centres), "the excursion was not among the frames sampled"
+    steady = [frames[k].mean(axis=0) - [away(k), 0.0, 0.0] for k in follow_picks(len(frames))]
+    assert not moves_across(steady), "a person exercising on one spot is not followed"
 
 
 def test_standing_still_between_exercises_joins_the_next_one():
