@@ -5,6 +5,20 @@ frames before it and after it (:func:`engine.atoms.novelty`), on the sequence re
 about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and at least
 ``min_cluster`` apart, are boundaries.
 
+* **Pose and pace.** Each 0.1 s row compared is the frame's histograms and, weighted by
+  ``novelty_pace``, how fast each bin changes (:func:`pace`). The histograms alone describe
+  which poses a block holds, not how fast it moves through them: hops then elbow-to-knee,
+  or grabbing high then hops (HDM05, the development suite), hold alike poses and their
+  novelty peaked at 0.02-0.05, under the threshold, inside exercises' own ripple. With the
+  pace beside them (weight 1: a bin's change per 0.1 s counts as much as the bin) the
+  suite's pooled precision / recall / texton accuracy went 0.95 / 0.92 / 0.91 -> 0.97 /
+  0.95 / 0.91 (hdm05 0.89 / 0.82 / 0.74 -> 0.92 / 0.88 / 0.75, cmu 0.98 / 0.95 / 1.00 ->
+  1.00 / 0.98 / 1.00, synthetic groups unchanged at 1.00); weights 0.75-1.5 score alike,
+  0.5 as without, 2 loses precision. The speed alone (one column, the norm of the change)
+  scored a little less (0.96 / 0.95 / 0.91), and a time-delay embedding of the poses
+  (frames t - k, t, t + k side by side) separated true from false peaks no better than the
+  poses alone.
+
 * **Twin peaks.** When a new motion begins with poses of the old one (standing before the
   first squat) the peak splits in two and the later top is the higher; an earlier local
   maximum within ``min_cluster`` and at least ``twin_peak`` as high is taken instead.
@@ -20,11 +34,33 @@ import numpy as np
 
 from .atoms import block_means, novelty
 
-__all__ = ["novelty_curve", "novelty_clusters", "STRONG_EDGE"]
+__all__ = ["novelty_curve", "novelty_clusters", "pace", "STRONG_EDGE"]
 
 #: A novelty peak this many times ``novelty_threshold`` is a boundary even within 0.75
 #: ``min_cluster`` of the sequence's ends, where weaker peaks are not trusted.
 STRONG_EDGE = 2.0
+
+
+def pace(rows):
+    """How fast each column changes: |row t+1 - row t-1| / 2 (one-sided at the ends).
+
+    Parameters
+    ----------
+    rows : (T, D) array, T >= 2
+        Successive rows (the 0.1 s block means of :func:`novelty_curve`).
+
+    Returns
+    -------
+    (T, D) float64
+
+    >>> pace(np.array([[0.0], [1.0], [3.0], [3.0]])).ravel().tolist()
+    [1.0, 1.5, 1.0, 0.0]
+    """
+    r = np.asarray(rows, dtype=np.float64)
+    d = np.empty_like(r)
+    d[1:-1] = (r[2:] - r[:-2]) / 2.0
+    d[0], d[-1] = r[1] - r[0], r[-1] - r[-2]
+    return np.abs(d)
 
 
 def novelty_curve(vectors, fps, p):
@@ -39,12 +75,15 @@ def novelty_curve(vectors, fps, p):
     Returns
     -------
     n : (ceil(T / step),) float64
-        :func:`engine.atoms.novelty` of the block means, ``p.novelty_window`` s blocks.
+        :func:`engine.atoms.novelty` of the block means beside their :func:`pace` (weighted
+        by ``p.novelty_pace``), ``p.novelty_window`` s blocks.
     step : int
         Frames per block mean.
     """
     step = max(1, int(round(fps / p.analysis_fps)))
     v = block_means(vectors, step)
+    if p.novelty_pace > 0 and len(v) > 1:
+        v = np.hstack([v, p.novelty_pace * pace(v)])
     f = fps / step
     block = max(3, int(round(p.novelty_window * f)))
     # A block shorter than half the shortest cluster says too little, but never ask for more

@@ -38,7 +38,9 @@ Two methods are provided.
        2 E|X - Y| - E|X - X'| - E|Y - Y'| on frame distances, i.e. a checkerboard kernel
        along the diagonal of the frame-distance matrix with its within-block diagonals
        left out. It is near zero inside an exercise whatever its phase (both blocks hold
-       whole cycles of the same poses) and peaks where the pose distribution changes.
+       whole cycles of the same poses) and peaks where the pose distribution changes. Each
+       row holds the block mean's histograms and, weighted by ``novelty_pace``, how fast
+       each bin changes (exercises of alike poses at another pace were missed).
        Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
        are boundaries (of two close peaks of nearly equal height, the earlier one).
     2. **Textons by period** (:mod:`engine.periods`). In each cluster the period P is the
@@ -186,6 +188,10 @@ class StructureParams:
     novelty_threshold : float
         "energy": smallest energy-distance peak that counts as a cluster boundary (same
         units as frame distances).
+    novelty_pace : float
+        "energy": weight of each histogram bin's pace of change (its absolute change per
+        0.1 s) beside the bin itself in the novelty's frame rows (engine.boundaries), so that
+        exercises of alike poses done at another pace are told apart; 0 compares poses only.
     min_cluster : float
         "energy": least distance between boundaries, seconds; the first and last cluster
         may be down to 3/4 of it.
@@ -222,6 +228,7 @@ class StructureParams:
     submultiple: float = _param(0.7, at_least=0, at_most=1)
     novelty_window: float = _param(4.0, above=0, at_most=3600)
     novelty_threshold: float = _param(0.05, at_least=0)
+    novelty_pace: float = _param(1.0, at_least=0, at_most=100)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)

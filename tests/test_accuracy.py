@@ -112,6 +112,26 @@ def test_a_short_first_exercise_is_found_near_the_take_start():
     assert abs(starts[1] - take.truth["segments"][1]["start"]) <= take.fps, starts
 
 
+def test_exercises_of_alike_poses_are_told_apart_by_their_pace():
+    # CMU 13_29 played 0.7x (a take of the development suite): on the poses alone the
+    # boundary from twists to arm circles came 1.4 s early (13.0 s for 14.4 s: a false start
+    # and a miss). With each bin's pace of change beside it (engine.boundaries.pace) every
+    # boundary is found within 1 s and none is false.
+    import sys
+    from conftest import ROOT, SHARED
+    from engine.evaluate import score
+    from engine.structure import StructureParams, parse
+    if not (SHARED / "tools" / "mocap2tvm.py").exists():
+        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import devsuite
+    take = next(t for t in devsuite.cmu_takes() if t.name == "13_29@0.7x")
+    found = {pace: score(parse(take.vectors, take.fps, StructureParams(novelty_pace=pace), theta=take.theta),
+                         take.truth, take.fps) for pace in (1.0, 0.0)}
+    assert (found[1.0].precision, found[1.0].recall) == (1.0, 1.0), found[1.0].matches
+    assert found[0.0].recall < 1.0   # the poses alone miss it
+
+
 def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms():
     # The development suite's "wander" take (the synthetic actor wandering up to 0.8 m), with
     # features in the body's own frame as build computes them: its front lies a fraction of
