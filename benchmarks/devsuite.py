@@ -9,7 +9,8 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
     side bends), vertex noise and holes, frame rates 10-60 fps.
 ``synth-drift``
     The same actor walking across the capture volume while exercising (up to 1.5 m over a
-    take), so the paper's fixed origin at the first frame's centre falls behind.
+    take), so the paper's fixed origin at the first frame's centre falls behind, and turning
+    as it exercises (6 degrees a second, or a slow sway of +/- 90 degrees).
 ``cmu``
     The real takes 13_29 and 13_30 (CMU subject 13) played at 0.7x and 1.4x, mirrored left to
     right, and cut at random exercise boundaries (a cut starts a new take: its origin is its own
@@ -287,7 +288,8 @@ def hdm_takes():
 
 #: Synthetic takes: (name, options). ``plan`` options of :func:`engine.synth.plan`, and
 #: build, height (scale), noise (m), holes (fraction of frames with a hole), drift (m/s as
-#: (vx, vy)) or wander (m, a slow random walk).
+#: (vx, vy)) or wander (m, a slow random walk), turn (degrees a second about the actor's own
+#: vertical axis) and sway (degrees, the largest excursion of a slow random turn).
 SYNTH = {
     "synth": [
         ("slim-fast", dict(motions=["jumping-jacks", "knee-raises", "squats", "arm-circles"],
@@ -313,8 +315,27 @@ SYNTH = {
                         wander=0.8, transition=1.5, seed=23)),
         ("drift-diag-slow", dict(motions=["squats", "run", "arm-circles"], periods_s=[2.6, 0.9, 1.8],
                                  cycles=[4, 10, 5], drift=(0.025, -0.025), build=1.2, seed=24)),
+        # Turning as people do: a steady 6 degrees a second, and a slow random sway of the
+        # heading over +/- 90 degrees while wandering (added with step 15 of the README).
+        ("turn-steady", dict(motions=["jumping-jacks", "squats", "arm-circles", "knee-raises"], cycles=[8, 5, 6, 5],
+                             turn=6.0, seed=31)),
+        ("turn-sway", dict(motions=["walk", "side-bends", "jumping-jacks", "squats"], cycles=[10, 4, 8, 5],
+                           sway=90.0, wander=0.8, seed=32)),
     ],
 }
+
+
+def _headings(n, fps, turn=None, sway=None, seed=0):
+    # The actor's heading at each frame (radians): a steady turn (degrees a second) and/or a
+    # slow random sway (largest excursion in degrees), from a generator of its own so that
+    # the frames' noise stays that of the takes without it.
+    t = np.arange(n) / fps
+    heading = np.radians(turn or 0.0) * t
+    if sway:
+        knots = np.cumsum(np.random.default_rng(seed + 1000).normal(0, 1, int(t[-1] // 4) + 3))
+        knots -= knots[0]
+        heading = heading + np.interp(t / 4, np.arange(len(knots)), knots * np.radians(sway) / max(1e-9, np.abs(knots).max()))
+    return heading
 
 
 def _offsets(n, fps, drift=None, wander=None, seed=0):
@@ -335,7 +356,7 @@ def synth_take(group, name, options, vertices=6000):
     """A synthetic take's features, reconstructed in memory (cached)."""
     from engine import synth
     opts = dict(options)
-    extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander") if k in opts}
+    extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander", "turn", "sway") if k in opts}
     fps = float(opts.get("fps", 10))
     path = CACHE / "features" / f"{_prefix()}synth-{name}-{_key(options, vertices, synth.VERSION)}.npz"
     poses, labels, motions, periods = synth.plan(**opts)
@@ -346,10 +367,15 @@ def synth_take(group, name, options, vertices=6000):
             return Take(group, name, z["vectors"], slice(*z["theta"]), fps, truth)
     rng = np.random.default_rng(opts.get("seed", 0))
     shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
+    heading = _headings(len(poses), fps, extra.get("turn"), extra.get("sway"), opts.get("seed", 0))
     voxel = float(synth.voxel_size(vertices))
     frames = []
     for k, pose in enumerate(poses):
         verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
+        if heading[k]:
+            c, s = np.cos(heading[k]), np.sin(heading[k])
+            centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]   # about the actor's own vertical axis
+            verts = (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
         verts = verts * extra.get("height", 1.0) + shift[k]
         if rng.random() < extra.get("holes", 0.0):
             centre = verts[rng.integers(len(verts))]

@@ -7,9 +7,11 @@ hard bin edges, and the parser's decisions (:mod:`engine.structure`) moved with 
 reads (:func:`engine.structure.parser_view`); the stored features stay eq. (1)'s.
 """
 
+import math
+
 import numpy as np
 
-__all__ = ["azimuth_smoothed"]
+__all__ = ["azimuth_smoothed", "azimuth_spectrum"]
 
 
 def azimuth_smoothed(vectors, theta):
@@ -54,3 +56,44 @@ def azimuth_smoothed(vectors, theta):
     h = out[:, theta].copy()
     out[:, theta] = 0.5 * h + 0.25 * (np.roll(h, 1, axis=1) + np.roll(h, -1, axis=1))
     return out
+
+
+def azimuth_spectrum(vectors, theta):
+    """Feature rows whose azimuth histograms are replaced by their circular spectrum's
+    magnitudes: the same rows whichever way the body faces about up.
+
+    A turn of the body about up shifts its theta histogram around the circle and leaves the
+    magnitude of every Fourier coefficient as it was; scaled so that the Euclidean distance
+    between two rows' spectra is at most the distance between the rows (Parseval). The r and
+    phi columns stay.
+    :mod:`engine.boundaries` compares blocks this way to tell a turn from a new motion.
+
+    Parameters
+    ----------
+    vectors : (T, D) array
+    theta : slice
+        The azimuth histogram's columns.
+
+    Returns
+    -------
+    (T, D') float64
+        The r and phi columns, then ``n // 2 + 1`` spectrum magnitudes (n theta bins).
+
+    Examples
+    --------
+    >>> v = np.array([[5.0, 1.0, 0.0, 0.0, 0.0], [5.0, 0.0, 0.0, 1.0, 0.0]])
+    >>> s = azimuth_spectrum(v, slice(1, 5))
+    >>> s.shape, bool(np.allclose(s[0], s[1]))
+    ((2, 4), True)
+    """
+    v = np.asarray(vectors, dtype=np.float64)
+    h = v[:, theta]
+    n = h.shape[1]
+    weight = np.full(n // 2 + 1, math.sqrt(2.0))
+    weight[0] = 1.0
+    if n % 2 == 0:
+        weight[-1] = 1.0
+    spectrum = np.abs(np.fft.rfft(h, axis=1)) * weight / math.sqrt(n)
+    rest = np.ones(v.shape[1], dtype=bool)
+    rest[theta] = False
+    return np.hstack([v[:, rest], spectrum])

@@ -102,7 +102,7 @@ import numpy as np
 
 from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, atoms_along_lag,
                     atom_window, lag_profile, novelty)
-from .azimuth import azimuth_smoothed
+from .azimuth import azimuth_smoothed, azimuth_spectrum
 from .boundaries import novelty_clusters, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
 from .errors import ParameterError
@@ -188,6 +188,10 @@ class StructureParams:
     novelty_threshold : float
         "energy": smallest energy-distance peak that counts as a cluster boundary (same
         units as frame distances).
+    turn_ratio : float
+        "energy": a novelty peak is no boundary where the novelty of the same blocks compared
+        whichever way the body faces (engine.azimuth.azimuth_spectrum) stays under this
+        fraction of it nearby: the person turned, the motion did not change; 0 keeps it.
     novelty_pace : float
         "energy": weight of each histogram bin's pace of change (its absolute change per
         0.1 s) beside the bin itself in the novelty's frame rows (engine.boundaries), so that
@@ -229,6 +233,7 @@ class StructureParams:
     novelty_window: float = _param(4.0, above=0, at_most=3600)
     novelty_threshold: float = _param(0.05, at_least=0)
     novelty_pace: float = _param(1.0, at_least=0, at_most=100)
+    turn_ratio: float = _param(0.4, at_least=0, at_most=1)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
@@ -387,7 +392,8 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
 
 
 def _parse_energy(v, fps, p, w, theta, n, step):
-    clusters = novelty_clusters(v, fps, p, n, step)
+    turn_free = novelty_curve(azimuth_spectrum(v, theta), fps, p)[0] if p.turn_ratio > 0 and theta is not None else None
+    clusters = novelty_clusters(v, fps, p, n, step, turn_free)
     periods = None
     count = lambda cs, ce, P: len(_textons_by_period(v, cs, ce, P, w, 0))  # noqa: E731
     if p.max_transition > 0:

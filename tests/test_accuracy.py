@@ -132,6 +132,25 @@ def test_exercises_of_alike_poses_are_told_apart_by_their_pace():
     assert found[0.0].recall < 1.0   # the poses alone miss it
 
 
+def test_a_person_turning_while_exercising_is_not_split_at_the_turn():
+    # The development suite's "turn-sway" take: the synthetic actor's heading sways slowly
+    # over +/- 90 degrees while it wanders and exercises. The azimuth histograms shift with
+    # the heading and the novelty peaked inside side bends (false boundaries); compared
+    # whichever way the body faces (engine.azimuth.azimuth_spectrum) that peak vanishes and
+    # is vetoed (StructureParams.turn_ratio), while every true boundary stays.
+    import sys
+    from conftest import ROOT
+    from engine.evaluate import score
+    from engine.structure import StructureParams, parse
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import devsuite
+    take = devsuite.synth_take("synth-drift", "turn-sway", dict(devsuite.SYNTH["synth-drift"])["turn-sway"])
+    found = {ratio: score(parse(take.vectors, take.fps, StructureParams(turn_ratio=ratio), theta=take.theta),
+                          take.truth, take.fps) for ratio in (0.4, 0.0)}
+    assert (found[0.4].precision, found[0.4].recall) == (1.0, 1.0), found[0.4].matches
+    assert found[0.0].precision < 1.0   # without the veto the turn is a boundary
+
+
 def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms():
     # The development suite's "wander" take (the synthetic actor wandering up to 0.8 m), with
     # features in the body's own frame as build computes them: its front lies a fraction of
