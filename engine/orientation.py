@@ -67,7 +67,8 @@ scores better held out (leave-one-group-out 0.929 / 0.958 / 0.912 against 0.92 /
 in tvmedit's axes); with the defaults its recall is higher and its precision and texton
 accuracy lower (0.95 / 0.96 / 0.93 against 0.97 / 0.95 / 0.95; with four fresh HDM05 takes
 added to the suite since, up found from frames each about its own centre and the novelty
-comparing pace as well as poses, held out 0.949 / 0.949 / 0.887 against 0.931 / 0.923 / 0.892). The
+comparing pace as well as poses, held out 0.949 / 0.949 / 0.887 against 0.931 / 0.923 / 0.892; with
+three more fresh HDM05 takes, 0.907 / 0.907 / 0.867 against 0.920 / 0.891 / 0.894). The
 body's frame is therefore the default; ``--no-body-frame`` computes features in tvmedit's
 axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
 from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
