@@ -38,7 +38,8 @@ from pathlib import Path
 
 import numpy as np
 
-from engine.features import SAMPLE_FRAMES, follow_picks
+from engine.featcache import code_version
+from engine.features import follow_picks
 from engine.orientation import feature_frame, sample_indices
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -177,9 +178,10 @@ FRAME = os.environ.get("TVMEDIT_DEV_FRAME", "body")
 
 
 def _prefix():
-    # The stored axes keep the cache's older names; "auto" names how many frames decided.
-    origin = f"{ORIGIN}{SAMPLE_FRAMES}" if ORIGIN == "auto" and SAMPLE_FRAMES != 12 else ORIGIN
-    return f"{origin}-" if FRAME == "stored" else f"{origin}-{FRAME}-"
+    # How the origin and axes are placed, and the version of the code that reads frames and
+    # makes histograms (engine.featcache.code_version): features it changed are made anew.
+    axes = "" if FRAME == "stored" else f"{FRAME}-"
+    return f"{ORIGIN}-{axes}{code_version()}-"
 
 
 def _body(n, frame_at):

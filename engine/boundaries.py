@@ -5,8 +5,9 @@ frames before it and after it (:func:`engine.atoms.novelty`), on the sequence re
 about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and at least
 ``min_cluster`` apart, are boundaries.
 
-* **Pose and pace.** Each 0.1 s row compared is the frame's histograms and, weighted by
-  ``novelty_pace``, how fast each bin changes (:func:`pace`). The histograms alone describe
+* **Pose and pace.** Each row compared (:func:`novelty_rows`, about 0.1 s of frames) is
+  their mean histograms and, weighted by ``novelty_pace``, how fast each bin changes: its
+  change over :data:`PACE_SECONDS` (0.1 s) whatever the frame rate (:func:`pace`). The histograms alone describe
   which poses a block holds, not how fast it moves through them: hops then elbow-to-knee,
   or grabbing high then hops (HDM05, the development suite), hold alike poses and their
   novelty peaked at 0.02-0.05, under the threshold, inside exercises' own ripple. With the
@@ -29,9 +30,12 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   0.5 s. Found on the development suite's synthetic actor turning as it exercises (a slow
   random sway of +/- 90 degrees: two false boundaries inside its side bends) and in an
   HDM05 take's block of kicks (a false boundary where only the azimuth histograms changed:
-  heading-free novelty 0.32 of the peak); no true boundary of the suite is lost. Heading-free novelty alone lost CMU's twist boundaries
-  (a twist differs from its neighbours mostly in which way the torso faces), so it only
-  vetoes. Pooled precision 0.95 -> 0.97 on the suite with its turning takes.
+  heading-free novelty 0.32 of the peak); no true boundary of the suite is lost. A vetoed
+  peak keeps the lower peaks within ``min_cluster`` of it (its shoulders) from becoming
+  boundaries, and is never taken as another peak's earlier twin. Heading-free novelty alone
+  lost CMU's twist boundaries (a twist differs from its neighbours mostly in which way the
+  torso faces), so it only vetoes. Pooled precision 0.95 -> 0.97 on the suite with its
+  turning takes.
 * **Ends of the take.** Within 0.75 ``min_cluster`` of either end a block is short and its
   novelty unreliable, so a peak there is taken only when it is at least :data:`STRONG_EDGE`
   times the threshold. Before that rule no boundary could lie there at all, and a first
@@ -44,11 +48,15 @@ import numpy as np
 
 from .atoms import block_means, novelty
 
-__all__ = ["novelty_curve", "novelty_clusters", "pace", "STRONG_EDGE"]
+__all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "pace", "STRONG_EDGE", "PACE_SECONDS"]
 
 #: A novelty peak this many times ``novelty_threshold`` is a boundary even within 0.75
 #: ``min_cluster`` of the sequence's ends, where weaker peaks are not trusted.
 STRONG_EDGE = 2.0
+
+#: The pace beside each novelty row is a bin's change over this many seconds, whatever the
+#: rate the sequence is reduced to.
+PACE_SECONDS = 0.1
 
 
 def pace(rows):
@@ -57,7 +65,7 @@ def pace(rows):
     Parameters
     ----------
     rows : (T, D) array, T >= 2
-        Successive rows (the 0.1 s block means of :func:`novelty_curve`).
+        Successive rows (the block means of :func:`novelty_rows`).
 
     Returns
     -------
@@ -73,8 +81,28 @@ def pace(rows):
     return np.abs(d)
 
 
+def novelty_rows(vectors, fps, p):
+    """The rows the novelty compares: the sequence reduced to about ``p.analysis_fps`` (block
+    means of ``step`` frames), each beside its :func:`pace` per :data:`PACE_SECONDS` weighted
+    by ``p.novelty_pace`` (left out when that is 0).
+
+    Returns
+    -------
+    rows : (ceil(T / step), D or 2D) float64
+    step : int
+        Frames per block mean.
+    """
+    step = max(1, int(round(fps / p.analysis_fps)))
+    v = block_means(vectors, step)
+    if p.novelty_pace > 0 and len(v) > 1:
+        # pace() is per row and rows are step / fps s apart: a 15 or 25 fps take reduced to
+        # 7.5 or 12.5 rows a second weighs its pace as a 10 fps one does.
+        v = np.hstack([v, (p.novelty_pace * PACE_SECONDS * fps / step) * pace(v)])
+    return v, step
+
+
 def novelty_curve(vectors, fps, p):
-    """The two-block novelty on the sequence reduced to about ``p.analysis_fps``, and the step.
+    """The two-block novelty of :func:`novelty_rows`, and the step.
 
     Parameters
     ----------
@@ -85,15 +113,11 @@ def novelty_curve(vectors, fps, p):
     Returns
     -------
     n : (ceil(T / step),) float64
-        :func:`engine.atoms.novelty` of the block means beside their :func:`pace` (weighted
-        by ``p.novelty_pace``), ``p.novelty_window`` s blocks.
+        :func:`engine.atoms.novelty` of the rows, ``p.novelty_window`` s blocks.
     step : int
         Frames per block mean.
     """
-    step = max(1, int(round(fps / p.analysis_fps)))
-    v = block_means(vectors, step)
-    if p.novelty_pace > 0 and len(v) > 1:
-        v = np.hstack([v, p.novelty_pace * pace(v)])
+    v, step = novelty_rows(vectors, fps, p)
     f = fps / step
     block = max(3, int(round(p.novelty_window * f)))
     # A block shorter than half the shortest cluster says too little, but never ask for more
@@ -115,7 +139,9 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
     turn_free : array like ``n``, optional
         The novelty of the same rows compared whichever way the body faces
         (:func:`engine.azimuth.azimuth_spectrum`); a peak of ``n`` under which it stays below
-        ``p.turn_ratio`` of the peak within 1 s is a turn, not a boundary.
+        ``p.turn_ratio`` of the peak within 0.5 s is a turn, not a boundary; the turn keeps
+        its lower shoulders, and an earlier twin peak that is itself a turn, from becoming
+        boundaries.
 
     Returns
     -------
@@ -145,12 +171,17 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
         t = int(t)
         if n[t] < p.novelty_threshold:
             break
-        if not is_peak[t] or (near_end(t) and n[t] < STRONG_EDGE * p.novelty_threshold) or turned(t):
+        if not is_peak[t] or (near_end(t) and n[t] < STRONG_EDGE * p.novelty_threshold):
             continue
         if any(abs(t - q) < sep for q in claimed):
             continue
+        if turned(t):
+            # A turn's lower shoulders are the same turn: the vetoed peak keeps them away.
+            claimed.append(t)
+            continue
         early = [u for u in range(max(edge, t - sep + 1), t)
-                 if is_peak[u] and n[u] >= p.twin_peak * n[t] and all(abs(u - q) >= sep for q in claimed)]
+                 if is_peak[u] and n[u] >= p.twin_peak * n[t] and not turned(u)
+                 and all(abs(u - q) >= sep for q in claimed)]
         bounds.append(early[0] if early else t)
         # Both the peak and the boundary chosen for it keep others ``sep`` away.
         claimed += [t, bounds[-1]]

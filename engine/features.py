@@ -64,6 +64,7 @@ __all__ = [
     "FOLLOW_M",
     "SAMPLE_FRAMES",
     "follow_picks",
+    "spread_indices",
     "frame_distance",
     "histogram_distance",
     "distance_matrix",
@@ -426,7 +427,19 @@ def follow_picks(n):
     >>> follow_picks(5).tolist(), len(follow_picks(1000))
     ([0, 1, 2, 3, 4], 48)
     """
-    return np.unique(np.linspace(0, n - 1, min(SAMPLE_FRAMES, n)).round().astype(int)) if n else np.zeros(0, int)
+    return spread_indices(n, SAMPLE_FRAMES)
+
+
+def spread_indices(n, count):
+    """Up to ``count`` distinct frame indices spread evenly over a sequence of ``n``, both ends
+    included (the frames a take's origin or frame of reference is decided from).
+
+    >>> spread_indices(10, 4).tolist(), spread_indices(3, 12).tolist(), spread_indices(0, 5).tolist()
+    ([0, 3, 6, 9], [0, 1, 2], [])
+    """
+    if n <= 0:
+        return np.zeros(0, int)
+    return np.unique(np.linspace(0, n - 1, min(count, n)).round().astype(int))
 
 
 def moves_across(centroids, limit=FOLLOW_M):

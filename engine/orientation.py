@@ -66,9 +66,10 @@ and strong novelty peaks taken near the ends (:mod:`engine.boundaries`), the bod
 scores better held out (leave-one-group-out 0.929 / 0.958 / 0.912 against 0.92 / 0.95 / 0.90
 in tvmedit's axes); with the defaults its recall is higher and its precision and texton
 accuracy lower (0.95 / 0.96 / 0.93 against 0.97 / 0.95 / 0.95; with four fresh HDM05 takes
-added to the suite since, up found from frames each about its own centre and the novelty
-comparing pace as well as poses, held out 0.949 / 0.949 / 0.887 against 0.931 / 0.923 / 0.892; with
-three more fresh HDM05 takes, 0.907 / 0.907 / 0.867 against 0.920 / 0.891 / 0.894). The
+added to the suite since, up found from frames each about its own centre, the novelty
+comparing pace as well as poses and turns vetoed, held out 0.949 / 0.949 / 0.887 against
+0.931 / 0.923 / 0.892; with three more fresh HDM05 takes, 0.907 / 0.907 / 0.867 against
+0.920 / 0.891 / 0.894). The
 body's frame is therefore the default; ``--no-body-frame`` computes features in tvmedit's
 axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
 from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
@@ -79,6 +80,8 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+
+from .features import spread_indices
 
 __all__ = ["Orientation", "detect", "feature_frame", "parse_up", "sample_indices", "AXES", "SNAP_DEGREES", "UNITS",
            "FRAME_DEGREES", "IDENTITY"]
@@ -133,7 +136,7 @@ def sample_indices(n):
     >>> sample_indices(5).tolist(), len(sample_indices(1000))
     ([0, 1, 2, 3, 4], 12)
     """
-    return np.unique(np.linspace(0, n - 1, min(SAMPLES, n)).round().astype(int))
+    return spread_indices(n, SAMPLES)
 
 
 def _axis_name(vector):
@@ -358,11 +361,13 @@ def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=Tru
     return replace(orientation, features=_rows(matrix), reasons=reasons)
 
 
-def _pooled(frames):
-    """The sampled frames' vertices pooled, thinned to about 60,000 (the same ones whatever
-    frame the coordinates are in)."""
-    stride = max(1, sum(len(f) for f in frames) // 60000)
-    return np.concatenate(frames)[::stride]
+def _shapes(frames):
+    """The sampled frames' vertices, each frame about its own centre (the body's shape, not
+    its path across the capture volume), pooled and thinned to about 60,000 (the same ones
+    whatever frame the coordinates are in)."""
+    centred = [f - f.mean(axis=0) for f in (np.asarray(f, dtype=np.float64) for f in frames)]
+    stride = max(1, sum(len(f) for f in centred) // 60000)
+    return np.concatenate(centred)[::stride]
 
 
 def _detect_up(frames, depth_camera):
@@ -372,7 +377,7 @@ def _detect_up(frames, depth_camera):
     # Each frame about its own centre, as in feature_frame: the body's shape, not its path.
     # Pooled as they lie, a person who jogs or walks across the volume makes the path the
     # longest axis (an HDM05 take jogging in circles came out lying on its side, up = +y).
-    points = _pooled([f - f.mean(axis=0) for f in frames])
+    points = _shapes(frames)
     axes = [0, 1] if depth_camera else [0, 1, 2]
     direction, ratio = _principal(points, axes)
     if ratio < DOMINANCE:
@@ -457,8 +462,7 @@ def feature_frame(frames):
     """
     if not frames or min(len(f) for f in frames) < MIN_VERTICES:
         return np.eye(3), "too few vertices per frame to tell a body's axes"
-    # Each frame about its own centre: the body's shape, not its path across the volume.
-    points = _pooled([f - f.mean(axis=0) for f in (np.asarray(f, dtype=np.float64) for f in frames)])
+    points = _shapes(frames)
     values, vectors = np.linalg.eigh(np.cov(points.T))
     up = vectors[:, -1] * (1.0 if vectors[2, -1] >= 0 else -1.0)
     tilt = math.degrees(math.acos(min(1.0, abs(float(up[2])))))

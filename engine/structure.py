@@ -32,8 +32,8 @@ Two methods are provided.
        A body turned a fraction of a 5 degree bin (its own frame's front, or a capture
        turned a little) moved whole shares of vertices across hard bin edges and moved
        boundaries (see that function for the figures).
-    1. **Clusters by novelty** (:mod:`engine.boundaries`). On a copy of the sequence reduced to about 10 fps (block
-       means of frames), a two-block statistic is evaluated at every frame t: the energy
+    1. **Clusters by novelty** (:mod:`engine.boundaries`). On a copy of the sequence
+       reduced to about 10 fps (block means of frames), a two-block statistic is evaluated at every frame t: the energy
        distance between the frames of the ``novelty_window`` seconds before t and after t,
        2 E|X - Y| - E|X - X'| - E|Y - Y'| on frame distances, i.e. a checkerboard kernel
        along the diagonal of the frame-distance matrix with its within-block diagonals
@@ -42,7 +42,10 @@ Two methods are provided.
        row holds the block mean's histograms and, weighted by ``novelty_pace``, how fast
        each bin changes (exercises of alike poses at another pace were missed).
        Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
-       are boundaries (of two close peaks of nearly equal height, the earlier one).
+       are boundaries (of two close peaks of nearly equal height, the earlier one), except
+       where the person only turned: a peak under which the novelty of the same rows taken
+       whichever way the body faces (:func:`engine.azimuth.azimuth_spectrum`) stays below
+       ``turn_ratio`` of it is vetoed (false boundaries in exercises done while turning).
     2. **Textons by period** (:mod:`engine.periods`). In each cluster the period P is the
        lag with the deepest mean atom distance mean_u d_A(u, u + L), the shortest lag
        nearly as deep, unless 2L is the true period of a left-then-right exercise: the
@@ -187,14 +190,15 @@ class StructureParams:
         (``benchmarks/accuracy.py``) on three folds of four (3 s before).
     novelty_threshold : float
         "energy": smallest energy-distance peak that counts as a cluster boundary (same
-        units as frame distances).
+        units as distances between the novelty's rows: histograms and their pace).
     turn_ratio : float
         "energy": a novelty peak is no boundary where the novelty of the same blocks compared
         whichever way the body faces (engine.azimuth.azimuth_spectrum) stays under this
-        fraction of it nearby: the person turned, the motion did not change; 0 keeps it.
+        fraction of it within 0.5 s: the person turned, the motion did not change; 0: no
+        veto (nor is there one without the azimuth columns, ``theta``).
     novelty_pace : float
-        "energy": weight of each histogram bin's pace of change (its absolute change per
-        0.1 s) beside the bin itself in the novelty's frame rows (engine.boundaries), so that
+        "energy": weight of each histogram bin's pace of change (its absolute change over
+        0.1 s, whatever the frame rate) beside the bin itself in the novelty's frame rows (engine.boundaries), so that
         exercises of alike poses done at another pace are told apart; 0 compares poses only.
     min_cluster : float
         "energy": least distance between boundaries, seconds; the first and last cluster
@@ -392,7 +396,9 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
 
 
 def _parse_energy(v, fps, p, w, theta, n, step):
-    turn_free = novelty_curve(azimuth_spectrum(v, theta), fps, p)[0] if p.turn_ratio > 0 and theta is not None else None
+    # The turn veto needs the azimuth columns (theta None or empty: every peak counts).
+    veto = p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0
+    turn_free = novelty_curve(azimuth_spectrum(v, theta), fps, p)[0] if veto else None
     clusters = novelty_clusters(v, fps, p, n, step, turn_free)
     periods = None
     count = lambda cs, ce, P: len(_textons_by_period(v, cs, ce, P, w, 0))  # noqa: E731
@@ -553,7 +559,7 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
     theta : slice, optional
         Columns of ``vectors`` that hold the azimuth (theta) histogram, i.e.
         :attr:`engine.features.Features.theta_columns`. With it, "energy" tells a half
-        period of a left-right exercise from a whole one (see the module docstring).
+        period of a left-right exercise from a whole one and a turn from a boundary.
 
     Returns
     -------

@@ -48,6 +48,16 @@ def mocap_take(take, **options):
 
 
 @pytest.fixture(scope="session")
+def devsuite():
+    """The parser's development suite, ``benchmarks/devsuite.py`` (its takes, sources and scorer)."""
+    path = str(ROOT / "benchmarks")
+    if path not in sys.path:
+        sys.path.insert(0, path)
+    import devsuite as module
+    return module
+
+
+@pytest.fixture(scope="session")
 def take_13_30():
     """CMU 13_30 at 10 fps, whole take (205 frames, five exercises)."""
     return mocap_take("13_30")

@@ -53,17 +53,14 @@ def test_paper_method_runs_and_covers_the_take(take_13_30):
     assert len(s.textons) >= 2
 
 
-def test_hops_stitched_from_single_clips_get_one_hop_textons():
+def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     # HDM05 actor bk, five exercises stitched from single-repetition clips (a take of the
     # development suite). Consecutive hops differ a little, so the lag profile's clearest
     # valley lies at two hops (17 frames); the sub-multiple test takes the one-hop valley.
-    import sys
-    from conftest import ROOT, SHARED
+    from conftest import SHARED
     from engine.evaluate import load_truth, texton_length_accuracy
     if not (SHARED / "data" / "hdm05").is_dir():
         pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import devsuite
     actor, plan, seed, options = devsuite.HDM_SOURCES[3]
     folder = devsuite.hdm_source(actor, plan, seed, **options)
     rows = texton_length_accuracy(scores(folder)[3], load_truth(folder), details=True)[1]
@@ -77,54 +74,45 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons():
     assert not [r for r in rows if r[1] == 4][0][4], rows   # without the test: two hops
 
 
-def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled():
+def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
     # CMU 13_30 played 1.4x (a take of the development suite): the first exercise's lag
     # profile dips at 12 frames and, nearly as deep, at 23 (its true period, 22.6 frames),
     # and the mirror test does not flag 12 as half a left-right cycle. A period repeats, so
     # the profile must dip near 36 too; it does not, and the texton is two halves long.
-    import sys
-    from conftest import ROOT, SHARED
+    from conftest import SHARED
     from engine.evaluate import score
     from engine.structure import parse
     if not (SHARED / "tools" / "mocap2tvm.py").exists():
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import devsuite
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
     rows = score(parse(take.vectors, take.fps, theta=take.theta), take.truth, take.fps).texton_rows
     first = [r for r in rows if r[1] == 1][0]   # (cluster, true segment, median, period, right)
     assert first[4] and first[2] > 0.85 * first[3], rows
 
 
-def test_a_short_first_exercise_is_found_near_the_take_start():
+def test_a_short_first_exercise_is_found_near_the_take_start(devsuite):
     # CMU 13_30 played 1.4x opens with a 1.3 s exercise: its boundary's novelty peak, twice
     # the threshold, lies within 1.5 s of the start, where weaker peaks are not trusted
     # (engine.boundaries.STRONG_EDGE); it is taken, within 1 s of the labelled start.
-    import sys
-    from conftest import ROOT, SHARED
+    from conftest import SHARED
     from engine.structure import parse
     if not (SHARED / "tools" / "mocap2tvm.py").exists():
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import devsuite
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
     starts = [cs for cs, _ in parse(take.vectors, take.fps, theta=take.theta).clusters]
     assert abs(starts[1] - take.truth["segments"][1]["start"]) <= take.fps, starts
 
 
-def test_exercises_of_alike_poses_are_told_apart_by_their_pace():
+def test_exercises_of_alike_poses_are_told_apart_by_their_pace(devsuite):
     # CMU 13_29 played 0.7x (a take of the development suite): on the poses alone the
     # boundary from twists to arm circles came 1.4 s early (13.0 s for 14.4 s: a false start
     # and a miss). With each bin's pace of change beside it (engine.boundaries.pace) every
     # boundary is found within 1 s and none is false.
-    import sys
-    from conftest import ROOT, SHARED
+    from conftest import SHARED
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
     if not (SHARED / "tools" / "mocap2tvm.py").exists():
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import devsuite
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_29@0.7x")
     found = {pace: score(parse(take.vectors, take.fps, StructureParams(novelty_pace=pace), theta=take.theta),
                          take.truth, take.fps) for pace in (1.0, 0.0)}
@@ -132,18 +120,14 @@ def test_exercises_of_alike_poses_are_told_apart_by_their_pace():
     assert found[0.0].recall < 1.0   # the poses alone miss it
 
 
-def test_a_person_turning_while_exercising_is_not_split_at_the_turn():
+def test_a_person_turning_while_exercising_is_not_split_at_the_turn(devsuite):
     # The development suite's "turn-sway" take: the synthetic actor's heading sways slowly
     # over +/- 90 degrees while it wanders and exercises. The azimuth histograms shift with
     # the heading and the novelty peaked inside side bends (false boundaries); compared
     # whichever way the body faces (engine.azimuth.azimuth_spectrum) that peak vanishes and
     # is vetoed (StructureParams.turn_ratio), while every true boundary stays.
-    import sys
-    from conftest import ROOT
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import devsuite
     take = devsuite.synth_take("synth-drift", "turn-sway", dict(devsuite.SYNTH["synth-drift"])["turn-sway"])
     found = {ratio: score(parse(take.vectors, take.fps, StructureParams(turn_ratio=ratio), theta=take.theta),
                           take.truth, take.fps) for ratio in (0.4, 0.0)}
@@ -151,18 +135,14 @@ def test_a_person_turning_while_exercising_is_not_split_at_the_turn():
     assert found[0.0].precision < 1.0   # without the veto the turn is a boundary
 
 
-def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms():
+def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsuite):
     # The development suite's "wander" take (the synthetic actor wandering up to 0.8 m), with
     # features in the body's own frame as build computes them: its front lies a fraction of
     # a 5 degree azimuth bin off the bins' edges, and on hard-edged histograms its last
     # boundary landed 1.3 s late (a false start and a miss). Read smoothed (engine.azimuth),
     # every boundary is found within 1 s and none is false.
-    import sys
-    from conftest import ROOT
     from engine.evaluate import score
     from engine.structure import parse
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import devsuite
     assert devsuite.FRAME == "body"
     take = devsuite.synth_take("synth-drift", "wander", dict(devsuite.SYNTH["synth-drift"])["wander"])
     result = score(parse(take.vectors, take.fps, theta=take.theta), take.truth, take.fps)
