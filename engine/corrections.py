@@ -477,7 +477,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
     v = np.asarray(vectors, dtype=np.float64)
     fps = structure.fps
     reach = max(1, int(round(REACH * fps)))
-    params = _params(StructureParams, structure.params)
+    params = StructureParams.recorded(structure.params)
     view = parser_view(v, params, theta)   # what the parser measured textons on
     clusters = _boundaries(structure, entry, reach, say, where)
     kept = {c: k for k, c in enumerate(structure.clusters)}
@@ -519,11 +519,6 @@ def apply_structures(parses, vectors, corrections, thetas=None, say=None):
     return {name: apply_structure(parse, vectors[name], corrections.of(name), theta=thetas.get(name),
                                   source=corrections.source, name=name, say=say)
             if corrections.sequences.get(name) else parse for name, parse in parses.items()}
-
-
-def _params(cls, data):
-    # The parse's parameters as recorded (StructureParams makes window_taps a tuple itself).
-    return cls(**{k: v for k, v in data.items() if k in cls.__dataclass_fields__})
 
 
 # --- applying: database -------------------------------------------------------------------

@@ -431,15 +431,12 @@ def follow_picks(n):
 
 
 def spread_indices(n, count):
-    """Up to ``count`` distinct frame indices spread evenly over a sequence of ``n``, both ends
-    included (the frames a take's origin or frame of reference is decided from).
+    """Up to ``count`` distinct indices spread evenly over ``n`` frames, both ends included.
 
     >>> spread_indices(10, 4).tolist(), spread_indices(3, 12).tolist(), spread_indices(0, 5).tolist()
     ([0, 3, 6, 9], [0, 1, 2], [])
     """
-    if n <= 0:
-        return np.zeros(0, int)
-    return np.unique(np.linspace(0, n - 1, min(count, n)).round().astype(int))
+    return np.unique(np.linspace(0, n - 1, min(count, n)).round().astype(int)) if n > 0 else np.zeros(0, int)
 
 
 def moves_across(centroids, limit=FOLLOW_M):

@@ -69,7 +69,8 @@ accuracy lower (0.95 / 0.96 / 0.93 against 0.97 / 0.95 / 0.95; with four fresh H
 added to the suite since, up found from frames each about its own centre, the novelty
 comparing pace as well as poses and turns vetoed, held out 0.949 / 0.949 / 0.887 against
 0.931 / 0.923 / 0.892; with three more fresh HDM05 takes, 0.907 / 0.907 / 0.867 against
-0.920 / 0.891 / 0.894). The
+0.920 / 0.891 / 0.894; with the novelty's rows whitened, 0.953 / 0.953 / 0.886 against
+0.917 / 0.938 / 0.905). The
 body's frame is therefore the default; ``--no-body-frame`` computes features in tvmedit's
 axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
 from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has

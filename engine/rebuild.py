@@ -19,6 +19,7 @@ from . import atomic
 from .builder import check_target, derive, library_features, report_of
 from .features import BinSizes
 from .parallel import Workers
+from .parseparams import StructureParams
 from .settings import Settings
 
 __all__ = ["rebuild"]
@@ -76,7 +77,7 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     out = Path(library.path if out is None else out).absolute()
     force = out == Path(library.path).absolute() if force is None else force
     params = library.params
-    settings = Settings.of(BinSizes(**params["bins"]), params["structure"],
+    settings = Settings.of(BinSizes(**params["bins"]), StructureParams.recorded(params["structure"]),
                            params["mu"] if mu is None else mu, params.get("skip_bad_frames", False),
                            library.connect, params.get("blend_frames"), params.get("keep_frames", "motions"))
     corrections = library.corrections() if corrections is None else Corrections.coerce(corrections)

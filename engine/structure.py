@@ -40,7 +40,10 @@ Two methods are provided.
        left out. It is near zero inside an exercise whatever its phase (both blocks hold
        whole cycles of the same poses) and peaks where the pose distribution changes. Each
        row holds the block mean's histograms and, weighted by ``novelty_pace``, how fast
-       each bin changes (exercises of alike poses at another pace were missed).
+       each bin changes (exercises of alike poses at another pace were missed), and the
+       rows are compared on the take's ``novelty_components`` principal axes of change,
+       each scaled to its spread (exercises that differ along a direction of little
+       variance were missed; ``novelty_threshold`` is then in units of that spread).
        Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
        are boundaries (of two close peaks of nearly equal height, the earlier one), except
        where the person only turned: a peak under which the novelty of the same rows taken
@@ -99,20 +102,19 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from .atoms import (PAPER_FPS, PAPER_TAPS, atom_distance, atom_distances_to, atoms_along_lag,
+from .atoms import (PAPER_FPS, atom_distance, atom_distances_to, atoms_along_lag,
                     atom_window, lag_profile, novelty)
 from .azimuth import azimuth_smoothed, azimuth_spectrum
 from .boundaries import novelty_clusters, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
-from .errors import ParameterError
 from .onsets import onset, settle
+from .parseparams import StructureParams
 from .periods import cluster_period
 from .transitions import absorb_transitions, merge_weak
-from .params import MAX_FPS, number
 
 __all__ = [
     "StructureParams",
@@ -128,142 +130,6 @@ __all__ = [
     "lag_profile",
     "novelty",
 ]
-
-
-#: Longest atom window (eq. (5)), seconds, and most taps it may have.
-MAX_WINDOW_S = 10.0
-MAX_TAPS = 101
-
-
-def _param(default, **limits):
-    """A numeric field of :class:`StructureParams` with its range (see :func:`engine.params.number`)."""
-    return field(default=default, metadata={"limits": limits})
-
-
-@dataclass(frozen=True)
-class StructureParams:
-    """Parameters of :func:`parse`; times in seconds.
-
-    Attributes
-    ----------
-    method : {"energy", "paper"}
-        "energy" (default): novelty-based clusters and period-based textons; "paper": the
-        sequential procedure of section 4 as printed (see the module docstring).
-    window_taps : tuple of float
-        Atom window of eq. (5) at ``window_fps``; an odd number >= 3 of taps. The default is
-        the paper's 5-tap window {0.25, 0.5, 1, 0.5, 0.25} at 10 fps (0.5 s).
-    window_fps : float
-        Frame rate at which ``window_taps`` are given; at other rates the window is
-        resampled to the same time span.
-    beta : float
-        Eq. (8) threshold on the smallest atom distance to the current cluster ("paper").
-        The paper's 0.07 belongs to its histogram scale (on our normalised 2 cm / 5 degree
-        histograms it fires inside every exercise); 0.3 (with ``texton_contrast`` 0.2) gave
-        the best boundary scores of a grid (beta 0.07-0.6, contrast 0.2-0.5) on the base
-        takes 13_29 and 13_30, and is still far from usable (``benchmarks/accuracy.py``).
-    texton_contrast : float
-        "paper": a local minimum of d_A(t, t_first) starts a texton only when it lies below
-        the maximum since t_first by this fraction of that maximum.
-    texton_drop : float
-        "paper": and by at least this much in absolute terms (atom-distance units), which
-        is what rejects the minima of a still, noisy sequence.
-    min_texton : float
-        Shortest texton (and shortest period searched), seconds.
-    max_period : float
-        Longest period searched ("energy"), seconds.
-    min_periodicity : float
-        "energy": a cluster has textons only when its deepest lag-profile valley is at
-        least this fraction of the profile's median deep (still sequences have none).
-    period_tolerance : float
-        "energy": a shorter lag is preferred when its depth is within this fraction of the
-        deepest (depth: how far below the profile's median the mean atom distance falls);
-        0.5 chosen by cross-validation on the development suite (0.3 before).
-    submultiple : float
-        "energy": the chosen lag L gives way to a valley at L/3 or L/2 whose dip below the
-        profile's median is at least this fraction of the dip at L (repetitions that
-        alternate a little, e.g. in heading, made the clearest valley two repetitions
-        long); 0 turns the test off. Any value in 0.5-0.9 gives the same figures on the
-        development suite; 0.4 halved a texton of CMU 13_29.
-    novelty_window : float
-        "energy": length of each of the two blocks compared, seconds. 4 s was chosen by
-        leave-one-group-out cross-validation on the development suite
-        (``benchmarks/accuracy.py``) on three folds of four (3 s before).
-    novelty_threshold : float
-        "energy": smallest energy-distance peak that counts as a cluster boundary (same
-        units as distances between the novelty's rows: histograms and their pace).
-    turn_ratio : float
-        "energy": a novelty peak is no boundary where the novelty of the same blocks compared
-        whichever way the body faces (engine.azimuth.azimuth_spectrum) stays under this
-        fraction of it within 0.5 s: the person turned, the motion did not change; 0: no
-        veto (nor is there one without the azimuth columns, ``theta``).
-    novelty_pace : float
-        "energy": weight of each histogram bin's pace of change (its absolute change over
-        0.1 s, whatever the frame rate) beside the bin itself in the novelty's frame rows (engine.boundaries), so that
-        exercises of alike poses done at another pace are told apart; 0 compares poses only.
-    min_cluster : float
-        "energy": least distance between boundaries, seconds; the first and last cluster
-        may be down to 3/4 of it.
-    twin_peak : float
-        "energy": an earlier novelty peak within ``min_cluster`` of a stronger one and at
-        least this fraction of its height is the boundary instead.
-    analysis_fps : float
-        "energy": rate to which the sequence is reduced for cluster detection.
-    max_transition : float
-        "energy": a cluster of at most this many seconds that shows no period (not one whole
-        texton), or changes pose at under half the pace of its neighbour (standing still), is
-        a transition and joins the exercise it leads into; 0 keeps it.
-    refine_reach : float
-        "energy": a boundary moves by up to this many seconds to where blocks of whole periods
-        before and after it differ most (engine.onsets.settle); 0 keeps the novelty peak.
-    onset_reach : float
-        "energy": a boundary moves back by up to this many seconds from its novelty peak to
-        where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
-    weak_boundary : float
-        "energy": a boundary whose confidence (engine.confidence) is under this, between two
-        clusters of at most one texton each, is dropped; 0 keeps every boundary.
-    """
-
-    method: str = "energy"
-    window_taps: tuple = PAPER_TAPS
-    window_fps: float = _param(PAPER_FPS, above=0, at_most=MAX_FPS)
-    beta: float = _param(0.3, at_least=0)
-    texton_contrast: float = _param(0.2, at_least=0, at_most=1)
-    texton_drop: float = _param(0.05, at_least=0)
-    min_texton: float = _param(0.4, above=0, at_most=600)
-    max_period: float = _param(5.0, above=0, at_most=600)
-    min_periodicity: float = _param(0.05, at_least=0, at_most=1)
-    period_tolerance: float = _param(0.5, at_least=0, at_most=1)
-    submultiple: float = _param(0.7, at_least=0, at_most=1)
-    novelty_window: float = _param(4.0, above=0, at_most=3600)
-    novelty_threshold: float = _param(0.05, at_least=0)
-    novelty_pace: float = _param(1.0, at_least=0, at_most=100)
-    turn_ratio: float = _param(0.4, at_least=0, at_most=1)
-    min_cluster: float = _param(2.0, above=0, at_most=3600)
-    twin_peak: float = _param(0.9, at_least=0, at_most=1)
-    analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
-    max_transition: float = _param(4.0, at_least=0, at_most=3600)
-    refine_reach: float = _param(1.5, at_least=0, at_most=60)
-    onset_reach: float = _param(2.0, at_least=0, at_most=60)
-    weak_boundary: float = _param(0.25, at_least=0, at_most=1)
-
-    def __post_init__(self):
-        if self.method not in ("energy", "paper"):
-            raise ParameterError(f"method={self.method!r} is not a structure method; use 'energy' or 'paper'.")
-        for f in fields(self):
-            if "limits" in f.metadata:
-                object.__setattr__(self, f.name, number(f.name, getattr(self, f.name), **f.metadata["limits"]))
-        taps = tuple(number("window_taps", tap, at_least=0) for tap in self.window_taps)
-        if not 3 <= len(taps) <= MAX_TAPS or len(taps) % 2 == 0 or not sum(taps) > 0:
-            raise ParameterError(f"window_taps has {len(taps)} taps summing to {sum(taps):g}; the atom "
-                                 f"window needs an odd number from 3 to {MAX_TAPS} of them, not all 0.")
-        object.__setattr__(self, "window_taps", taps)
-        if (len(taps) - 1) / self.window_fps > MAX_WINDOW_S:
-            raise ParameterError(f"window_fps={self.window_fps:g} makes the atom window "
-                                 f"{(len(taps) - 1) / self.window_fps:g} s long; it may span at most "
-                                 f"{MAX_WINDOW_S:g} s.")
-        if self.max_period <= self.min_texton:
-            raise ParameterError(f"max_period={self.max_period:g} must be above "
-                                 f"min_texton={self.min_texton:g}.")
 
 
 @dataclass
