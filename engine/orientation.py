@@ -70,9 +70,12 @@ added to the suite since, up found from frames each about its own centre, the no
 comparing pace as well as poses and turns vetoed, held out 0.949 / 0.949 / 0.887 against
 0.931 / 0.923 / 0.892; with three more fresh HDM05 takes, 0.907 / 0.907 / 0.867 against
 0.920 / 0.891 / 0.894; with the novelty's rows whitened, 0.953 / 0.953 / 0.886 against
-0.917 / 0.938 / 0.905). The
-body's frame is therefore the default; ``--no-body-frame`` computes features in tvmedit's
-axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
+0.917 / 0.938 / 0.905; with three more fresh HDM05 takes, 0.917 / 0.937 / 0.859 against
+0.936 / 0.930 / 0.889, tvmedit's axes ahead, mostly by one fold's choice of turn veto).
+The body's frame is the default: every take of the suite comes upright and facing -y,
+which favours tvmedit's axes there, and a real capture comes in a camera's axes, turned
+any way (a turn of a fraction of a bin moved boundaries); ``--no-body-frame`` computes
+features in tvmedit's axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
 from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
 no frame of its own and keeps tvmedit's axes.
 """
