@@ -7,18 +7,25 @@ library recorded, giving the parameters added since the values the parse was mad
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, fields
 
 from .atoms import PAPER_FPS, PAPER_TAPS
 from .errors import ParameterError
 from .params import MAX_FPS, number, whole
 
-__all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS"]
+__all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_THRESHOLD", "RAW_THRESHOLD"]
 
 
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
 BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0}
+
+#: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
+#: in units of the take's own spread, and on the rows as they are (chosen on the development
+#: suite, ``benchmarks/accuracy.py``).
+WHITENED_THRESHOLD = 0.9
+RAW_THRESHOLD = 0.05
 
 #: Longest atom window (eq. (5)), seconds, and most taps it may have.
 MAX_WINDOW_S = 10.0
@@ -79,10 +86,11 @@ class StructureParams:
         "energy": length of each of the two blocks compared, seconds. 4 s was chosen by
         leave-one-group-out cross-validation on the development suite
         (``benchmarks/accuracy.py``) on three folds of four (3 s before).
-    novelty_threshold : float
+    novelty_threshold : float or None
         "energy": smallest energy-distance peak that counts as a cluster boundary, in the
-        units of the novelty's rows: with ``novelty_components`` (the default), the take's own
-        spread along each kept axis (0.9); with 0, histograms and their pace (0.05 then).
+        units of the novelty's rows. None (the default) is 0.9 where they are whitened
+        (``novelty_components`` > 0: units of the take's own spread along each kept axis) and
+        0.05 where they are not (units of histograms and their pace).
     turn_ratio : float
         "energy": a novelty peak is no boundary where the novelty of the same blocks compared
         whichever way the body faces (engine.azimuth.azimuth_spectrum) stays under this
@@ -92,7 +100,7 @@ class StructureParams:
         "energy": the novelty compares its rows on this many principal axes of the take's
         change, each scaled to its spread (engine.boundaries.whiten), so that an exercise
         that differs from the next in a direction of little variance is seen; 0 compares the
-        rows as they are (set ``novelty_threshold`` to 0.05 then).
+        rows as they are.
     novelty_pace : float
         "energy": weight of each histogram bin's pace of change (its absolute change over
         0.1 s, whatever the frame rate) beside the bin itself in the novelty's frame rows
@@ -133,7 +141,7 @@ class StructureParams:
     period_tolerance: float = _param(0.5, at_least=0, at_most=1)
     submultiple: float = _param(0.7, at_least=0, at_most=1)
     novelty_window: float = _param(4.0, above=0, at_most=3600)
-    novelty_threshold: float = _param(0.9, at_least=0)
+    novelty_threshold: float | None = _param(None, at_least=0)
     novelty_pace: float = _param(1.0, at_least=0, at_most=100)
     novelty_components: int = _param(10, count=True, at_least=0, at_most=1000)
     turn_ratio: float = _param(0.4, at_least=0, at_most=1)
@@ -148,6 +156,9 @@ class StructureParams:
     def __post_init__(self):
         if self.method not in ("energy", "paper"):
             raise ParameterError(f"method={self.method!r} is not a structure method; use 'energy' or 'paper'.")
+        if self.novelty_threshold is None:
+            whitened = whole("novelty_components", self.novelty_components, at_least=0) > 0
+            object.__setattr__(self, "novelty_threshold", WHITENED_THRESHOLD if whitened else RAW_THRESHOLD)
         for f in fields(self):
             if "limits" in f.metadata:
                 value = f.metadata["check"](f.name, getattr(self, f.name), **f.metadata["limits"])
@@ -164,6 +175,17 @@ class StructureParams:
         if self.max_period <= self.min_texton:
             raise ParameterError(f"max_period={self.max_period:g} must be above "
                                  f"min_texton={self.min_texton:g}.")
+        # A threshold of the other scale (an older script's 0.05 with whitened rows, say).
+        if self.novelty_components > 0 and self.novelty_threshold < 5 * RAW_THRESHOLD:
+            warnings.warn(f"novelty_threshold={self.novelty_threshold:g} is in units of the take's own spread "
+                          f"while novelty_components={self.novelty_components} whitens the novelty's rows "
+                          f"({WHITENED_THRESHOLD:g} is the default there; {RAW_THRESHOLD:g} belongs to "
+                          f"novelty_components=0); expect many more boundaries.", stacklevel=3)
+        elif self.novelty_components == 0 and self.novelty_threshold > 0.5 * WHITENED_THRESHOLD:
+            warnings.warn(f"novelty_threshold={self.novelty_threshold:g} is in units of histograms with "
+                          f"novelty_components=0 (the default there is {RAW_THRESHOLD:g}; "
+                          f"{WHITENED_THRESHOLD:g} belongs to whitened rows); expect few or no boundaries.",
+                          stacklevel=3)
 
     @classmethod
     def recorded(cls, data):
@@ -173,6 +195,8 @@ class StructureParams:
 
         >>> StructureParams.recorded({"novelty_threshold": 0.05}).novelty_components
         0
+        >>> StructureParams.recorded({}).novelty_threshold   # made without whitening: its threshold
+        0.05
         >>> StructureParams.recorded(StructureParams().__dict__) == StructureParams()
         True
         """

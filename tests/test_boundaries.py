@@ -20,7 +20,7 @@ def bump(centre, height, width=2.0):
 
 
 def starts(n, turn_free=None, **params):
-    p = StructureParams(**{"novelty_threshold": 0.05, **params})   # the curves' scale
+    p = StructureParams(**{"novelty_threshold": 0.05, "novelty_components": 0, **params})   # the curves' scale
     return [cs for cs, _ in novelty_clusters(np.zeros((T, 3)), FPS, p, n, 1, turn_free)][1:]
 
 
@@ -95,3 +95,40 @@ def test_exercises_that_differ_in_a_direction_of_little_change_are_told_apart():
     found = [cs for cs, _ in parse(v, FPS).clusters][1:]
     assert len(found) == 1 and abs(found[0] - change) <= FPS, found
     assert [cs for cs, _ in parse(v, FPS, StructureParams(novelty_components=0, novelty_threshold=0.05)).clusters] == [0]
+
+
+def test_leading_axes_agree_with_a_full_eigensolver():
+    # Subspace iteration (engine.boundaries._leading_eigen) stands in for LAPACK's threaded
+    # solvers; on a decaying spectrum like a take's it must find the same top axes.
+    from engine.boundaries import _leading_eigen
+    rng = np.random.default_rng(3)
+    basis, _ = np.linalg.qr(rng.normal(size=(80, 80)))
+    m = basis @ np.diag(0.8 ** np.arange(80)) @ basis.T
+    values, vectors = _leading_eigen(m, 10)
+    exact_values, exact_vectors = np.linalg.eigh(m)
+    assert np.allclose(values, exact_values[::-1][:10], rtol=1e-6)
+    assert np.allclose(np.abs(np.sum(vectors * exact_vectors[:, ::-1][:, :10], axis=0)), 1.0, atol=1e-6)
+
+
+def test_whitening_takes_few_rows_still_rows_and_bad_rows():
+    from engine.boundaries import whiten
+    rng = np.random.default_rng(0)
+    assert whiten(rng.normal(size=(3, 50)), 10).shape == (3, 2)          # at most rows - 1 axes
+    assert not whiten(np.ones((20, 50)), 10).any()                       # no change: zeros
+    bad = rng.normal(size=(20, 50))
+    bad[4, 7] = np.nan
+    assert np.array_equal(whiten(bad, 10), bad, equal_nan=True)          # left as it is
+    rows = rng.normal(size=(200, 40)) * np.linspace(3, 0.01, 40)
+    out = whiten(rows, 10)
+    # Each kept axis scaled to about the same spread: variance / (variance + mean variance).
+    assert out.shape == (200, 10) and np.all(out.var(axis=0) < 1) and out.var(axis=0).min() > 0.1
+
+
+def test_the_novelty_threshold_follows_whether_rows_are_whitened():
+    assert StructureParams().novelty_threshold == 0.9
+    assert StructureParams(novelty_components=0).novelty_threshold == 0.05
+    assert StructureParams.recorded({}).novelty_threshold == 0.05   # a parse made before whitening
+    with pytest.warns(UserWarning, match="units of the take's own spread"):
+        StructureParams(novelty_threshold=0.05)                     # an older script's threshold
+    with pytest.warns(UserWarning, match="few or no boundaries"):
+        StructureParams(novelty_components=0, novelty_threshold=0.9)

@@ -103,7 +103,9 @@ def add_arguments(parser):
     defaults, helps = cls(), _param_help(cls)
     group = parser.add_argument_group("structure parsing (section 4)")
     for field in fields:
-        default = getattr(defaults, field.name)
+        # A default of None follows other parameters (the novelty threshold follows whether its
+        # rows are whitened): it stays None here, and the engine decides.
+        default = None if field.default is None else getattr(defaults, field.name)
         flag = "--" + field.name.replace("_", "-")
         text = helps.get(field.name, field.name.replace("_", " "))
         kwargs = {"dest": f"structure_{field.name}", "default": default, "metavar": field.name.upper()}
@@ -115,7 +117,7 @@ def add_arguments(parser):
             kwargs["type"] = float
         else:
             kwargs["type"] = type(default)
-        group.add_argument(flag, help=f"{text} (default: %(default)s)", **kwargs)
+        group.add_argument(flag, help=text if default is None else f"{text} (default: %(default)s)", **kwargs)
 
     group = parser.add_argument_group("motion graph (section 6)")
     group.add_argument("--connect", choices=("auto", "off"), default="auto",
