@@ -28,6 +28,7 @@ truth (segments and periods at the take's rate), which :func:`engine.evaluate.sc
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -185,6 +186,7 @@ def _accumulator(centroids):
 FRAME = os.environ.get("TVMEDIT_DEV_FRAME", "body")
 
 
+@functools.cache
 def _prefix():
     # How the origin and axes are placed, and the version of the code that reads frames and
     # makes histograms (engine.featcache.code_version): features it changed are made anew.

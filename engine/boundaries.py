@@ -9,8 +9,8 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   their mean histograms and, weighted by ``novelty_pace``, how fast each bin changes: its
   change over :data:`PACE_SECONDS` (0.1 s) whatever the frame rate (:func:`pace`). The
   histograms alone describe which poses a block holds, not how fast it moves through them:
-  hops then elbow-to-knee,
-  or grabbing high then hops (HDM05, the development suite), hold alike poses and their
+  hops then elbow-to-knee, or grabbing high then hops (HDM05, the development suite), hold
+  alike poses and their
   novelty peaked at 0.02-0.05, under the threshold, inside exercises' own ripple. With the
   pace beside them (weight 1: a bin's change per 0.1 s counts as much as the bin) the
   suite's pooled precision / recall / texton accuracy went 0.95 / 0.92 / 0.91 -> 0.97 /
@@ -53,9 +53,9 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   heading-free novelty 0.32 of the peak, on rows not yet whitened); no true boundary of the
   suite is lost. Each curve is whitened on its own rows' axes (so the heading-free one may
   now exceed the other): at true boundaries the ratio is 0.67 or more on the suite's real
-  takes, at its false peaks from turning 0-0.23. A vetoed
-  peak keeps the lower peaks within ``min_cluster`` of it (its shoulders) from becoming
-  boundaries, and is never taken as another peak's earlier twin. Heading-free novelty alone
+  takes, at its false peaks from turning 0-0.23. A vetoed peak keeps the lower peaks within
+  ``min_cluster`` of it (its shoulders) from becoming boundaries, and is never taken as
+  another peak's earlier twin. Heading-free novelty alone
   lost CMU's twist boundaries (a twist differs from its neighbours mostly in which way the
   torso faces), so it only vetoes. Pooled precision 0.95 -> 0.97 on the suite with its
   turning takes.
@@ -129,7 +129,7 @@ def novelty_rows(vectors, fps, p):
         # 7.5 or 12.5 rows a second weighs its pace as a 10 fps one does.
         v = np.hstack([v, (p.novelty_pace * PACE_SECONDS * fps / step) * pace(v)])
     if p.novelty_components > 0:
-        v = whiten(v, int(p.novelty_components))
+        v = whiten(v, p.novelty_components)
     return v, step
 
 

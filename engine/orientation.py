@@ -75,8 +75,8 @@ comparing pace as well as poses and turns vetoed, held out 0.949 / 0.949 / 0.887
 The body's frame is the default: every take of the suite comes upright and facing -y,
 which favours tvmedit's axes there, and a real capture comes in a camera's axes, turned
 any way (a turn of a fraction of a bin moved boundaries); ``--no-body-frame`` computes
-features in tvmedit's axes. A body whose longest axis is not clearly so, or lies more than :data:`FRAME_DEGREES`
-from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
+features in tvmedit's axes. A body whose longest axis is not clearly so, or lies more than
+:data:`FRAME_DEGREES` from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
 no frame of its own and keeps tvmedit's axes.
 """
 

@@ -40,7 +40,7 @@ def _param(default, count=False, **limits):
 
 @dataclass(frozen=True)
 class StructureParams:
-    """Parameters of :func:`parse`; times in seconds.
+    """Parameters of :func:`engine.structure.parse`; times in seconds.
 
     Attributes
     ----------
@@ -200,5 +200,4 @@ class StructureParams:
         >>> StructureParams.recorded(StructureParams().__dict__) == StructureParams()
         True
         """
-        data = dict(data)
         return cls(**{**BEFORE, **{k: v for k, v in data.items() if k in cls.__dataclass_fields__}})

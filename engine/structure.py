@@ -33,11 +33,11 @@ Two methods are provided.
        turned a little) moved whole shares of vertices across hard bin edges and moved
        boundaries (see that function for the figures).
     1. **Clusters by novelty** (:mod:`engine.boundaries`). On a copy of the sequence
-       reduced to about 10 fps (block means of frames), a two-block statistic is evaluated at every frame t: the energy
-       distance between the frames of the ``novelty_window`` seconds before t and after t,
-       2 E|X - Y| - E|X - X'| - E|Y - Y'| on frame distances, i.e. a checkerboard kernel
-       along the diagonal of the frame-distance matrix with its within-block diagonals
-       left out. It is near zero inside an exercise whatever its phase (both blocks hold
+       reduced to about 10 fps (block means of frames), a two-block statistic is evaluated
+       at every frame t: the energy distance between the frames of the ``novelty_window``
+       seconds before t and after t, 2 E|X - Y| - E|X - X'| - E|Y - Y'| on frame distances,
+       i.e. a checkerboard kernel along the diagonal of the frame-distance matrix with its
+       within-block diagonals left out. It is near zero inside an exercise whatever its phase (both blocks hold
        whole cycles of the same poses) and peaks where the pose distribution changes. Each
        row holds the block mean's histograms and, weighted by ``novelty_pace``, how fast
        each bin changes (exercises of alike poses at another pace were missed), and the

@@ -115,7 +115,7 @@ def test_exercises_of_alike_poses_are_told_apart_by_their_pace(devsuite):
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_29@0.7x")
     # On the rows as they are (not whitened, engine.boundaries.whiten), as when the pace came in.
-    raw = dict(novelty_components=0, novelty_threshold=0.05)
+    raw = dict(novelty_components=0)   # threshold 0.05 then
     found = {pace: score(parse(take.vectors, take.fps, StructureParams(novelty_pace=pace, **raw), theta=take.theta),
                          take.truth, take.fps) for pace in (1.0, 0.0)}
     assert (found[1.0].precision, found[1.0].recall) == (1.0, 1.0), found[1.0].matches

@@ -216,7 +216,7 @@ def test_boundary_between_a_slow_and_a_quick_exercise_lies_where_the_motion_chan
     v = v * 0.2 + rng.normal(0, 0.005, v.shape)
     # Three columns, not a histogram's hundreds: whitened, every axis would be kept and scaled
     # alike (engine.boundaries.whiten), so the novelty compares the rows as they are here.
-    raw = dict(novelty_components=0, novelty_threshold=0.05)
+    raw = dict(novelty_components=0)   # threshold 0.05 then
     peaks = parse(v, 10, StructureParams(refine_reach=0, **raw)).clusters
     settled = parse(v, 10, StructureParams(**raw))
     assert len(peaks) == 2 and abs(peaks[1][0] - change) > 10, peaks
