@@ -13,8 +13,9 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
     as it exercises (6 degrees a second, or a slow sway of +/- 90 degrees).
 ``cmu``
     The real takes 13_29 and 13_30 (CMU subject 13) played at 0.7x and 1.4x, mirrored left to
-    right, and cut at random exercise boundaries (a cut starts a new take: its origin is its own
-    first frame's centre).
+    right, turning as they exercise (13_29 a steady 6 degrees a second, 13_30 a slow sway over
+    +/- 90 degrees, as the synthetic actor turns; :func:`engine.heading.turned`), and cut at random
+    exercise boundaries (a cut starts a new take: its origin is its own first frame's centre).
 ``hdm05``
     Three more people (HDM05 actors bd, bk, dg) stitched into multi-exercise takes with other
     orders, block lengths and repetition counts (``shared/tools/hdm05_stitch.py``); ten of
@@ -41,6 +42,7 @@ import numpy as np
 
 from engine.featcache import code_version
 from engine.features import follow_picks
+from engine.heading import turned
 from engine.orientation import feature_frame, sample_indices
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -264,8 +266,13 @@ def mirror_theta(vectors, theta):
     return out
 
 
+#: How the CMU takes' turning variants turn (added after step 16): the options of
+#: :func:`_headings`, as the synthetic actor of ``synth-drift`` turns.
+CMU_TURNS = {"13_29": {"turn": 6.0}, "13_30": {"sway": 90.0, "seed": 30}}
+
+
 def cmu_takes(seed=0):
-    """The CMU group: each take at 1x, 0.7x and 1.4x, mirrored, and two random cuts."""
+    """The CMU group: each take at 1x, 0.7x and 1.4x, mirrored, turning, and two random cuts."""
     rng = np.random.default_rng(seed)
     takes = []
     for take, opts in CMU_SOURCES.items():
@@ -281,6 +288,8 @@ def cmu_takes(seed=0):
             takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t))
         base = takes[-3]
         takes.append(Take("cmu", f"{take}-mirror", mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth))
+        turning = turned(base.vectors, base.theta, _headings(len(base.vectors), 10.0, **CMU_TURNS[take]))
+        takes.append(Take("cmu", f"{take}-turn", turning, base.theta, 10.0, base.truth))
         segs = truth["segments"]
         pairs = [(a, b) for a in range(1, len(segs) - 1) for b in range(a + 1, len(segs))]
         for i in rng.choice(len(pairs), 2, replace=False):

@@ -478,7 +478,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
     fps = structure.fps
     reach = max(1, int(round(REACH * fps)))
     params = StructureParams.recorded(structure.params)
-    view = parser_view(v, params, theta)   # what the parser measured textons on
+    view = parser_view(v, params, theta, fps)   # what the parser measured textons on
     clusters = _boundaries(structure, entry, reach, say, where)
     kept = {c: k for k, c in enumerate(structure.clusters)}
     w = atom_window(fps, params.window_taps, params.window_fps)

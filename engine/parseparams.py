@@ -19,7 +19,7 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
-BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0}
+BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -106,6 +106,11 @@ class StructureParams:
         0.1 s, whatever the frame rate) beside the bin itself in the novelty's frame rows
         (engine.boundaries), so that exercises of alike poses done at another pace are told
         apart; 0 compares poses only.
+    heading_window : float
+        "energy": the parser reads each frame's azimuth histogram turned back by the person's
+        slow heading, tracked by matching the mean histograms of windows of this many
+        seconds one second apart (engine.heading), so that a person who turns as they
+        exercise is read as if they kept facing one way; 0 reads the histograms as they are.
     min_cluster : float
         "energy": least distance between boundaries, seconds; the first and last cluster
         may be down to 3/4 of it.
@@ -145,6 +150,7 @@ class StructureParams:
     novelty_pace: float = _param(1.0, at_least=0, at_most=100)
     novelty_components: int = _param(10, count=True, at_least=0, at_most=1000)
     turn_ratio: float = _param(0.4, at_least=0, at_most=1)
+    heading_window: float = _param(4.0, at_least=0, at_most=600)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
@@ -197,6 +203,8 @@ class StructureParams:
         0
         >>> StructureParams.recorded({}).novelty_threshold   # made without whitening: its threshold
         0.05
+        >>> StructureParams.recorded({}).heading_window      # and read the histograms as they stood
+        0.0
         >>> StructureParams.recorded(StructureParams().__dict__) == StructureParams()
         True
         """

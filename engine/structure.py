@@ -31,7 +31,11 @@ Two methods are provided.
        parser reads each theta histogram convolved with (1/4, 1/2, 1/4) around the circle.
        A body turned a fraction of a 5 degree bin (its own frame's front, or a capture
        turned a little) moved whole shares of vertices across hard bin edges and moved
-       boundaries (see that function for the figures).
+       boundaries (see that function for the figures). **Heading followed**
+       (:mod:`engine.heading`): each theta histogram is then turned back by the person's
+       slow heading, tracked over ``heading_window`` seconds, so a person who turns as they
+       exercise is read as if they kept facing one way (false boundaries inside exercises,
+       repetitions apart by a turn, onsets moved early).
     1. **Clusters by novelty** (:mod:`engine.boundaries`). On a copy of the sequence
        reduced to about 10 fps (block means of frames), a two-block statistic is evaluated
        at every frame t: the energy distance between the frames of the ``novelty_window``
@@ -111,6 +115,7 @@ from .atoms import (PAPER_FPS, atom_distance, atom_distances_to, atoms_along_lag
 from .azimuth import azimuth_smoothed, azimuth_spectrum
 from .boundaries import novelty_clusters, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
+from .heading import heading_track, turned
 from .onsets import onset, settle
 from .parseparams import StructureParams
 from .periods import cluster_period
@@ -311,7 +316,7 @@ def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None
     list of Texton
     """
     p = params or StructureParams()
-    v = parser_view(vectors, p, theta)
+    v = parser_view(vectors, p, theta, fps)
     return _textons_of_clusters(v, clusters, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta)
 
 
@@ -323,13 +328,15 @@ def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructurePar
     (T,) float64
     """
     p = params or StructureParams()
-    v = parser_view(vectors, p, theta)
+    v = parser_view(vectors, p, theta, fps)
     return _curve(v, clusters, textons, atom_window(fps, p.window_taps, p.window_fps))
 
 
-def parser_view(vectors, params=None, theta=None):
+def parser_view(vectors, params=None, theta=None, fps=None):
     """The feature rows as the parser reads them: float64, and for method "energy" with the
-    theta columns given, azimuth histograms smoothed (:func:`engine.azimuth.azimuth_smoothed`).
+    theta columns given, azimuth histograms smoothed (:func:`engine.azimuth.azimuth_smoothed`)
+    and turned back by the person's slow heading (:mod:`engine.heading`,
+    ``heading_window``; it needs ``fps``).
 
     Everything that decides or measures a structure (:func:`parse`, :func:`textons_for`,
     :func:`texton_curve`, :mod:`engine.corrections`) reads this view, so a texton's d_T and
@@ -341,7 +348,12 @@ def parser_view(vectors, params=None, theta=None):
     """
     p = params or StructureParams()
     if p.method == "energy" and theta is not None:
-        return azimuth_smoothed(vectors, theta)
+        v = azimuth_smoothed(vectors, theta)
+        if p.heading_window > 0:
+            if fps is None:
+                raise ValueError("parser_view needs the frame rate (fps) to follow the heading")
+            v = turned(v, theta, -heading_track(v, theta, fps, p.heading_window))
+        return v
     return np.asarray(vectors, dtype=np.float64)
 
 
@@ -449,7 +461,7 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
         raise ValueError(f"feature vectors must have shape (T, D) with T >= 1, got {v.shape}")
     if not (fps > 0):
         raise ValueError(f"the frame rate must be positive, got {fps!r}")
-    v = parser_view(v, p, theta)
+    v = parser_view(v, p, theta, fps)
     w = atom_window(fps, p.window_taps, p.window_fps)
     curve, step = novelty_curve(v, fps, p) if len(v) >= 2 else (np.zeros(1), 1)
     if len(v) < 2:

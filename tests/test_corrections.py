@@ -159,15 +159,21 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
 
 
 def _check_closings(library):
-    """Every loop-closing frame (engine.wraps) lies on the texton frame it stands for: nearer it
-    than the texton's wrap jumps (a closing reused for another frame would not)."""
+    """Every loop-closing frame (engine.wraps) stands for its texton frame: nearer it than the
+    texton's wrap jumps, or on the way from it to the frame it is warped onto (its distances
+    to the two add up to little more than theirs). A closing reused for another frame would
+    be neither. (Nearer than the jump alone failed where the texton's end lies near its start
+    and the last frames are warped hard: 13_30's toe touch parsed with the heading followed,
+    0.045 from its frame against a 0.036 jump, 0.009 from its target.)"""
     for node in library.nodes:
         data = library.graph.nodes[node.id]
-        warped = window(node.start, node.end, data.get("wrap_at", "end"), data.get("wrap", 0))[0]
+        warped, onto = window(node.start, node.end, data.get("wrap_at", "end"), data.get("wrap", 0))
         jump = chamfer(library.frame_mesh((NAME, node.end))[0], library.frame_mesh((NAME, node.start))[0])
-        for i, frame in enumerate(warped):
+        for i, (frame, target) in enumerate(zip(warped, onto)):
             closed = library.frame_mesh((NAME, frame, ((node.id, node.id), i)))[0]
-            assert chamfer(closed, library.frame_mesh((NAME, frame))[0]) < jump, (node.name, frame)
+            own, there = library.frame_mesh((NAME, frame))[0], library.frame_mesh((NAME, target))[0]
+            way = chamfer(closed, own) + chamfer(closed, there)
+            assert chamfer(closed, own) < jump or way <= 1.25 * chamfer(own, there), (node.name, frame)
 
 
 @pytest.fixture(scope="module")
@@ -276,7 +282,7 @@ def test_texton_starts_representatives_and_drops(base):
 
     edited = fixed.textons_of(cluster)[1]                 # its confidence is measured anew
     # on the view the parser measured every texton on (azimuth smoothed)
-    view = parser_view(vectors, StructureParams(), theta)
+    view = parser_view(vectors, StructureParams(), theta, parse.fps)
     assert edited.confidence == texton_confidence(view, edited.start, edited.end, atom_window(parse.fps))
     c.remove_texton(NAME, third.start + 1)          # undoing an added start leaves no entry
     assert c.of(NAME).textons["add"] == []

@@ -222,3 +222,38 @@ def test_boundary_between_a_slow_and_a_quick_exercise_lies_where_the_motion_chan
     assert len(peaks) == 2 and abs(peaks[1][0] - change) > 10, peaks
     assert len(settled.clusters) == 2 and abs(settled.clusters[1][0] - change) <= 1, settled.clusters
     assert [len(t) for t in settled.textons_of(1)][:3] == [quick] * 3
+
+
+def _left_right(half, frames=120, bins=72):
+    # Azimuth histograms of a left-then-right motion: frame u + half is frame u's mirror image.
+    j = np.arange(bins)
+
+    def bump(centre, width=2.0):
+        d = (j - centre + bins / 2) % bins - bins / 2
+        return np.exp(-0.5 * (d / width) ** 2)
+
+    rows = []
+    for u in range(frames):
+        side = 1 if (u // half) % 2 == 0 else -1
+        h = 0.0
+        phase = (u % half) / half   # the limb travels out within each half
+        rows.append(bump(h + side * (6 + 6 * phase)) + 0.7 * bump(h + side * 16) + bump(h + 36))
+    return np.array(rows)
+
+
+def test_the_parser_reads_a_turning_person_as_facing_one_way_and_needs_the_rate_for_it():
+    from engine.heading import heading_track, turned
+    from engine.structure import parser_view
+    rng = np.random.default_rng(0)
+    still = np.hstack([rng.random((300, 4)), _left_right(half=8, frames=300)])
+    theta = slice(4, 76)
+    turning = turned(still, theta, np.radians(6.0) * np.arange(300) / 10)   # 6 degrees a second
+    p = StructureParams()
+    a, b = parser_view(still, p, theta, 10), parser_view(turning, p, theta, 10)
+    # 156 degrees between the first and last windows as it stands; turned back, what turn is
+    # left is under half a bin (2.5 degrees) a second, here 10 degrees in all
+    raw, left = (np.degrees(np.ptp(heading_track(rows, theta, 10))) for rows in (turning, b))
+    assert raw > 100 and left <= 0.25 * raw, (raw, left)
+    assert np.array_equal(a, parser_view(still, StructureParams(heading_window=0), theta, 10))   # no turn: as is
+    with pytest.raises(ValueError, match="frame rate"):
+        parser_view(still, p, theta)
