@@ -3,8 +3,8 @@
     python benchmarks/accuracy.py [--groups synth cmu ...] [--methods energy paper] [--no-cv] [--takes] [--errors]
 
 Every take of the suite (``benchmarks/devsuite.py``: the synthetic actor varied, the same
-actor drifting across the volume, CMU 13_29/13_30 warped, mirrored and cut, and HDM05 people
-stitched into multi-exercise takes) is parsed from its cached features and scored with
+actor drifting and turning across the volume, CMU 13_29/13_30 warped, mirrored, turning and
+cut, and HDM05 people stitched into multi-exercise takes) is parsed from its cached features and scored with
 :mod:`engine.evaluate`: cluster-start precision and recall (one-to-one, within 1 s, frame 0
 left out) and texton-length accuracy (median texton length within 15 % of the true period),
 summed over a group's takes. Then leave-one-group-out cross-validation: for each group, the

@@ -4,7 +4,8 @@ Section 3's theta histogram (:mod:`engine.features`) counts each vertex in one 5
 of azimuth. A body turned by a fraction of a bin moves whole shares of its vertices across
 hard bin edges, and the parser's decisions (:mod:`engine.structure`) moved with them.
 :func:`azimuth_smoothed` gives the view of the features that every structure decision
-reads (:func:`engine.structure.parser_view`); the stored features stay eq. (1)'s.
+reads (:func:`engine.structure.parser_view`, which then turns them back by the person's
+slow heading, :mod:`engine.heading`); the stored features stay eq. (1)'s.
 """
 
 import math

@@ -129,6 +129,7 @@ __all__ = [
     "textons_for",
     "texton_curve",
     "parser_view",
+    "followed_heading",
     "atom_window",
     "atom_distance",
     "atom_distances_to",
@@ -349,12 +350,36 @@ def parser_view(vectors, params=None, theta=None, fps=None):
     p = params or StructureParams()
     if p.method == "energy" and theta is not None:
         v = azimuth_smoothed(vectors, theta)
-        if p.heading_window > 0:
-            if fps is None:
-                raise ValueError("parser_view needs the frame rate (fps) to follow the heading")
-            v = turned(v, theta, -heading_track(v, theta, fps, p.heading_window))
-        return v
+        heading = _heading(v, p, theta, fps)
+        return v if heading is None else turned(v, theta, -heading)
     return np.asarray(vectors, dtype=np.float64)
+
+
+def _heading(smoothed, p, theta, fps):
+    # The heading parser_view undoes (radians a frame), None where it follows none.
+    if p.method != "energy" or theta is None or not p.heading_window > 0:
+        return None
+    if fps is None:
+        raise ValueError("parser_view needs the frame rate (fps) to follow the heading")
+    return heading_track(smoothed, theta, fps, p.heading_window)
+
+
+def followed_heading(vectors, params=None, theta=None, fps=None):
+    """The person's slow heading as the parser followed it (:mod:`engine.heading`), degrees a
+    frame, relative to the first window's; None where it follows none (method "paper",
+    ``heading_window`` 0, no azimuth columns). For showing it (the report), not for parsing.
+
+    >>> v = np.zeros((80, 76)); v[:, 4:] = 1.0
+    >>> float(np.abs(followed_heading(v, theta=slice(4, 76), fps=10)).max())
+    0.0
+    >>> followed_heading(v, StructureParams(heading_window=0), slice(4, 76), 10) is None
+    True
+    """
+    p = params or StructureParams()
+    if theta is None:
+        return None
+    heading = _heading(azimuth_smoothed(vectors, theta), p, theta, fps)
+    return None if heading is None else np.degrees(heading)
 
 
 def _parse_paper(v, fps, p, w):

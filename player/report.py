@@ -46,6 +46,7 @@ import numpy as np
 from engine import atomic
 from engine.errors import TvmError
 from engine.evaluate import TOLERANCE_S, score
+from engine.structure import StructureParams, followed_heading
 
 #: Frames per node contact sheet (evenly spaced over the texton, first and last included).
 SHEET_FRAMES = 8
@@ -89,7 +90,7 @@ def _save(fig, out_png):
 
 
 def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None, fps=None,
-                         title="", size=CURVE_SIZE, automatic=None):
+                         title="", size=CURVE_SIZE, automatic=None, heading=None):
     """Figure 4 for one sequence: d_A(t, t_first) with texton starts and cluster bands.
 
     Parameters
@@ -110,6 +111,9 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
         The automatic parse's clusters where ``clusters`` were corrected by hand: drawn as a
         strip of their own, with the boundaries added by hand marked by orange lines and
         those removed by hand by dotted red ones.
+    heading : (T,) array_like, optional
+        The person's heading as the parser followed it, degrees
+        (:func:`engine.structure.followed_heading`): a grey line on its own axis, right.
 
     Returns
     -------
@@ -123,7 +127,8 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     strips = 1 + (truth_segments is not None) + (automatic is not None)
     fig = _figure(size)
     grid = fig.add_gridspec(1 + strips, 1, height_ratios=[6] + [1] * strips, hspace=0.08,
-                            left=0.07, right=0.99, top=0.9 if title else 0.96, bottom=0.16)
+                            left=0.07, right=0.99 if heading is None else 0.94,
+                            top=0.9 if title else 0.96, bottom=0.16)
     ax = fig.add_subplot(grid[0])
     for k, (s, e) in enumerate(clusters):
         ax.axvspan(s - 0.5, e + 0.5, color=_BAND_COLOURS[k % 2], lw=0)
@@ -140,7 +145,17 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     ax.set_xlim(-0.5, max(len(curve), 1) - 0.5)
     ax.set_ylabel("atom distance")
     ax.tick_params(labelbottom=False)
-    ax.legend(loc="upper right", fontsize=8, framealpha=0.8)
+    handles = [h for h in ax.get_legend_handles_labels()[0]]
+    if heading is not None:
+        turn = ax.twinx()
+        (line,) = turn.plot(np.arange(len(heading)), heading, color="#909090", lw=1.0, ls="--",
+                            label="heading followed (deg)")
+        low, high = float(np.min(heading)), float(np.max(heading))
+        turn.set_ylim(min(low, -10.0) - 5, max(high, 10.0) + 5)
+        turn.set_ylabel("heading (deg)", fontsize=8, color="#707070")
+        turn.tick_params(labelsize=7, colors="#707070")
+        handles.append(line)
+    ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.8)
     if title:
         ax.set_title(title, fontsize=10)
     rows = [("corrected" if automatic is not None else "detected",
@@ -408,10 +423,13 @@ class _Report:
             png = f"structure-{k:02d}.png"
             fixes = corrections.get(seq.name)
             automatic = self.library.parse(seq.name).clusters if fixes else None
+            features = self.library.features(seq.name)
+            heading = followed_heading(features.vectors, StructureParams.recorded(structure.params),
+                                       features.theta_columns, seq.fps)
             plotted = atom_distance_figure(structure.curve, structure.textons, structure.clusters,
                                            self.folder / png,
                                            truth_segments=scored.segments if scored else None,
-                                           fps=seq.fps, title=seq.name, automatic=automatic)
+                                           fps=seq.fps, title=seq.name, automatic=automatic, heading=heading)
             row = {"name": seq.name, "image": png, "texton_starts": plotted["texton_starts"],
                    "clusters": [list(map(int, c)) for c in structure.clusters],
                    "textons": len(structure.textons)}
@@ -425,6 +443,7 @@ class _Report:
             if fixes:
                 parts.append(_corrections_paragraph(fixes, automatic, structure.clusters))
             parts.append(_confidence_paragraph(structure, row))
+            parts.append(_heading_paragraph(heading, row))
             if scored is not None:
                 parts.append(self._score_paragraph(seq, structure, scored, row))
             summary["sequences"].append(row)
@@ -739,6 +758,23 @@ def _page(title, sections):
     return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
             f"<title>tvmedit report</title><style>{_STYLE}</style></head><body>"
             f"<h1>tvmedit report</h1><p>{_e(title)}</p><p>{nav}</p>\n" + "\n".join(sections) + "\n</body></html>\n")
+
+
+def _heading_paragraph(heading, row):
+    """Which way the parser read the person facing (engine.heading), for the page and report.json."""
+    if heading is None:
+        row.update(heading_deg=None)
+        return "<p class='heading'>The parser read the azimuth histograms as they stand (no heading followed).</p>"
+    low, high = float(np.min(heading)), float(np.max(heading))
+    row.update(heading_deg=[round(low, 1), round(high, 1)])
+    if high - low == 0:
+        text = ("The parser followed no turn: the person kept facing one way (within the 5 degree "
+                "steps a second it follows)")
+    else:
+        text = (f"The parser followed the person turning between {low:+.0f} and {high:+.0f} degrees "
+                f"(dashed grey, right axis) and read every frame turned back by it; where the line "
+                f"moves with no turn in the capture, look there first")
+    return f"<p class='heading'>{_e(text)}.</p>"
 
 
 def _confidence_paragraph(structure, row):

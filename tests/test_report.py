@@ -231,3 +231,20 @@ def test_plotting_returns_the_markers_it_draws(tmp_path):
                                    tmp_path / "c.png", size=(400, 200))
     assert plotted["texton_starts"] == [0, 10, 20]
     assert iio.imread(tmp_path / "c.png").shape[:2] == (200, 400)
+
+
+def test_the_heading_the_parser_followed_is_shown_beside_the_curve(report, tmp_path):
+    # The synthetic actor stands facing one way: the page says no turn was followed.
+    _, page, summary = report
+    assert summary["sequences"][0]["heading_deg"] == [0.0, 0.0]
+    assert "followed no turn" in page
+    # A turning take's heading is drawn on an axis of its own, in grey, beside the curve.
+    from player.report import atom_distance_figure
+
+    curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
+    grey = []
+    for heading in (None, np.linspace(0.0, 30.0, 60)):
+        atom_distance_figure(curve, [(0, 9)], [(0, 59)], tmp_path / "h.png", size=(400, 200), heading=heading)
+        image = iio.imread(tmp_path / "h.png")[..., :3].astype(int)
+        grey.append((np.abs(image - 0x90).max(axis=-1) <= 8).sum())   # the dashed line's #909090
+    assert grey[1] > grey[0] + 100, grey
