@@ -103,17 +103,18 @@ def main():
     print(f"   {len(edit.schedule)} frames = {len(edit.schedule) / library.sequences[0].fps:.1f} s")
 
     print("4. render (headless EGL)")
+    # The demo's own outputs: a second run replaces them (as its build does).
     video = player.render(edit, DEMO / "out.mp4", size=(640, 480), fps=library.sequences[0].fps,
-                          orbit_deg_per_s=10)
+                          orbit_deg_per_s=10, force=True)
     first = library.node(keys[0])
     sheet = DEMO / f"sheet-{first.name.replace('/', '-')}.png"
     frames = range(first.start, first.end + 1)
     player.contact_sheet(library, [(first.sequence, f) for f in frames], sheet,
-                         labels=[f"{first.name} {f}" for f in frames])
+                         labels=[f"{first.name} {f}" for f in frames], force=True)
     print(f"   {video}  (the edit)\n   {sheet}  (contact sheet of {first.name})")
 
     print("5. report")
-    index = write_report(library, DEMO / "report", progress=False)
+    index = write_report(library, DEMO / "report", progress=False, force=True)
     print(f"   {index}")
     print(f"done in {time.perf_counter() - start:.1f} s. Next, with a display: "
           f".venv/bin/tvmedit play {library.path}  (or `source .venv/bin/activate` first, "
