@@ -234,6 +234,13 @@ def _frames_features(folder, start=0, stop=None):
     return f.vectors, theta
 
 
+def _turned_about_own_axis(verts, angle):
+    """Vertices (Z up) turned by ``angle`` radians about the vertical through their own centre."""
+    c, s = np.cos(angle), np.sin(angle)
+    centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]
+    return (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+
+
 def _turned_features(folder, frames, heading):
     """Features of the folder's ``frames`` with the body turned by ``heading`` (radians, one a
     frame) about the vertical through its own centre, the meshes themselves rotated, then
@@ -249,10 +256,8 @@ def _turned_features(folder, frames, heading):
     sequence = open_sequence(str(folder))
 
     def frame_at(k):
-        verts = read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions
-        c, s = np.cos(heading[k]), np.sin(heading[k])
-        centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]   # about the person's own vertical axis
-        return (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+        return _turned_about_own_axis(
+            read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions, heading[k])
 
     body = _body(len(frames), frame_at)
     acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
@@ -434,9 +439,7 @@ def synth_take(group, name, options, vertices=6000):
     for k, pose in enumerate(poses):
         verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
         if heading[k]:
-            c, s = np.cos(heading[k]), np.sin(heading[k])
-            centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]   # about the actor's own vertical axis
-            verts = (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+            verts = _turned_about_own_axis(verts, heading[k])
         verts = verts * extra.get("height", 1.0) + shift[k]
         if rng.random() < extra.get("holes", 0.0):
             centre = verts[rng.integers(len(verts))]

@@ -144,13 +144,12 @@ def heading_track(vectors, theta, fps, window=4.0):
     half = max(1, int(round(window * fps / 2)))
     step = max(1, int(round(HOP * fps)))
     centres = np.arange(half, T - half + 1, step)
-    if n == 0 or len(centres) < 2:
+    most = int(MOST * n // 360)
+    # Bins wider than 15 degrees (or none): a whole bin is too coarse a turn to follow.
+    if most < 2 or len(centres) < 2:
         return out
     sums = np.vstack([np.zeros((1, n)), np.cumsum(h, axis=0)])
     means = (sums[centres + half] - sums[centres - half]) / (2 * half)
-    most = int(MOST * n // 360)
-    if most < 2:   # bins wider than 15 degrees: a whole bin is too coarse a turn to follow
-        return out
     shifts = np.arange(-most, most + 1)
     # For each pair of successive windows, the whole-bin turn that brings the first nearest
     # the second (the smallest turn among equals: none, where none does better).

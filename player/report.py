@@ -145,7 +145,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     ax.set_xlim(-0.5, max(len(curve), 1) - 0.5)
     ax.set_ylabel("atom distance")
     ax.tick_params(labelbottom=False)
-    handles = [h for h in ax.get_legend_handles_labels()[0]]
+    handles = ax.get_legend_handles_labels()[0]
     if heading is not None:
         turn = ax.twinx()
         (line,) = turn.plot(np.arange(len(heading)), heading, color="#909090", lw=1.0, ls="--",

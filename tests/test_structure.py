@@ -235,9 +235,8 @@ def _left_right(half, frames=120, bins=72):
     rows = []
     for u in range(frames):
         side = 1 if (u // half) % 2 == 0 else -1
-        h = 0.0
         phase = (u % half) / half   # the limb travels out within each half
-        rows.append(bump(h + side * (6 + 6 * phase)) + 0.7 * bump(h + side * 16) + bump(h + 36))
+        rows.append(bump(side * (6 + 6 * phase)) + 0.7 * bump(side * 16) + bump(36))
     return np.array(rows)
 
 
