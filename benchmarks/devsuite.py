@@ -371,6 +371,14 @@ SYNTH = {
         ("60fps", dict(motions=["squats", "jumping-jacks", "knee-raises"], cycles=[4, 6, 4], fps=60, seed=15)),
         ("similar-15fps", dict(motions=["run", "walk", "arm-circles", "side-bends"], cycles=[10, 8, 6, 4],
                                jitter=1.5, fps=15, build=1.1, seed=16)),
+        # Pauses between repetitions, as people take them (up to 0.8 s and 1.5 s after each,
+        # at random; HDM05's single-repetition clips each hold some standing too): added
+        # after step 17, designed before the parser was run on them.
+        ("rests", dict(motions=["squats", "jumping-jacks", "side-bends", "knee-raises"], cycles=[6, 8, 4, 5],
+                       rest=0.8, seed=17)),
+        ("rests-long-20fps", dict(motions=["arm-circles", "knee-raises", "squats", "jumping-jacks"],
+                                  cycles=[5, 4, 5, 6], rest=1.5, jitter=1.5, transition=0.5, fps=20, build=0.9,
+                                  seed=18)),
     ],
     "synth-drift": [
         ("drift-x", dict(motions=["jumping-jacks", "squats", "side-bends", "knee-raises"], cycles=[8, 5, 4, 5],

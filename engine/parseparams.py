@@ -19,7 +19,8 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
-BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0}
+BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0,
+          "pause_share": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -132,6 +133,10 @@ class StructureParams:
     weak_boundary : float
         "energy": a boundary whose confidence (engine.confidence) is under this, between two
         clusters of at most one texton each, is dropped; 0 keeps every boundary.
+    pause_share : float
+        "energy": where at least this share of a cluster's frames hold still (pauses between
+        repetitions), its period and textons are measured on the frames that move and each
+        texton keeps the pause after it (engine.pauses); 0 measures every frame.
     """
 
     method: str = "energy"
@@ -158,6 +163,7 @@ class StructureParams:
     refine_reach: float = _param(1.5, at_least=0, at_most=60)
     onset_reach: float = _param(2.0, at_least=0, at_most=60)
     weak_boundary: float = _param(0.25, at_least=0, at_most=1)
+    pause_share: float = _param(0.1, at_least=0, at_most=1)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):

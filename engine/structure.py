@@ -67,6 +67,10 @@ Two methods are provided.
        Textons start at the most repeatable
        atom of the first period and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
+       **Pauses between repetitions** (:mod:`engine.pauses`, ``pause_share``): where a
+       cluster's frames often hold still, its period and textons are found on the frames
+       that move and each texton keeps the pause after it (textons fell short of
+       repetitions, and long pauses became textons of their own).
     3. **Transitions join the exercise they lead into** (:mod:`engine.transitions`).
        Standing still or a slow change of pose between two exercises made a cluster of its
        own (precision 0.50 on the suite's take with 2 s of standing still). A cluster of at
@@ -118,6 +122,7 @@ from .confidence import boundary_confidences, texton_confidence
 from .heading import heading_track, turned
 from .onsets import onset, settle
 from .parseparams import StructureParams
+from .pauses import moving_frames, with_pauses
 from .periods import cluster_period
 from .transitions import absorb_transitions, merge_weak
 
@@ -256,8 +261,18 @@ def _textons_by_period(v, cs, ce, P, w, ci):
 
 def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
     # Step 2: each cluster's period (given, or from its lag profile), then its textons.
+    # A cluster whose repetitions pause (engine.pauses) is measured on its frames that move.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
+        moving = moving_frames(v, cs, ce, fps, p.pause_share)
+        if moving is not None:
+            sub = v[moving]
+            P = cluster_period(sub, 0, len(sub) - 1, fps, w, p, theta, broad=True)[0]
+            found = with_pauses(_textons_by_period(sub, 0, len(sub) - 1, P, w, ci), moving, ce)
+            for t in found:
+                t.distance = atom_distance(v, t.end, t.start, w)
+            textons.extend(found)
+            continue
         P = periods[ci] if periods is not None else None
         if P is None:
             P = cluster_period(v, cs, ce, fps, w, p, theta, broad=True)[0]

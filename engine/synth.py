@@ -175,15 +175,22 @@ PRESETS = {
 }
 
 
-def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, still=0.0, jitter=1.0):
+def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, still=0.0, jitter=1.0,
+              rest=0.0):
     """Pieces ``(kind, motion_index, t0, duration, amp0, amp1)`` back to back, the cycle
     periods (seconds) of each motion, and the total duration. kind is "cycle", "transition"
-    (into ``motion_index``) or "still" (standing at rest before ``motion_index``); amp0 and
-    amp1 are the amplitudes at the start and end of a cycle, so the amplitude changes
-    smoothly from one cycle to the next. ``periods_s`` overrides each motion's mean period,
-    ``jitter`` scales the cycle-to-cycle spread of period and amplitude, and ``still`` seconds
-    of standing at rest split each transition in two halves (into the rest pose and out)."""
+    (into ``motion_index``), "still" (standing at rest before ``motion_index``) or "hold"
+    (a pause after a cycle, in the pose it ended in); amp0 and amp1 are the amplitudes at
+    the start and end of a cycle, so the amplitude changes smoothly from one cycle to the
+    next. ``periods_s`` overrides each motion's mean period, ``jitter`` scales the
+    cycle-to-cycle spread of period and amplitude, ``still`` seconds of standing at rest
+    split each transition in two halves (into the rest pose and out), and each cycle is
+    followed by a pause of ``rest`` times a uniform random fraction, as people pause
+    between repetitions (a cycle's period then counts its pause: the time from one
+    repetition's start to the next)."""
     rng = np.random.default_rng(np.random.SeedSequence([seed, 0]))
+    # Pauses draw from a generator of their own, so a take without them is as before.
+    pauses = np.random.default_rng(np.random.SeedSequence([seed, 1]))
     pieces, periods, t = [], [], 0.0
     for m, (name, n) in enumerate(zip(motions, counts)):
         mean = MOTIONS[name].period_s if periods_s is None else periods_s[m]
@@ -195,15 +202,19 @@ def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, st
             for kind, dur in steps:
                 pieces.append((kind, m, t, dur, 0.0, 0.0))
                 t += dur
+        hold = rest * pauses.random(n) if rest > 0 else np.zeros(n)
         for i in range(n):
             pieces.append(("cycle", m, t, float(per[i]), float(amp[i]), float(amp[i + 1])))
             t += float(per[i])
-        periods.append([float(p) for p in per])
+            if hold[i] > 0:
+                pieces.append(("hold", m, t, float(hold[i]), float(amp[i + 1]), float(amp[i + 1])))
+                t += float(hold[i])
+        periods.append([float(p) for p in per + hold])
     return pieces, periods, t
 
 
 def _piece_pose(pieces, motions, j, end):
-    """Pose at the start (``end`` False) or end of a cycle or still piece ``j``."""
+    """Pose at the start (``end`` False) or end of a cycle, hold or still piece ``j``."""
     kind, m, _, _, amp0, amp1 = pieces[j]
     return _pose() if kind == "still" else MOTIONS[motions[m]].pose(0.0, amp1 if end else amp0)
 
@@ -217,6 +228,8 @@ def _pose_at(pieces, motions, t):
                 return MOTIONS[motions[m]].pose(u % 1.0, amp0 + (amp1 - amp0) * u), m
             if kind == "still":
                 return _pose(), m
+            if kind == "hold":
+                return MOTIONS[motions[m]].pose(0.0, amp0), m
             before = _piece_pose(pieces, motions, j - 1, True)
             after = _piece_pose(pieces, motions, j + 1, False)
             w = u * u * (3 - 2 * u)
@@ -460,15 +473,16 @@ def _acf_at(poses, lag):
 
 
 def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0, periods_s=None,
-         transition=TRANSITION_S, still=0.0, jitter=1.0):
+         transition=TRANSITION_S, still=0.0, jitter=1.0, rest=0.0):
     """Pose and label of every frame, without reconstructing any surface.
 
     Returns ``(poses, labels, motions, periods)``: poses ``(N, len(POSE)) float``, one label
     per frame, the motion names in order, and each motion's cycle periods in seconds.
     ``cycles`` is one count for every motion or a list of one per motion; ``periods_s``
     (one mean period per motion, seconds), ``transition`` (seconds of blend between two
-    motions), ``still`` (seconds standing at rest within each transition) and ``jitter``
-    (scale of the cycle-to-cycle spread) vary the timeline (see :func:`_timeline`).
+    motions), ``still`` (seconds standing at rest within each transition), ``jitter``
+    (scale of the cycle-to-cycle spread) and ``rest`` (longest pause after each cycle,
+    seconds; its periods then count the pauses) vary the timeline (see :func:`_timeline`).
 
     >>> poses, labels, motions, periods = plan("walk")
     >>> poses.shape[1] == len(POSE), labels[0], len(periods[0])
@@ -492,7 +506,8 @@ def plan(preset="gym", motions=None, cycles=None, fps=10, seed=0, periods_s=None
     transition = number("transition", transition, above=0, at_most=60)
     still = number("still", still, at_least=0, at_most=600)
     jitter = number("jitter", jitter, at_least=0, at_most=5)
-    pieces, periods, total = _timeline(motions, counts, seed, periods_s, transition, still, jitter)
+    rest = number("rest", rest, at_least=0, at_most=60)
+    pieces, periods, total = _timeline(motions, counts, seed, periods_s, transition, still, jitter, rest)
     n = max(1, int(round(total * fps)))
     poses, labels = [], []
     for k in range(n):
