@@ -179,3 +179,20 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     facing = [cs for cs, _ in parse(still.vectors, still.fps, theta=still.theta).clusters]
     turning = [cs for cs, _ in parse(take.vectors, take.fps, theta=take.theta).clusters]
     assert len(facing) == len(turning) and max(abs(a - b) for a, b in zip(facing, turning)) <= 10, (facing, turning)
+
+
+def test_repetitions_with_pauses_get_textons_of_a_whole_repetition(devsuite):
+    # The development suite's "rests-long-20fps" take: the synthetic actor pauses up to
+    # 1.5 s after each repetition. Measured on every frame, the lag profile's clearest valley
+    # was the movement alone (squats: textons of 2.2 s where a repetition and its pause last
+    # 3.0 s) and knee raises got half periods; measured on the frames that move
+    # (engine.pauses, StructureParams.pause_share), each texton is a repetition with its pause.
+    from engine.evaluate import score
+    from engine.structure import StructureParams, parse
+    take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
+    found = {share: score(parse(take.vectors, take.fps, StructureParams(pause_share=share), theta=take.theta),
+                          take.truth, take.fps) for share in (0.1, 0.0)}
+    right = {share: sum(ok for *_, ok in found[share].texton_rows) for share in found}
+    assert right[0.1] >= right[0.0] + 2, found[0.1].texton_rows
+    squats = [row for row in found[0.1].texton_rows if abs(row[3] / take.fps - 3.01) < 0.05]   # frames
+    assert squats and squats[0][-1], found[0.1].texton_rows

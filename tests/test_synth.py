@@ -187,3 +187,21 @@ def test_ctrl_c_is_reported_once_by_the_parent(tmp_path):
     assert process.returncode == 130
     assert err == "interrupted\n"
     assert not (out / "truth.json").exists()
+
+
+def test_pauses_between_repetitions_hold_the_pose_and_count_in_the_period():
+    # rest: the actor pauses after each repetition, in the pose the repetition ended in; a
+    # period runs from one repetition's start to the next, pause included.
+    kw = dict(motions=["squats"], cycles=6, fps=10, seed=4)
+    poses0, _, _, periods0 = synth.plan(**kw)
+    poses, labels, _, periods = synth.plan(rest=1.5, **kw)
+    assert np.array_equal(poses0, synth.plan(rest=0.0, **kw)[0])     # no rest: as before
+    added = np.array(periods[0]) - np.array(periods0[0])
+    assert np.all(added >= 0) and np.all(added <= 1.5) and added.sum() > 2.0, added
+    assert len(poses) == pytest.approx(len(poses0) + 10 * added.sum(), abs=2)
+    # a pause: frames that do not move, all in the pose a squat starts and ends in
+    still = np.flatnonzero(np.abs(np.diff(poses, axis=0)).max(axis=1) < 1e-9)
+    assert len(still) >= 10 * added.sum() - 12
+    assert np.allclose(poses[still], poses[0], atol=0.2)
+    with pytest.raises(ValueError, match="rest"):
+        synth.plan(rest=-1, **kw)
