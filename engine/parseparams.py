@@ -211,6 +211,8 @@ class StructureParams:
         0.05
         >>> StructureParams.recorded({}).heading_window      # and read the histograms as they stood
         0.0
+        >>> StructureParams.recorded({}).pause_share         # and measured every frame of a cluster
+        0.0
         >>> StructureParams.recorded(StructureParams().__dict__) == StructureParams()
         True
         """

@@ -259,24 +259,29 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
+def _cluster_textons(v, cs, ce, fps, p, w, theta, P, ci):
+    # Step 2 for one cluster: whole periods of P (from its lag profile where None). Where its
+    # repetitions pause (engine.pauses), the period and textons come from its moving frames
+    # and each texton keeps the pause after it.
+    moving = moving_frames(v, cs, ce, fps, p.pause_share)
+    if moving is not None:
+        sub = v[moving]
+        period = cluster_period(sub, 0, len(sub) - 1, fps, w, p, theta, broad=True)[0]
+        found = _textons_by_period(sub, 0, len(sub) - 1, period, w, ci)
+        if found:
+            for t in with_pauses(found, moving, ce, period):
+                t.distance = atom_distance(v, t.end, t.start, w)
+            return found
+    if P is None:
+        P = cluster_period(v, cs, ce, fps, w, p, theta, broad=True)[0]
+    return _textons_by_period(v, cs, ce, P, w, ci)
+
+
 def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
     # Step 2: each cluster's period (given, or from its lag profile), then its textons.
-    # A cluster whose repetitions pause (engine.pauses) is measured on its frames that move.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
-        moving = moving_frames(v, cs, ce, fps, p.pause_share)
-        if moving is not None:
-            sub = v[moving]
-            P = cluster_period(sub, 0, len(sub) - 1, fps, w, p, theta, broad=True)[0]
-            found = with_pauses(_textons_by_period(sub, 0, len(sub) - 1, P, w, ci), moving, ce)
-            for t in found:
-                t.distance = atom_distance(v, t.end, t.start, w)
-            textons.extend(found)
-            continue
-        P = periods[ci] if periods is not None else None
-        if P is None:
-            P = cluster_period(v, cs, ce, fps, w, p, theta, broad=True)[0]
-        textons.extend(_textons_by_period(v, cs, ce, P, w, ci))
+        textons.extend(_cluster_textons(v, cs, ce, fps, p, w, theta, periods[ci] if periods is not None else None, ci))
     for t in textons:
         t.confidence = texton_confidence(v, t.start, t.end, w)
     return textons
@@ -288,7 +293,7 @@ def _parse_energy(v, fps, p, w, theta, n, step):
     turn_free = novelty_curve(azimuth_spectrum(v, theta), fps, p)[0] if veto else None
     clusters = novelty_clusters(v, fps, p, n, step, turn_free)
     periods = None
-    count = lambda cs, ce, P: len(_textons_by_period(v, cs, ce, P, w, 0))  # noqa: E731
+    count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0))  # noqa: E731
     if p.max_transition > 0:
         clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count)
     if p.refine_reach > 0 and len(clusters) > 1:

@@ -11,10 +11,11 @@ moves on the spot (walking and running as on a treadmill), so a histogram of ver
 about the first frame's centroid sees only the motion.
 
 Timeline: each motion is repeated for a number of cycles whose period and amplitude jitter a
-little from cycle to cycle; between two motions a transition of ``TRANSITION_S`` blends the
-last pose of one into the first pose of the next. Transition frames are labelled with the
-motion they lead *into*, so each segment of ``truth.json`` starts where the actor starts to
-change exercise. The random state of the timeline depends only on the seed, and that of a
+little from cycle to cycle (and, with :func:`plan`'s ``rest``, a pause may follow each
+cycle, as people pause between repetitions); between two motions a transition of
+``TRANSITION_S`` blends the last pose of one into the first pose of the next. Transition
+frames are labelled with the motion they lead *into*, so each segment of ``truth.json``
+starts where the actor starts to change exercise. The random state of the timeline depends only on the seed, and that of a
 frame (grid offset, vertex and colour noise) only on the seed and the frame index, so any
 number of workers writes byte-identical files.
 

@@ -39,3 +39,27 @@ def test_a_movement_without_pauses_is_parsed_as_before():
     with_step, without = (parse(v, 10, StructureParams(pause_share=s)) for s in (0.1, 0.0))
     assert [(t.start, t.end) for t in with_step.textons] == [(t.start, t.end) for t in without.textons]
     assert len(with_step.textons) >= 10
+
+
+def _reversing(period, n=12, fps=10, noise=0.003, seed=1):
+    # A movement along a line and back (a squat's up and down), which slows to nothing at
+    # each turn without pausing.
+    t = np.arange(int(n * period * fps)) / fps
+    x = np.sin(2 * np.pi * t / period)
+    v = np.stack([x, 0.5 * x, -x], axis=1) * 0.05
+    return v + np.random.default_rng(seed).normal(0, noise, v.shape)
+
+
+def test_a_quick_movement_that_reverses_is_parsed_as_before():
+    # its turns last under MIN_PAUSE, so no frame counts as held
+    v = _reversing(1.4)
+    with_step, without = (parse(v, 10, StructureParams(pause_share=s)) for s in (0.1, 0.0))
+    assert [(t.start, t.end) for t in with_step.textons] == [(t.start, t.end) for t in without.textons]
+
+
+def test_a_slow_movement_that_reverses_keeps_textons_of_its_period():
+    # Turns of a 3 s movement hold long enough to count as held; whichever way it is measured,
+    # its textons are one period long.
+    v = _reversing(3.0, n=8)
+    lengths = [len(t) for t in parse(v, 10).textons]
+    assert len(lengths) >= 5 and abs(np.median(lengths) - 30) <= 0.15 * 30, lengths
