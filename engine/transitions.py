@@ -19,7 +19,8 @@ peaks give:
   wrong (5 of 5), and none of the right ones was that weak.
 
 ``count(cs, ce, P)`` is the number of whole textons of period P in cluster [cs, ce] (the
-parser's texton step), passed in by :mod:`engine.structure`.
+parser's texton step, which measures a cluster whose repetitions pause on its moving frames:
+:mod:`engine.pauses`), passed in by :mod:`engine.structure`.
 """
 
 import numpy as np
