@@ -80,7 +80,7 @@ def test_an_edit_shows_the_closing_frames_only_in_cycles_that_wrap(libraries):
 def _check_edit(library, node):
     other = next(n for n in library.nodes if n.id != node.id and n.kind != "once")
     edit = library.edit([node.id, other.id, node.id], loops=3)
-    k, at = library.graph.nodes[node.id]["wrap"], library.graph.nodes[node.id]["wrap_at"]
+    k = library.graph.nodes[node.id]["wrap"]
     plain = library.graph.copy()
     for n in plain.nodes:
         plain.nodes[n].pop("wrap", None), plain.nodes[n].pop("wrap_at", None)
