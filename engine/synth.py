@@ -561,19 +561,21 @@ def _ours(out):
 
 
 def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=16000, seed=0,
-             workers=None, overwrite=False, progress=True):
+             workers=None, overwrite=False, progress=True, rest=0.0):
     """Write a synthetic TVM take into folder ``out`` and return its truth (``truth.json``).
 
     ``out/frame_00000.ply, ...`` are binary PLY frames; ``truth.json`` (written last, by
     rename) holds fps, frames, per-frame labels, segments ``{start, end (inclusive), label}``,
     ``periods_hint`` (the true mean period of each segment), ``vertex_counts`` and the
     generator settings. ``motions`` (names from :data:`MOTIONS`) and ``cycles`` override the
-    preset. Files are identical for any number of ``workers`` (default: all cores).
+    preset; ``rest`` (seconds) pauses the actor after each cycle for up to that long, at
+    random, and the periods then count the pauses (:func:`plan`). Files are identical for any
+    number of ``workers`` (default: all cores).
     """
     vertices = whole("vertices", vertices, at_least=1000, at_most=1_000_000)
     if workers is not None:
         workers = whole("workers", workers, at_least=1, at_most=1024)
-    poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed)
+    poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed, rest=rest)
     out = _prepare(out, overwrite)
     voxel = float(voxel_size(vertices))
     jobs = [(str(out), k, pose, voxel, seed) for k, pose in enumerate(poses)]
@@ -604,7 +606,7 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
         "generator": {"tool": "tvmedit synth", "version": VERSION, "preset": preset,
                       "motions": motions, "cycles": cycles, "seed": seed, "vertices": vertices,
                       "voxel_m": round(voxel, 6), "noise_m": NOISE_M,
-                      "transition_s": TRANSITION_S, "cycle_periods_s": [
+                      "transition_s": TRANSITION_S, "rest_s": rest, "cycle_periods_s": [
                           [round(p, 4) for p in per] for per in periods]},
     }
     atomic.write_text(out / "truth.json", json.dumps(truth, indent=1))

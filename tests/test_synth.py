@@ -164,7 +164,7 @@ def test_cli_help_runs():
     result = subprocess.run([sys.executable, "-m", "tvmedit", "synth", "--help"],
                             capture_output=True, text=True)
     assert result.returncode == 0
-    for option in ("--preset", "--motions", "--cycles", "--vertices", "--workers", "--overwrite"):
+    for option in ("--preset", "--motions", "--cycles", "--rest", "--vertices", "--workers", "--overwrite"):
         assert option in result.stdout
 
 
@@ -208,3 +208,21 @@ def test_pauses_between_repetitions_hold_the_pose_and_count_in_the_period():
     assert np.allclose(poses[still], poses[0], atol=0.2)
     with pytest.raises(ValueError, match="rest"):
         synth.plan(rest=-1, **kw)
+
+
+def test_a_take_that_pauses_is_made_from_the_command_line(tmp_path):
+    # tvmedit synth --rest: the actor pauses after each squat; truth.json's periods count the
+    # pauses and record the setting, and a bad value is one sentence with nothing written.
+    args = [sys.executable, "-m", "tvmedit", "synth", "--motions", "squats", "--cycles", "3", "--fps", "4",
+            "--vertices", "2000", "--seed", "5", "-q"]
+    plain = subprocess.run(args + ["--out", str(tmp_path / "plain")], capture_output=True, text=True)
+    paused = subprocess.run(args + ["--rest", "1.5", "--out", str(tmp_path / "paused")], capture_output=True,
+                            text=True)
+    assert plain.returncode == paused.returncode == 0, paused.stderr
+    a, b = _truth(tmp_path / "plain"), _truth(tmp_path / "paused")
+    assert b["generator"]["rest_s"] == 1.5 and a["generator"]["rest_s"] == 0.0
+    assert b["frames"] > a["frames"] and len(list((tmp_path / "paused").glob("frame_*.ply"))) == b["frames"]
+    assert b["periods_hint"][0]["period_s"] > a["periods_hint"][0]["period_s"]
+    bad = subprocess.run(args + ["--rest", "-1", "--out", str(tmp_path / "bad")], capture_output=True, text=True)
+    assert bad.returncode != 0 and "rest" in bad.stderr and bad.stderr.count("\n") == 1, bad.stderr
+    assert not (tmp_path / "bad").exists()

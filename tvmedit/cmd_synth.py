@@ -13,6 +13,7 @@ presets:
 example:
   tvmedit synth --preset gym --out data/gym
   tvmedit synth --motions squats,side-bends --cycles 3 --vertices 8000 --out /tmp/two
+  tvmedit synth --motions squats,jumping-jacks --rest 1.5 --out /tmp/pausing
 """
 
 import time
@@ -29,6 +30,9 @@ def add_arguments(parser):
                         help="motions in order, replacing the preset's: " + ", ".join(MOTIONS))
     parser.add_argument("--cycles", type=int, metavar="N",
                         help="cycles of every motion (default: about 10 s of each)")
+    parser.add_argument("--rest", type=float, default=0.0, metavar="S",
+                        help="pause after each cycle for up to S seconds, at random, as people pause "
+                             "between repetitions (default: 0, no pauses)")
     parser.add_argument("--fps", type=float, default=10, help="frames per second (default: 10)")
     parser.add_argument("--vertices", type=int, default=16000, metavar="N",
                         help="target vertices per frame; sets the grid resolution (default: 16000)")
@@ -49,7 +53,7 @@ def run(args):
     start = time.perf_counter()
     truth = generate(args.out or args.preset, preset=args.preset, motions=motions, cycles=args.cycles,
                      fps=fps, vertices=args.vertices, seed=args.seed, workers=args.workers,
-                     overwrite=args.overwrite, progress=not args.quiet)
+                     overwrite=args.overwrite, progress=not args.quiet, rest=args.rest)
     if not args.quiet:
         counts = truth["vertex_counts"]
         segments = ", ".join(f"{s['label']} {s['start']}-{s['end']}" for s in truth["segments"])
