@@ -37,9 +37,9 @@ METHODS = {"energy": {}, "paper": {"method": "paper"}}
 #: cross-validation chose it over 3 s from step 4 to step 17 (README), and pauses between
 #: repetitions (step 18) took its place, keeping the grid's size.
 GRID = [{"novelty_components": c, "novelty_threshold": t, "pause_share": a, "turn_ratio": v, "heading_window": h,
-         "max_transition": m, "refine_reach": s, "onset_reach": o, "weak_boundary": b, "period_tolerance": q}
+         "shoulder": m, "refine_reach": s, "onset_reach": o, "weak_boundary": b, "period_tolerance": q}
         for c, t in ((0, 0.05), (10, 0.9), (10, 1.0)) for a in (0.0, 0.1) for v in (0.0, 0.4) for h in (0.0, 4.0)
-        for m in (0.0, 4.0) for s in (0.0, 1.5) for o in (0.0, 2.0) for b in (0.0, 0.25) for q in (0.3, 0.5)]
+        for m in (0.0, 0.2) for s in (0.0, 1.5) for o in (0.0, 2.0) for b in (0.0, 0.25) for q in (0.3, 0.5)]
 
 
 def run(takes, params):

@@ -204,6 +204,17 @@ def novelty_curve(vectors, fps, p):
     return novelty(v, block, min_block=min(block, max(3, int(round(0.5 * p.min_cluster * f))))), step
 
 
+def _shoulder(n, t, claimed, reach, share):
+    # A peak that rises less than ``share`` of its height above the lowest novelty between it
+    # and a stronger peak already taken (within ``reach``) is that peak's shoulder.
+    for q in claimed:
+        if abs(t - q) <= reach:
+            a, b = sorted((q, t))
+            if n[t] - n[a:b + 1].min() < share * n[t]:
+                return True
+    return False
+
+
 def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
     """Clusters cut at the novelty curve's peaks: step 1 of the ``energy`` parser.
 
@@ -253,6 +264,8 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
         if not is_peak[t] or (near_end(t) and n[t] < STRONG_EDGE * p.novelty_threshold):
             continue
         if any(abs(t - q) < sep for q in claimed):
+            continue
+        if p.shoulder > 0 and _shoulder(n, t, claimed, 2 * sep, p.shoulder):
             continue
         if turned(t):
             # A turn's lower shoulders are the same turn: the vetoed peak keeps them away.

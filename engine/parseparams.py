@@ -20,7 +20,7 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
 BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0,
-          "pause_share": 0.0}
+          "pause_share": 0.0, "shoulder": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -116,6 +116,10 @@ class StructureParams:
     min_cluster : float
         "energy": least distance between boundaries, seconds; the first and last cluster
         may be down to 3/4 of it.
+    shoulder : float
+        "energy": a novelty peak within twice ``min_cluster`` of a stronger one already taken
+        that rises less than this share of its height above the lowest novelty between them
+        is the stronger peak's shoulder, not a boundary; 0 keeps it.
     twin_peak : float
         "energy": an earlier novelty peak within ``min_cluster`` of a stronger one and at
         least this fraction of its height is the boundary instead.
@@ -159,6 +163,7 @@ class StructureParams:
     heading_window: float = _param(4.0, at_least=0, at_most=600)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
     twin_peak: float = _param(0.9, at_least=0, at_most=1)
+    shoulder: float = _param(0.2, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
     max_transition: float = _param(4.0, at_least=0, at_most=3600)
     refine_reach: float = _param(1.5, at_least=0, at_most=60)
