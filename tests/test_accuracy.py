@@ -196,3 +196,16 @@ def test_repetitions_with_pauses_get_textons_of_a_whole_repetition(devsuite):
     assert right[0.1] >= right[0.0] + 2, found[0.1].texton_rows
     squats = [row for row in found[0.1].texton_rows if abs(row[3] / take.fps - 3.01) < 0.05]   # frames
     assert squats and squats[0][-1], found[0.1].texton_rows
+
+
+def test_a_shoulder_of_a_strong_novelty_peak_is_no_boundary(devsuite):
+    # The same pausing take: the novelty of the change into knee raises falls away slowly,
+    # and a bump on its flank 2 s later (from the pauses) made a false boundary inside the
+    # knee raises; it is that peak's shoulder (StructureParams.shoulder) and no boundary now.
+    from engine.evaluate import score
+    from engine.structure import StructureParams, parse
+    take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
+    found = {share: score(parse(take.vectors, take.fps, StructureParams(shoulder=share), theta=take.theta),
+                          take.truth, take.fps) for share in (0.2, 0.0)}
+    assert (found[0.2].precision, found[0.2].recall) == (1.0, 1.0), found[0.2].matches
+    assert found[0.0].precision < 1.0

@@ -53,6 +53,18 @@ def test_an_earlier_twin_peak_that_is_a_turn_is_not_taken_for_the_boundary():
     assert starts(n) == [100]
 
 
+def test_the_shoulder_of_a_strong_peak_is_not_a_second_boundary():
+    # A strong change at 10 s whose novelty falls away slowly, with a small bump on its
+    # flank 2 s later (pauses between repetitions make such bumps): min_cluster apart, over
+    # the threshold, but it rises only a little above the flank it stands on.
+    n = np.maximum(bump(100, 0.25, 12.0), bump(120, 0.08, 1.5))
+    assert starts(n) == [100]
+    assert starts(n, shoulder=0) == [100, 120]                 # the step left out
+    # Two changes with the novelty falling between them are both boundaries.
+    apart = np.maximum(bump(100, 0.25, 2.0), bump(125, 0.1, 2.0))
+    assert starts(apart) == [100, 125]
+
+
 def circling(fps, seconds=12.0):
     # Feature rows of a motion that goes round the same poses every 3 s (slow enough that a
     # row's change over 0.1-0.15 s is nearly proportional to the time it spans).
