@@ -171,8 +171,11 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     from engine.structure import StructureParams, parse
     takes = {t.name: t for t in devsuite.cmu_takes() if t.name in ("13_29@1x", "13_29-turn")}
     take = takes["13_29-turn"]
-    found = {window: score(parse(take.vectors, take.fps, StructureParams(heading_window=window), theta=take.theta),
-                           take.truth, take.fps) for window in (4.0, 0.0)}
+    # Without the heading (and without step 19's shoulders, which since also drop that false
+    # boundary, a bump on the flank of a stronger peak) the turn is read as changes of pose.
+    found = {window: score(parse(take.vectors, take.fps, StructureParams(heading_window=window, shoulder=shoulder),
+                                 theta=take.theta), take.truth, take.fps)
+             for window, shoulder in ((4.0, 0.0), (0.0, 0.0))}
     assert (found[4.0].precision, found[4.0].recall, found[4.0].texton_accuracy) == (1.0, 1.0, 1.0), found[4.0].matches
     assert found[0.0].precision < 1.0    # the turn read as changes of pose
     still = takes["13_29@1x"]
