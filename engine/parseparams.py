@@ -85,9 +85,9 @@ class StructureParams:
         development suite; 0.4 halved a texton of CMU 13_29.
     novelty_window : float
         "energy": length of each of the two blocks compared, seconds. 4 s (3 s until step 4
-        of the README) was chosen over 3 s by every fold of leave-one-group-out cross-validation on the
-        development suite from step 4 to step 17 of the README; it is now held fixed there
-        (``benchmarks/accuracy.py``).
+        of the README) was chosen over 3 s by every fold of leave-one-group-out
+        cross-validation on the development suite from step 4 to step 17; it is now held
+        fixed there (``benchmarks/accuracy.py``).
     novelty_threshold : float or None
         "energy": smallest energy-distance peak that counts as a cluster boundary, in the
         units of the novelty's rows. None (the default) is 0.9 where they are whitened

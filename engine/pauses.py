@@ -34,8 +34,8 @@ block of reaching up keeps a false split: the weak-split step counts its textons
 moving frames, finds more than one, and no longer undoes it). Held out (leave one
 group out, with "pauses left out or not" among the settings; every fold chose it, in both
 frames): 0.947 / 0.911 / 0.866 -> 0.947 / 0.911 / 0.881 (tvmedit's axes 0.928 / 0.904 /
-0.842 -> 0.928 / 0.904 / 0.862). The constants were read off the suite and are fragile at its edges: HELD_PACE 0.3
-was the first value tried (0.25 or 0.35: 0.892, 0.35 also losing a CMU boundary through the
+0.842 -> 0.928 / 0.904 / 0.862). The constants were read off the suite and are fragile at its
+edges: HELD_PACE 0.3 was the first value tried (0.25 or 0.35: 0.892, 0.35 also losing a CMU boundary through the
 transitions' texton count); MIN_PAUSE 0.3 s (0.4-0.7 s: 0.892; without it, 0.902 and the
 same CMU boundary lost); shares of 0.05-0.1 score alike, 0.2 0.897.
 """
@@ -115,15 +115,16 @@ def with_pauses(textons, moving, ce, period):
     >>> [(t.start, t.end) for t in with_pauses([a, b], moving, 40, period=3)]   # a period of stillness
     [(10, 19), (20, 33)]
     """
+    if not textons:
+        return textons
+    # The last one keeps at most a period of stillness (not a stretch of standing that closes
+    # the cluster).
+    last = int(moving[textons[-1].end]) + int(period)
     for t in textons:
         after = t.end + 1
-        last = int(moving[t.end])
         t.start = int(moving[t.start])
         t.end = int(moving[after]) - 1 if after < len(moving) else int(ce)
     for a, b in zip(textons, textons[1:]):
         a.end = b.start - 1
-    if textons:
-        # The last one keeps at most a period of stillness (not a stretch of standing that
-        # closes the cluster).
-        textons[-1].end = min(textons[-1].end, last + int(period))
+    textons[-1].end = min(textons[-1].end, last)
     return textons

@@ -282,7 +282,8 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
     # Step 2: each cluster's period (given, or from its lag profile), then its textons.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
-        textons.extend(_cluster_textons(v, cs, ce, fps, p, w, theta, periods[ci] if periods is not None else None, ci))
+        P = periods[ci] if periods is not None else None
+        textons.extend(_cluster_textons(v, cs, ce, fps, p, w, theta, P, ci))
     for t in textons:
         t.confidence = texton_confidence(v, t.start, t.end, w)
     return textons

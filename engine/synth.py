@@ -15,9 +15,9 @@ little from cycle to cycle (and, with :func:`plan`'s ``rest``, a pause may follo
 cycle, as people pause between repetitions); between two motions a transition of
 ``TRANSITION_S`` blends the last pose of one into the first pose of the next. Transition
 frames are labelled with the motion they lead *into*, so each segment of ``truth.json``
-starts where the actor starts to change exercise. The random state of the timeline depends only on the seed, and that of a
-frame (grid offset, vertex and colour noise) only on the seed and the frame index, so any
-number of workers writes byte-identical files.
+starts where the actor starts to change exercise. The random state of the timeline depends
+only on the seed, and that of a frame (grid offset, vertex and colour noise) only on the seed
+and the frame index, so any number of workers writes byte-identical files.
 
 >>> sorted(MOTIONS)
 ['arm-circles', 'jumping-jacks', 'knee-raises', 'run', 'side-bends', 'squats', 'walk']
@@ -227,10 +227,8 @@ def _pose_at(pieces, motions, t):
             u = min(max((t - t0) / max(dur, 1e-9), 0.0), 1.0)
             if kind == "cycle":
                 return MOTIONS[motions[m]].pose(u % 1.0, amp0 + (amp1 - amp0) * u), m
-            if kind == "still":
-                return _pose(), m
-            if kind == "hold":
-                return MOTIONS[motions[m]].pose(0.0, amp0), m
+            if kind in ("still", "hold"):
+                return _piece_pose(pieces, motions, j, False), m
             before = _piece_pose(pieces, motions, j - 1, True)
             after = _piece_pose(pieces, motions, j + 1, False)
             w = u * u * (3 - 2 * u)
