@@ -137,7 +137,8 @@ class StructureParams:
         where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
     weak_boundary : float
         "energy": a boundary whose confidence (engine.confidence) is under this, between two
-        clusters of at most one texton each, is dropped; 0 keeps every boundary.
+        clusters of at most one texton each of which one at least shows no period, is
+        dropped; 0 keeps every boundary.
     pause_share : float
         "energy": where at least this share of a cluster's frames hold still (pauses between
         repetitions), its period and textons are measured on the frames that move and each

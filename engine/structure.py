@@ -87,7 +87,7 @@ Two methods are provided.
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
-       clusters of at most one texton each is dropped.
+       clusters of at most one texton each, one at least showing no period, is dropped.
 
 The features' origin (:mod:`engine.features`) is the first frame's centroid, as in the
 paper, unless the person strays over half a metre from it, when it follows the person (about

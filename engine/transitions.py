@@ -16,7 +16,10 @@ peaks give:
   something on the floor, reaching up: the HDM05 takes) makes novelty fluctuate from one
   repetition to the next and split the exercise in two or three; on the suite every
   boundary between two clusters of at most one texton with a confidence under 0.25 was
-  wrong (5 of 5), and none of the right ones was that weak.
+  wrong (5 of 5), and none of the right ones was that weak. One side at least must show no
+  period: two short stretches that both repeat are two exercises, however weak the peak
+  between them (CMU 13_30 played 1.4x: two alike exercises of about two 1.7 s periods each,
+  one whole texton each, confidence 0.23, were joined).
 
 ``count(cs, ce, P)`` is the number of whole textons of period P in cluster [cs, ce] (the
 parser's texton step, which measures a cluster whose repetitions pause on its moving frames:
@@ -84,7 +87,8 @@ def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None):
     """Clusters with weak boundaries between non-repeating stretches dropped, and their periods.
 
     ``confidence`` holds each cluster's boundary confidence (:mod:`engine.confidence`); a
-    boundary under ``p.weak_boundary`` between two clusters of at most one texton each goes.
+    boundary under ``p.weak_boundary`` between two clusters of at most one texton each, one of
+    them at least showing no period, goes.
     """
     clusters, confidence = list(clusters), list(confidence)
     periods = list(periods) if periods is not None else [
@@ -92,7 +96,10 @@ def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None):
     few = lambda k: periods[k] is None or count(*clusters[k], periods[k]) <= 1  # noqa: E731
     i = 1
     while i < len(clusters):
-        if confidence[i] < p.weak_boundary and few(i - 1) and few(i):
+        # At least one side shows no period: two short stretches that both repeat are two
+        # exercises, however alike (CMU 13_30 at 1.4x, two of two periods each).
+        aperiodic = periods[i - 1] is None or periods[i] is None
+        if confidence[i] < p.weak_boundary and aperiodic and few(i - 1) and few(i):
             _join(v, fps, p, w, theta, clusters, periods, i - 1, i)
             del confidence[i]
             continue

@@ -212,3 +212,21 @@ def test_a_shoulder_of_a_strong_novelty_peak_is_no_boundary(devsuite):
                           take.truth, take.fps) for share in (0.2, 0.0)}
     assert (found[0.2].precision, found[0.2].recall) == (1.0, 1.0), found[0.2].matches
     assert found[0.0].precision < 1.0
+
+
+def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite):
+    # CMU 13_30 played 1.4x (a take of the development suite): two alike exercises of about
+    # two periods each (1.7 s; 3.5 s and 3.0 s long) meet at 8.5 s under a weak novelty peak
+    # (confidence 0.23). Each holds one whole texton, as the stretches of one-off movements
+    # whose weak splits step 6 undoes do, but both show a period: the boundary stays.
+    from conftest import SHARED
+    from engine.evaluate import score
+    from engine.structure import parse
+    if not (SHARED / "tools" / "mocap2tvm.py").exists():
+        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
+    s = parse(take.vectors, take.fps, theta=take.theta)
+    result = score(s, take.truth, take.fps)
+    assert (result.precision, result.recall) == (1.0, 1.0), result.matches
+    weak = [c for (cs, _), c in zip(s.clusters, s.boundary_confidence) if abs(cs / take.fps - 8.5) <= 1.0]
+    assert weak and weak[0] < StructureParams().weak_boundary, (s.clusters, s.boundary_confidence)
