@@ -380,6 +380,15 @@ SYNTH = {
         ("rests-long-20fps", dict(motions=["arm-circles", "knee-raises", "squats", "jumping-jacks"],
                                   cycles=[5, 4, 5, 6], rest=1.5, jitter=1.5, transition=0.5, fps=20, build=0.9,
                                   seed=18)),
+        # One-off movements among the exercises (putting something on the floor, reaching up:
+        # each repetition goes somewhere else, as HDM05's floor deposits and high grabs do),
+        # and a take whose tempo wanders as a person's does (periods +/- 25 %, one-offs'
+        # +/- 35 %): added after step 20, designed before the parser was run on them.
+        ("one-offs", dict(motions=["pick-up", "jumping-jacks", "reach-up", "squats", "arm-circles"],
+                          cycles=[5, 8, 5, 5, 6], rest=0.6, build=1.05, seed=19)),
+        ("one-offs-irregular-15fps", dict(motions=["knee-raises", "reach-up", "run", "pick-up", "side-bends"],
+                                          cycles=[5, 4, 10, 4, 4], jitter=2.5, transition=1.5, fps=15, build=0.85,
+                                          height=0.95, seed=20)),
     ],
     "synth-drift": [
         ("drift-x", dict(motions=["jumping-jacks", "squats", "side-bends", "knee-raises"], cycles=[8, 5, 4, 5],

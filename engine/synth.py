@@ -11,7 +11,8 @@ moves on the spot (walking and running as on a treadmill), so a histogram of ver
 about the first frame's centroid sees only the motion.
 
 Timeline: each motion is repeated for a number of cycles whose period and amplitude jitter a
-little from cycle to cycle (and, with :func:`plan`'s ``rest``, a pause may follow each
+little from cycle to cycle (a lot for the one-off movements, putting something on the floor
+and reaching up, whose repetitions each go somewhere else) (and, with :func:`plan`'s ``rest``, a pause may follow each
 cycle, as people pause between repetitions); between two motions a transition of
 ``TRANSITION_S`` blends the last pose of one into the first pose of the next. Transition
 frames are labelled with the motion they lead *into*, so each segment of ``truth.json``
@@ -20,7 +21,7 @@ only on the seed, and that of a frame (grid offset, vertex and colour noise) onl
 and the frame index, so any number of workers writes byte-identical files.
 
 >>> sorted(MOTIONS)
-['arm-circles', 'jumping-jacks', 'knee-raises', 'run', 'side-bends', 'squats', 'walk']
+['arm-circles', 'jumping-jacks', 'knee-raises', 'pick-up', 'reach-up', 'run', 'side-bends', 'squats', 'walk']
 >>> PRESETS["gym"]["motions"][0], PRESETS["walk"]["motions"]
 ('walk', ['walk'])
 """
@@ -45,6 +46,8 @@ TRANSITION_S = 0.8          # blend between two motions, seconds
 NOISE_M = 0.002             # Gaussian vertex noise, metres
 PERIOD_JITTER = 0.04        # relative standard deviation of a cycle's period
 AMPLITUDE_JITTER = 0.06     # relative standard deviation of a cycle's amplitude
+SPREAD_PERIOD = 0.35        # largest relative change of a one-off movement's period (Motion.spread)
+SPREAD_AMPLITUDE = 0.5      # largest change of a one-off movement's amplitude
 # Voxel size that gives about 16,000 vertices per frame for this body (measured on the
 # gym preset); the vertex count grows with the inverse square of the voxel size.
 VOXEL_AT_16K = 0.0122
@@ -149,13 +152,51 @@ def _knee_raises(phase, a):
                  sh_flex_l=0.6 + 0.3 * right, sh_flex_r=0.6 + 0.3 * left, elbow_l=1.9, elbow_r=1.9)
 
 
+def _ease(phase, up, top):
+    # 0 -> 1 over [0, up), 1 over [up, top), 1 -> 0 over [top, 1): a one-off movement's course.
+    if phase < up:
+        return (1 - np.cos(np.pi * phase / up)) / 2
+    if phase < top:
+        return 1.0
+    return (1 + np.cos(np.pi * (phase - top) / (1 - top))) / 2
+
+
+# One-off movements: each repetition goes somewhere else, as a person putting things on the
+# floor or taking them off a shelf does (HDM05's depositFloorR and grabHighR clips). The
+# amplitude, spread wide for these (Motion.spread), sets how far round the body turns, how it
+# leans and how deep or high it reaches; the cycle starts and ends standing, whatever it is.
+
+def _pick_up(phase, a):
+    # Bend down and put something on the floor with the right hand, a moment there, back up.
+    d, side = _ease(phase, 0.45, 0.6), a - 1
+    return _pose(pitch=(1.25 + 0.3 * side) * d, yaw=1.6 * side * d, roll=(0.5 * side - 0.2) * d,
+                 hip_flex_l=0.8 * d, hip_flex_r=0.8 * d, knee_l=(1.1 + 0.5 * side) * d,
+                 knee_r=(1.1 - 0.3 * side) * d, hip_abd_l=0.08, hip_abd_r=0.08,
+                 sh_flex_r=0.1 + 1.5 * d, sh_abd_r=0.15 + 0.2 * d, elbow_r=0.15,
+                 sh_flex_l=0.1 + 0.35 * d, elbow_l=0.15 + 0.5 * d)
+
+
+def _reach_up(phase, a):
+    # Reach up high with the right hand, rising on the toes, a moment there, back down.
+    r, side = _ease(phase, 0.4, 0.55), a - 1
+    return _pose(sh_flex_r=0.15 + (2.5 + 0.4 * side) * r, sh_abd_r=0.15 + 0.6 * max(0.0, side) * r,
+                 elbow_r=0.15 + 0.8 * r * (1 - r), yaw=1.4 * side * r, roll=-0.45 * side * r,
+                 pitch=-0.1 * r, toe_l=(0.25 + 0.4 * side) * r, toe_r=(0.3 + 0.4 * side) * r,
+                 sh_abd_l=0.15 + 0.3 * r, elbow_l=0.15 + 0.3 * r)
+
+
 @dataclass(frozen=True)
 class Motion:
-    """A cyclic motion: pose function of (phase, amplitude), mean period and default cycles."""
+    """A repeated motion: pose function of (phase, amplitude), mean period and default cycles.
+
+    ``spread`` scales the cycle-to-cycle spread of its period and amplitude: 1 for exercises,
+    wider for one-off movements, whose repetitions differ (see :func:`_timeline`).
+    """
 
     pose: Callable[[float, float], np.ndarray]
     period_s: float
     cycles: int
+    spread: float = 1.0
 
 
 MOTIONS = {
@@ -166,6 +207,8 @@ MOTIONS = {
     "squats": Motion(_squats, 2.2, 5),
     "side-bends": Motion(_side_bends, 2.5, 4),
     "knee-raises": Motion(_knee_raises, 1.8, 5),
+    "pick-up": Motion(_pick_up, 2.4, 4, spread=4.0),
+    "reach-up": Motion(_reach_up, 2.0, 4, spread=4.0),
 }
 
 PRESETS = {
@@ -184,7 +227,8 @@ def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, st
     (a pause after a cycle, in the pose it ended in); amp0 and amp1 are the amplitudes at
     the start and end of a cycle, so the amplitude changes smoothly from one cycle to the
     next. ``periods_s`` overrides each motion's mean period, ``jitter`` scales the
-    cycle-to-cycle spread of period and amplitude, ``still`` seconds of standing at rest
+    cycle-to-cycle spread of period and amplitude (times the motion's ``spread``, within
+    :data:`SPREAD_PERIOD` and :data:`SPREAD_AMPLITUDE`, for one-off movements), ``still`` seconds of standing at rest
     split each transition in two halves (into the rest pose and out), and each cycle is
     followed by a pause of ``rest`` times a uniform random fraction, as people pause
     between repetitions (a cycle's period then counts its pause: the time from one
@@ -195,8 +239,13 @@ def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, st
     pieces, periods, t = [], [], 0.0
     for m, (name, n) in enumerate(zip(motions, counts)):
         mean = MOTIONS[name].period_s if periods_s is None else periods_s[m]
-        per = mean * (1 + jitter * np.clip(rng.normal(0, PERIOD_JITTER, n), -0.1, 0.1))
-        amp = 1 + jitter * np.clip(rng.normal(0, AMPLITUDE_JITTER, n + 1), -0.15, 0.15)
+        dev = jitter * np.clip(rng.normal(0, PERIOD_JITTER, n), -0.1, 0.1)
+        adev = jitter * np.clip(rng.normal(0, AMPLITUDE_JITTER, n + 1), -0.15, 0.15)
+        spread = MOTIONS[name].spread
+        if spread != 1:
+            dev = np.clip(spread * dev, -SPREAD_PERIOD, SPREAD_PERIOD)
+            adev = np.clip(spread * adev, -SPREAD_AMPLITUDE, SPREAD_AMPLITUDE)
+        per, amp = mean * (1 + dev), 1 + adev
         if m > 0:
             steps = [("transition", transition)] if still <= 0 else [
                 ("transition", transition / 2), ("still", still), ("transition", transition / 2)]

@@ -226,3 +226,29 @@ def test_a_take_that_pauses_is_made_from_the_command_line(tmp_path):
     bad = subprocess.run(args + ["--rest", "-1", "--out", str(tmp_path / "bad")], capture_output=True, text=True)
     assert bad.returncode != 0 and "rest" in bad.stderr and bad.stderr.count("\n") == 1, bad.stderr
     assert not (tmp_path / "bad").exists()
+
+
+def _right_hand_height(pose):
+    # Height of the right hand's tip (the last "hand" capsule is the right one).
+    hand = [p for p in synth.primitives(pose) if p[-1] == "hand"][-1]
+    return float(hand[2][2])
+
+
+def test_one_off_movements_go_somewhere_else_each_time_and_start_standing():
+    # pick-up and reach-up stand for putting things on the floor and taking them off a shelf:
+    # each repetition turns the body another way and lasts another time (spread 4: much more
+    # than an exercise's repetitions), reaches the floor or above the head, and starts and
+    # ends standing, so repetitions join without a jump.
+    for name, low in (("pick-up", True), ("reach-up", False)):
+        poses, labels, _, periods = synth.plan(motions=[name, "squats"], cycles=[8, 8], fps=20, seed=6)
+        mine = poses[np.array(labels) == name]
+        yaw = mine[:, synth.POSE.index("yaw")]
+        starts = np.concatenate([[0], np.round(np.cumsum(periods[0])[:-1] * 20).astype(int)])
+        extreme = [yaw[a: b][np.argmax(np.abs(yaw[a: b]))] for a, b in zip(starts, list(starts[1:]) + [len(yaw)])]
+        assert np.ptp(extreme) > 0.5, extreme   # turned between about -0.8 and 0.8 rad
+        spread = lambda p: np.std(p) / np.mean(p)  # noqa: E731
+        assert spread(periods[0]) > 2 * spread(periods[1]), periods
+        standing = synth.MOTIONS[name].pose(0.0, 1.0)   # whatever the repetition's amplitude
+        assert np.abs(mine[starts] - standing).max() < 0.05
+        heights = [_right_hand_height(p) for p in mine]
+        assert (min(heights) < 0.5) if low else (max(heights) > 1.9), (min(heights), max(heights))

@@ -1,9 +1,10 @@
 """Make a synthetic time-varying mesh take with a procedural actor, as a capture studio would.
 
-Each frame of the actor (an implicit body posed by cyclic motions) is reconstructed on its
-own with marching cubes, so vertex count and connectivity change every frame. The folder
-gets binary PLY frames frame_00000.ply, ... and truth.json (labels, segments, true periods),
-which is written last: a folder without it is incomplete.
+Each frame of the actor (an implicit body posed by exercises, and by one-off movements,
+putting something on the floor and reaching up, whose repetitions each go somewhere else) is
+reconstructed on its own with marching cubes, so vertex count and connectivity change every
+frame. The folder gets binary PLY frames frame_00000.ply, ... and truth.json (labels,
+segments, true periods), which is written last: a folder without it is incomplete.
 
 presets:
   walk   about 100 frames of walking on the spot at 10 fps (like the paper's Walk)
@@ -14,6 +15,7 @@ example:
   tvmedit synth --preset gym --out data/gym
   tvmedit synth --motions squats,side-bends --cycles 3 --vertices 8000 --out /tmp/two
   tvmedit synth --motions squats,jumping-jacks --rest 1.5 --out /tmp/pausing
+  tvmedit synth --motions pick-up,reach-up,squats --out /tmp/one-offs
 """
 
 import time
