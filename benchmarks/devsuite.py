@@ -4,10 +4,11 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
 
 ``synth``
     The synthetic actor (:mod:`engine.synth`) varied: builds (slim to heavy) and heights,
-    mean periods 0.6-3 s, cycle-to-cycle jitter, exercise orders, transitions of 0.2-3 s
-    (with standing still between exercises), pauses of up to 0.8 or 1.5 s after each
-    repetition, the left-then-right exercises (knee raises, side bends), vertex noise and
-    holes, frame rates 10-60 fps.
+    mean periods 0.6-3 s, cycle-to-cycle jitter (up to 2.5 times the default), exercise
+    orders, transitions of 0.2-3 s (with standing still between exercises), pauses of up to
+    0.8 or 1.5 s after each repetition, one-off movements (putting something on the floor,
+    reaching up: each repetition goes elsewhere and lasts another time), the left-then-right
+    exercises (knee raises, side bends), vertex noise and holes, frame rates 10-60 fps.
 ``synth-drift``
     The same actor walking across the capture volume while exercising (up to 1.5 m over a
     take), so the paper's fixed origin at the first frame's centre falls behind, and turning

@@ -137,7 +137,7 @@ class StructureParams:
         where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
     weak_boundary : float
         "energy": a boundary whose confidence (engine.confidence) is under this, between two
-        clusters of at most one texton each of which one at least shows no period, is
+        clusters of at most one texton each, at least one of which shows no period, is
         dropped; 0 keeps every boundary.
     pause_share : float
         "energy": where at least this share of a cluster's frames hold still (pauses between

@@ -1,6 +1,6 @@
 """Clusters that are no exercise of their own: transitions joined to an exercise, weak splits undone.
 
-Steps 3 and 5 of the ``energy`` parser (:mod:`engine.structure`), on the clusters the novelty
+Steps 3 and 6 of the ``energy`` parser (:mod:`engine.structure`), on the clusters the novelty
 peaks give:
 
 * **Transitions join the exercise they lead into** (:func:`absorb_transitions`). Standing
@@ -14,12 +14,14 @@ peaks give:
   (:func:`merge_weak`). Between cyclic exercises novelty compares whole cycles, and a small
   peak still marks a change. An exercise whose repetitions are one-off movements (putting
   something on the floor, reaching up: the HDM05 takes) makes novelty fluctuate from one
-  repetition to the next and split the exercise in two or three; on the suite every
-  boundary between two clusters of at most one texton with a confidence under 0.25 was
-  wrong (5 of 5), and none of the right ones was that weak. One side at least must show no
-  period: two short stretches that both repeat are two exercises, however weak the peak
+  repetition to the next and split the exercise in two or three; on the suite when the
+  step came in (README, step 6) every boundary between two clusters of at most one texton
+  with a confidence under 0.25 was wrong (5 of 5), and none of the right ones was that
+  weak. Since then one right one is (README, step 20), so one side at least must also show
+  no period: two short stretches that both repeat are two exercises, however weak the peak
   between them (CMU 13_30 played 1.4x: two alike exercises of about two 1.7 s periods each,
-  one whole texton each, confidence 0.23, were joined).
+  one whole texton each, confidence 0.23, were joined). On the 46 takes of the suite the
+  step undoes three HDM05 splits, each with a side that shows no period.
 
 ``count(cs, ce, P)`` is the number of whole textons of period P in cluster [cs, ce] (the
 parser's texton step, which measures a cluster whose repetitions pause on its moving frames:

@@ -228,5 +228,7 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
     s = parse(take.vectors, take.fps, theta=take.theta)
     result = score(s, take.truth, take.fps)
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
-    weak = [c for (cs, _), c in zip(s.clusters, s.boundary_confidence) if abs(cs / take.fps - 8.5) <= 1.0]
-    assert weak and weak[0] < StructureParams().weak_boundary, (s.clusters, s.boundary_confidence)
+    at = [i for i, (cs, _) in enumerate(s.clusters) if abs(cs / take.fps - 8.5) <= 1.0]
+    assert at and s.boundary_confidence[at[0]] < StructureParams().weak_boundary, (s.clusters, s.boundary_confidence)
+    # what makes it a case for step 6: at most one whole texton on either side
+    assert all(len(s.textons_of(k)) <= 1 for k in (at[0] - 1, at[0])), [s.textons_of(k) for k in (at[0] - 1, at[0])]

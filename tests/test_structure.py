@@ -256,3 +256,20 @@ def test_the_parser_reads_a_turning_person_as_facing_one_way_and_needs_the_rate_
     assert np.array_equal(a, parser_view(still, StructureParams(heading_window=0), theta, 10))   # no turn: as is
     with pytest.raises(ValueError, match="frame rate"):
         parser_view(still, p, theta)
+
+
+def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
+    # engine.transitions.merge_weak (step 6 and step 20 of the energy parser): a weak boundary
+    # between two clusters of at most one texton each goes when one side shows no period, and
+    # stays between two short stretches that both repeat (two alike exercises), as it stays
+    # wherever the boundary is not weak.
+    from engine.transitions import merge_weak
+    v, _ = cyclic_sequence([(30, 12), (30, 12)])
+    p, w = StructureParams(), atom_window(10)
+    one = lambda cs, ce, period: 1  # noqa: E731  (one whole texton in each)
+    clusters = [(0, 29), (30, 59)]
+    kept, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.1], periods=[12, 12])
+    joined, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.1], periods=[None, 12])
+    strong, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.5], periods=[None, 12])
+    assert kept == clusters and strong == clusters
+    assert joined == [(0, 59)]

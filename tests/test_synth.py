@@ -250,5 +250,8 @@ def test_one_off_movements_go_somewhere_else_each_time_and_start_standing():
         assert spread(periods[0]) > 2 * spread(periods[1]), periods
         standing = synth.MOTIONS[name].pose(0.0, 1.0)   # whatever the repetition's amplitude
         assert np.abs(mine[starts] - standing).max() < 0.05
+        for a in (0.5, 0.8, 1.2, 1.5):
+            assert np.allclose(synth.MOTIONS[name].pose(0.0, a), standing)
+            assert np.allclose(synth.MOTIONS[name].pose(1 - 1e-9, a), standing, atol=1e-6)
         heights = [_right_hand_height(p) for p in mine]
         assert (min(heights) < 0.5) if low else (max(heights) > 1.9), (min(heights), max(heights))
