@@ -611,8 +611,9 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
              workers=None, overwrite=False, progress=True, rest=0.0):
     """Write a synthetic TVM take into folder ``out`` and return its truth (``truth.json``).
 
-    ``out/frame_00000.ply, ...`` are binary PLY frames; ``truth.json`` (written last, by
-    rename) holds fps, frames, per-frame labels, segments ``{start, end (inclusive), label}``,
+    ``out/frame_00000.ply, ...`` are binary PLY frames; ``sequence.json`` gives their frame
+    rate (``{"fps": fps}``, which :func:`engine.load.open_sequence` reads); ``truth.json``
+    (written last, by rename) holds fps, frames, per-frame labels, segments ``{start, end (inclusive), label}``,
     ``periods_hint`` (the true mean period of each segment), ``vertex_counts`` and the
     generator settings. ``motions`` (names from :data:`MOTIONS`) and ``cycles`` override the
     preset; ``rest`` (seconds) pauses the actor after each cycle for up to that long, at
@@ -656,6 +657,9 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
                       "transition_s": TRANSITION_S, "rest_s": rest, "cycle_periods_s": [
                           [round(p, 4) for p in per] for per in periods]},
     }
+    # The frame rate beside the frames, where `tvmedit build` reads it (PLY frames carry none).
+    atomic.write_text(out / "sequence.json", json.dumps({"fps": fps}))
     atomic.write_text(out / "truth.json", json.dumps(truth, indent=1))
-    atomic.mark(out, "take", files=["truth.json", *(f"frame_{k:05d}.ply" for k in range(len(jobs)))])
+    atomic.mark(out, "take", files=["truth.json", "sequence.json",
+                                    *(f"frame_{k:05d}.ply" for k in range(len(jobs)))])
     return truth

@@ -255,3 +255,16 @@ def test_one_off_movements_go_somewhere_else_each_time_and_start_standing():
             assert np.allclose(synth.MOTIONS[name].pose(1 - 1e-9, a), standing, atol=1e-6)
         heights = [_right_hand_height(p) for p in mine]
         assert (min(heights) < 0.5) if low else (max(heights) > 1.9), (min(heights), max(heights))
+
+
+def test_a_take_made_at_another_rate_is_built_at_that_rate(tmp_path):
+    # PLY frames carry no frame rate: tvmedit synth writes it beside them (sequence.json),
+    # where tvmedit build reads it, so a 5 fps take is not read as 10 fps (its periods and
+    # playback twice too fast); an overwrite replaces it with the rest of the take.
+    from engine.load import open_sequence
+    out = tmp_path / "slow"
+    synth.generate(out, motions=["squats"], cycles=1, fps=5, vertices=1500, workers=1, progress=False)
+    assert open_sequence(out).fps == 5
+    synth.generate(out, motions=["squats"], cycles=1, fps=8, vertices=1500, workers=1, progress=False,
+                   overwrite=True)
+    assert open_sequence(out).fps == 8 and json.loads((out / "sequence.json").read_text()) == {"fps": 8}

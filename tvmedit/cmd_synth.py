@@ -3,8 +3,9 @@
 Each frame of the actor (an implicit body posed by exercises, and by one-off movements,
 putting something on the floor and reaching up, whose repetitions each go somewhere else) is
 reconstructed on its own with marching cubes, so vertex count and connectivity change every
-frame. The folder gets binary PLY frames frame_00000.ply, ... and truth.json (labels,
-segments, true periods), which is written last: a folder without it is incomplete.
+frame. The folder gets binary PLY frames frame_00000.ply, ..., sequence.json (their frame
+rate, which `tvmedit build` reads) and truth.json (labels, segments, true periods), which is
+written last: a folder without it is incomplete.
 
 presets:
   walk   about 100 frames of walking on the spot at 10 fps (like the paper's Walk)
