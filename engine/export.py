@@ -23,6 +23,7 @@ import re
 from pathlib import Path
 
 from . import atomic
+from .load import SIDECAR, sidecar_json
 from .plyfast import write_ply
 
 __all__ = ["export_edit"]
@@ -86,7 +87,7 @@ def export_edit(edit, out, force=False, progress=False):
             "transitions": [t.to_json() for t in edit.transitions],
         }
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
-        (tmp / "sequence.json").write_text(json.dumps({"fps": record["fps"], "name": out.name}))
+        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name))
     return record
 
 

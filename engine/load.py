@@ -37,6 +37,8 @@ SIDECAR_SUFFIXES = (".json", ".txt", ".md", ".csv", ".log", ".yaml", ".yml")
 _QUIET_SUFFIXES = SIDECAR_SUFFIXES + (".mtl", ".png", ".jpg", ".jpeg", ".webp", ".bmp", ".bin", ".wav")
 NEUTRAL_COLOUR = (180, 180, 180)
 DEFAULT_FPS = 10.0
+#: The file beside a sequence's frames that gives its frame rate and name (:func:`sidecar_json`).
+SIDECAR = "sequence.json"
 #: Largest vertex coordinate accepted: a kilometre in metres, a metre in micrometres.
 MAX_COORDINATE = 1e6
 
@@ -269,9 +271,18 @@ def read_frame(path, orientation=None, detail="full"):
                  faces=np.ascontiguousarray(faces, dtype=np.uint32), uv=uv, texture=texture)
 
 
+def sidecar_json(fps, name=None):
+    """Text of the :data:`SIDECAR` that gives frames their rate (and name), as read here.
+
+    >>> sidecar_json(5), sidecar_json(30.0, "walk")
+    ('{"fps": 5}', '{"fps": 30.0, "name": "walk"}')
+    """
+    return json.dumps({"fps": fps} if name is None else {"fps": fps, "name": name})
+
+
 def _sidecar(paths):
-    """``sequence.json`` beside the frames, or ``{}``."""
-    candidate = Path(paths[0]).parent / "sequence.json"
+    """:data:`SIDECAR` beside the frames, or ``{}``."""
+    candidate = Path(paths[0]).parent / SIDECAR
     if not candidate.exists():
         return {}
     try:
@@ -390,7 +401,7 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     if name is None and "name" in meta:
         name = meta["name"]
         if not isinstance(name, str) or not name.strip():
-            raise InputError(f"{Path(captured[0]).parent / 'sequence.json'} gives the sequence name "
+            raise InputError(f"{Path(captured[0]).parent / SIDECAR} gives the sequence name "
                              f"{json.dumps(name)}, but a name must be a non-empty string such as "
                              "\"walk\"; fix it or remove the name.")
     paths = [captured[k] for k in resample(times, rate)] if times is not None else list(captured)

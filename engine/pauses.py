@@ -34,9 +34,9 @@ block of reaching up keeps a false split: the weak-split step counts its textons
 moving frames, finds more than one, and no longer undoes it). Held out (leave one
 group out, with "pauses left out or not" among the settings; every fold chose it, in both
 frames): 0.947 / 0.911 / 0.866 -> 0.947 / 0.911 / 0.881 (tvmedit's axes 0.928 / 0.904 /
-0.842 -> 0.928 / 0.904 / 0.862). The constants were read off the suite and are fragile at its
-edges: HELD_PACE 0.3 was the first value tried (0.25 or 0.35: 0.892, 0.35 also losing a CMU boundary through the
-transitions' texton count); MIN_PAUSE 0.3 s (0.4-0.7 s: 0.892; without it, 0.902 and the
+0.842 -> 0.928 / 0.904 / 0.862). The constants were read off the suite and are fragile at
+its edges: HELD_PACE 0.3 was the first value tried (0.25 or 0.35: 0.892, 0.35 also losing a
+CMU boundary through the transitions' texton count); MIN_PAUSE 0.3 s (0.4-0.7 s: 0.892; without it, 0.902 and the
 same CMU boundary lost); shares of 0.05-0.1 score alike, 0.2 0.897.
 """
 

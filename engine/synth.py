@@ -35,6 +35,7 @@ import numpy as np
 
 from . import atomic
 from .errors import InputError
+from .load import SIDECAR, sidecar_json
 from .parallel import Workers, default_workers
 from .params import number, whole
 from .plyfast import write_ply
@@ -228,11 +229,11 @@ def _timeline(motions, counts, seed, periods_s=None, transition=TRANSITION_S, st
     the start and end of a cycle, so the amplitude changes smoothly from one cycle to the
     next. ``periods_s`` overrides each motion's mean period, ``jitter`` scales the
     cycle-to-cycle spread of period and amplitude (times the motion's ``spread``, within
-    :data:`SPREAD_PERIOD` and :data:`SPREAD_AMPLITUDE`, for one-off movements), ``still`` seconds of standing at rest
-    split each transition in two halves (into the rest pose and out), and each cycle is
-    followed by a pause of ``rest`` times a uniform random fraction, as people pause
-    between repetitions (a cycle's period then counts its pause: the time from one
-    repetition's start to the next)."""
+    :data:`SPREAD_PERIOD` and :data:`SPREAD_AMPLITUDE`, for one-off movements), ``still``
+    seconds of standing at rest split each transition in two halves (into the rest pose and
+    out), and each cycle is followed by a pause of ``rest`` times a uniform random fraction,
+    as people pause between repetitions (a cycle's period then counts its pause: the time
+    from one repetition's start to the next)."""
     rng = np.random.default_rng(np.random.SeedSequence([seed, 0]))
     # Pauses draw from a generator of their own, so a take without them is as before.
     pauses = np.random.default_rng(np.random.SeedSequence([seed, 1]))
@@ -613,12 +614,12 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
 
     ``out/frame_00000.ply, ...`` are binary PLY frames; ``sequence.json`` gives their frame
     rate (``{"fps": fps}``, which :func:`engine.load.open_sequence` reads); ``truth.json``
-    (written last, by rename) holds fps, frames, per-frame labels, segments ``{start, end (inclusive), label}``,
-    ``periods_hint`` (the true mean period of each segment), ``vertex_counts`` and the
-    generator settings. ``motions`` (names from :data:`MOTIONS`) and ``cycles`` override the
-    preset; ``rest`` (seconds) pauses the actor after each cycle for up to that long, at
-    random, and the periods then count the pauses (:func:`plan`). Files are identical for any
-    number of ``workers`` (default: all cores).
+    (written last, by rename) holds fps, frames, per-frame labels, segments
+    ``{start, end (inclusive), label}``, ``periods_hint`` (the true mean period of each
+    segment), ``vertex_counts`` and the generator settings. ``motions`` (names from
+    :data:`MOTIONS`) and ``cycles`` override the preset; ``rest`` (seconds) pauses the actor
+    after each cycle for up to that long, at random, and the periods then count the pauses
+    (:func:`plan`). Files are identical for any number of ``workers`` (default: all cores).
     """
     vertices = whole("vertices", vertices, at_least=1000, at_most=1_000_000)
     if workers is not None:
@@ -658,8 +659,8 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
                           [round(p, 4) for p in per] for per in periods]},
     }
     # The frame rate beside the frames, where `tvmedit build` reads it (PLY frames carry none).
-    atomic.write_text(out / "sequence.json", json.dumps({"fps": fps}))
+    atomic.write_text(out / SIDECAR, sidecar_json(fps))
     atomic.write_text(out / "truth.json", json.dumps(truth, indent=1))
-    atomic.mark(out, "take", files=["truth.json", "sequence.json",
+    atomic.mark(out, "take", files=["truth.json", SIDECAR,
                                     *(f"frame_{k:05d}.ply" for k in range(len(jobs)))])
     return truth
