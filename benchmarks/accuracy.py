@@ -38,14 +38,15 @@ METHODS = {"energy": {}, "paper": {"method": "paper"}}
 #: novelty window at 4 s (steps 4-17), transitions joined (step 18's, both frames), and,
 #: from step 20 on, pauses left out of periods, the heading followed, boundaries between
 #: whole periods and at the onset (step 19's, 768 settings, in the body's axes: on step 19
-#: these 48 give the same held-out figures, and on the 46 takes of step 20 too). In
-#: tvmedit's axes (``TVMEDIT_DEV_FRAME=stored``) the synthetic folds choose neither the
-#: heading nor boundaries between whole periods, so there those three steps stay among the
-#: settings (384).
+#: these 48 give the same held-out figures, and on the 46 takes of step 20 too). Step 21
+#: (weak peaks where the rhythm changes) came in among them: 96 settings. In tvmedit's axes
+#: (``TVMEDIT_DEV_FRAME=stored``) the synthetic folds choose neither the heading nor
+#: boundaries between whole periods, so there those three steps stay among the settings
+#: (768).
 GRID = [{"novelty_components": c, "novelty_threshold": t, "turn_ratio": v, "shoulder": m, "weak_boundary": b,
-         "period_tolerance": q}
+         "period_tolerance": q, "rhythm_ratio": h}
         for c, t in ((0, 0.05), (10, 0.9), (10, 1.0)) for v in (0.0, 0.4) for m in (0.0, 0.2) for b in (0.0, 0.25)
-        for q in (0.3, 0.5)]
+        for q in (0.3, 0.5) for h in (0.0, 1.5)]
 if devsuite.FRAME == "stored":
     GRID = [{**s, "heading_window": h, "refine_reach": r, "onset_reach": o}
             for s in GRID for h in (0.0, 4.0) for r in (0.0, 1.5) for o in (0.0, 2.0)]

@@ -20,7 +20,7 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
 BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0,
-          "pause_share": 0.0, "shoulder": 0.0}
+          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -139,6 +139,10 @@ class StructureParams:
         "energy": a boundary whose confidence (engine.confidence) is under this, between two
         clusters of at most one texton each, at least one of which shows no period, is
         dropped; 0 keeps every boundary.
+    rhythm_ratio : float
+        "energy": a novelty peak under the threshold (but at least 3/4 of it) is a boundary
+        where the periods before and after it differ by this ratio or more, and not by a
+        whole multiple (engine.rhythm); 0 leaves every such peak out.
     pause_share : float
         "energy": where at least this share of a cluster's frames hold still (pauses between
         repetitions), its period and textons are measured on the frames that move and each
@@ -170,6 +174,7 @@ class StructureParams:
     refine_reach: float = _param(1.5, at_least=0, at_most=60)
     onset_reach: float = _param(2.0, at_least=0, at_most=60)
     weak_boundary: float = _param(0.25, at_least=0, at_most=1)
+    rhythm_ratio: float = _param(1.5, at_least=0, at_most=100)
     pause_share: float = _param(0.1, at_least=0, at_most=1)
 
     def __post_init__(self):

@@ -54,6 +54,10 @@ Two methods are provided.
        where the person only turned: a peak under which the novelty of the same rows taken
        whichever way the body faces (:func:`engine.azimuth.azimuth_spectrum`) stays below
        ``turn_ratio`` of it is vetoed (false boundaries in exercises done while turning).
+       **Where the rhythm changes** (step 1b, :mod:`engine.rhythm`): a peak under the
+       threshold but at least 3/4 of it, not a turn, is a boundary where the periods before
+       and after it differ by ``rhythm_ratio`` or more and not by a whole multiple (two
+       exercises of alike poses at another tempo were missed: five of HDM05's nine misses).
     2. **Textons by period** (:mod:`engine.periods`). In each cluster the period P is the
        lag with the deepest mean atom distance mean_u d_A(u, u + L), the shortest lag
        nearly as deep, unless 2L is the true period of a left-then-right exercise: the
@@ -125,6 +129,7 @@ from .onsets import onset, settle
 from .parseparams import StructureParams
 from .pauses import moving_frames, with_pauses
 from .periods import cluster_period
+from .rhythm import rhythm_splits
 from .transitions import absorb_transitions, merge_weak
 
 __all__ = [
@@ -294,6 +299,8 @@ def _parse_energy(v, fps, p, w, theta, n, step):
     veto = p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0
     turn_free = novelty_curve(azimuth_spectrum(v, theta), fps, p)[0] if veto else None
     clusters = novelty_clusters(v, fps, p, n, step, turn_free)
+    # Step 1b: weak peaks where the period changes (engine.rhythm).
+    clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free)
     periods = None
     count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0))  # noqa: E731
     if p.max_transition > 0:

@@ -5,7 +5,8 @@ Targets, per take: cluster-boundary precision and recall >= 0.9 (one-to-one matc
 for >= 90 % of the detected clusters. A 30 fps variant guards that the defaults, given in
 seconds, are not fitted to 10 fps. Features are cached next to the generated frames
 (``engine.evaluate.sequence_features``), so a rerun costs seconds. One HDM05 take of the
-development suite guards the sub-multiple step of ``engine.periods``.
+development suite guards the sub-multiple step of ``engine.periods``, another step 1b
+(``engine.rhythm``).
 """
 
 import pytest
@@ -72,6 +73,29 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     rows = texton_length_accuracy(scores(folder, StructureParams(submultiple=0, refine_reach=0), "stored")[3],
                                   load_truth(folder), details=True)[1]
     assert not [r for r in rows if r[1] == 4][0][4], rows   # without the test: two hops
+
+
+def test_a_weak_peak_where_the_period_changes_is_a_boundary(devsuite):
+    # HDM05 actor bd (a take of the development suite): elbow-to-knee touches (1.3 s) then
+    # front kicks (1.6 s) change the poses little, and the novelty peaks at 0.89 under the
+    # threshold (0.9), near the labelled start at 19.9 s. The periods on either side differ
+    # by 1.5 or more (engine.rhythm): the boundary is found, and no false one comes with it.
+    from conftest import SHARED
+    from engine.evaluate import load_truth
+    if not (SHARED / "data" / "hdm05").is_dir():
+        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+    actor, plan, seed, options = devsuite.HDM_SOURCES[0]
+    folder = devsuite.hdm_source(actor, plan, seed, **options)
+    truth = load_truth(folder)
+    kicks = truth["segments"][3]["start"]
+    precision, recall, _, s = scores(folder)
+    assert (precision, recall) == (1.0, 1.0), s.clusters
+    at = [i for i, (cs, _) in enumerate(s.clusters) if abs(cs - kicks) <= truth["fps"]]
+    # what makes it a case for step 1b: its novelty peak is under the threshold (confidence 0)
+    assert at and s.boundary_confidence[at[0]] == 0.0, (s.clusters, s.boundary_confidence)
+    # without step 1b the boundary is missed
+    precision, recall, _, s = scores(folder, StructureParams(rhythm_ratio=0))
+    assert recall < 1.0 and all(abs(cs - kicks) > truth["fps"] for cs, _ in s.clusters), s.clusters
 
 
 def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):

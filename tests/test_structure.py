@@ -273,3 +273,25 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
     strong, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.5], periods=[None, 12])
     assert kept == clusters and strong == clusters
     assert joined == [(0, 59)]
+
+
+def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
+    # engine.rhythm (step 1b of the energy parser): a novelty peak under the threshold but at
+    # least 3/4 of it is a boundary where the periods before and after it differ by 1.5 or
+    # more; not where they are equal, not where one is a whole multiple of the other (the
+    # period step's known failure), and not for a peak under 3/4 of the threshold.
+    from engine.rhythm import FLOOR, rhythm_splits
+    p, w = StructureParams(), atom_window(10)
+    t = np.arange(120)
+
+    def split(second_period, height=0.8 * p.novelty_threshold):
+        v = np.stack([np.sin(2 * np.pi * t / np.where(t < 60, 10, second_period)), np.cos(t / 7)], axis=1)
+        n = np.zeros(120)
+        n[60] = height
+        return rhythm_splits(v, 10, p, w, None, [(0, 119)], n, 1)
+
+    assert split(16) == [(0, 59), (60, 119)]
+    assert split(10) == [(0, 119)] and split(20) == [(0, 119)]
+    assert split(16, height=0.9 * FLOOR * p.novelty_threshold) == [(0, 119)]
+    assert rhythm_splits(np.zeros((120, 2)), 10, StructureParams(rhythm_ratio=0), w, None, [(0, 119)],
+                         np.full(120, 0.8), 1) == [(0, 119)]
