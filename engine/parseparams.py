@@ -141,8 +141,9 @@ class StructureParams:
         dropped; 0 keeps every boundary.
     rhythm_ratio : float
         "energy": a novelty peak under the threshold (but at least 3/4 of it) is a boundary
-        where the periods before and after it differ by this ratio or more, and not by a
-        whole multiple (engine.rhythm); 0 leaves every such peak out.
+        where the longer of the periods before and after it is this many times the shorter
+        or more, and not a whole multiple of it (engine.rhythm); at least 1, or 0 to leave
+        every such peak out.
     pause_share : float
         "energy": where at least this share of a cluster's frames hold still (pauses between
         repetitions), its period and textons are measured on the frames that move and each
@@ -196,6 +197,9 @@ class StructureParams:
             raise ParameterError(f"window_fps={self.window_fps:g} makes the atom window "
                                  f"{(len(taps) - 1) / self.window_fps:g} s long; it may span at most "
                                  f"{MAX_WINDOW_S:g} s.")
+        if 0 < self.rhythm_ratio < 1:
+            raise ParameterError(f"rhythm_ratio={self.rhythm_ratio:g} is a ratio of the longer period to the "
+                                 f"shorter, at least 1; use 0 to leave weak peaks out.")
         if self.max_period <= self.min_texton:
             raise ParameterError(f"max_period={self.max_period:g} must be above "
                                  f"min_texton={self.min_texton:g}.")

@@ -277,21 +277,36 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
 
 def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
     # engine.rhythm (step 1b of the energy parser): a novelty peak under the threshold but at
-    # least 3/4 of it is a boundary where the periods before and after it differ by 1.5 or
-    # more; not where they are equal, not where one is a whole multiple of the other (the
-    # period step's known failure), and not for a peak under 3/4 of the threshold.
+    # least 3/4 of it is a boundary where the longer of the periods before and after it is
+    # 1.5 times the shorter or more; not under 1.5, not at a whole multiple (the period
+    # step's known failure), not for a peak under 3/4 of the threshold, not for a turn, not
+    # within min_cluster of the cluster's ends, and not with the step off.
+    from engine.periods import cluster_period
     from engine.rhythm import FLOOR, rhythm_splits
-    p, w = StructureParams(), atom_window(10)
-    t = np.arange(120)
+    p, w, t = StructureParams(), atom_window(10), np.arange(120)
+    weak = 0.8 * p.novelty_threshold
 
-    def split(second_period, height=0.8 * p.novelty_threshold):
-        v = np.stack([np.sin(2 * np.pi * t / np.where(t < 60, 10, second_period)), np.cos(t / 7)], axis=1)
-        n = np.zeros(120)
-        n[60] = height
-        return rhythm_splits(v, 10, p, w, None, [(0, 119)], n, 1)
+    def take(second):
+        # 6 s cycling at a 1 s period, then 6 s at ``second`` frames (10 fps)
+        phase = np.where(t < 60, 2 * np.pi * t / 10, 2 * np.pi * (t - 60) / second)
+        return np.stack([np.sin(phase), np.cos(phase), 0.3 * np.sin(2 * phase)], axis=1)
 
-    assert split(16) == [(0, 59), (60, 119)]
-    assert split(10) == [(0, 119)] and split(20) == [(0, 119)]
-    assert split(16, height=0.9 * FLOOR * p.novelty_threshold) == [(0, 119)]
-    assert rhythm_splits(np.zeros((120, 2)), 10, StructureParams(rhythm_ratio=0), w, None, [(0, 119)],
-                         np.full(120, 0.8), 1) == [(0, 119)]
+    def split(second, height=weak, at=60, params=p, turn_free=None, step=1):
+        n = np.zeros(120 // step)
+        n[at // step] = height
+        return rhythm_splits(take(second), 10, params, w, None, [(0, 119)], n, step, turn_free)
+
+    for second in (13, 15, 20):   # what the period step reads on either side is what is compared
+        assert [cluster_period(take(second), a, b, 10, w, p)[0] for a, b in ((0, 59), (60, 119))] == [10, second]
+    assert split(15) == [(0, 59), (60, 119)]                  # 1.5: a boundary
+    assert split(15, step=2) == [(0, 59), (60, 119)]          # the curve at 5 fps, frames at 10
+    assert split(13) == [(0, 119)]                            # 1.3: the same exercise's tempo
+    assert split(20) == [(0, 119)]                            # 2.0: a period read at two repetitions
+    assert split(15, height=0.95 * FLOOR * p.novelty_threshold) == [(0, 119)]
+    assert split(15, height=p.novelty_threshold) == [(0, 119)]   # step 1's, not this step's
+    assert split(15, at=110) == [(0, 119)]                    # 1 s from the end: under min_cluster
+    assert split(15, turn_free=np.zeros(120)) == [(0, 119)]   # the heading-free novelty stays flat: a turn
+    assert split(15, turn_free=np.full(120, weak)) == [(0, 59), (60, 119)]
+    assert split(15, params=StructureParams(rhythm_ratio=0)) == [(0, 119)]
+    with pytest.raises(ValueError):
+        StructureParams(rhythm_ratio=0.5)
