@@ -8,7 +8,8 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
     orders, transitions of 0.2-3 s (with standing still between exercises), pauses of up to
     0.8 or 1.5 s after each repetition, one-off movements (putting something on the floor,
     reaching up: each repetition goes elsewhere and lasts another time), the left-then-right
-    exercises (knee raises, side bends), vertex noise and holes, frame rates 10-60 fps.
+    exercises (knee raises, side bends, boxing, toe touches, twists), vertex noise and holes,
+    frame rates 10-60 fps.
 ``synth-drift``
     The same actor walking across the capture volume while exercising (up to 1.5 m over a
     take), so the paper's fixed origin at the first frame's centre falls behind, and turning
@@ -390,6 +391,15 @@ SYNTH = {
         ("one-offs-irregular-15fps", dict(motions=["knee-raises", "reach-up", "run", "pick-up", "side-bends"],
                                           cycles=[5, 4, 10, 4, 4], jitter=2.5, transition=1.5, fps=15, build=0.85,
                                           height=0.95, seed=20)),
+        # The exercises of the CMU mocap6 labels the other synthetic takes lack, each done left
+        # then right: boxing (a jab with each fist), toe touches (each hand to the other foot)
+        # and twists of the trunk over still hips, beside squats and knee raises; once at
+        # 15 fps with cycle-to-cycle jitter 1.5 and 4 mm noise. Added after step 21, designed
+        # before the parser was run on them.
+        ("box-toe-twist", dict(motions=["twist", "box", "toe-touch", "squats"], cycles=[5, 8, 4, 5],
+                               transition=1.0, build=1.1, seed=41)),
+        ("alternating-15fps", dict(motions=["box", "knee-raises", "twist", "toe-touch"], cycles=[8, 5, 5, 4],
+                                   jitter=1.5, fps=15, build=0.9, height=0.95, noise=0.004, seed=42)),
     ],
     "synth-drift": [
         ("drift-x", dict(motions=["jumping-jacks", "squats", "side-bends", "knee-raises"], cycles=[8, 5, 4, 5],

@@ -10,6 +10,9 @@ Conventions: Z up, metres, feet on z = 0, subject about 1.70 m tall, facing -Y; 
 moves on the spot (walking and running as on a treadmill), so a histogram of vertex positions
 about the first frame's centroid sees only the motion.
 
+Boxing, toe touches, twists, knee raises and side bends go left then right within a cycle, as
+the CMU mocap6 exercises of those names do.
+
 Timeline: each motion is repeated for a number of cycles whose period and amplitude jitter a
 little from cycle to cycle (a lot for the one-off movements, putting something on the floor
 and reaching up, whose repetitions each go somewhere else) (and, with :func:`plan`'s ``rest``, a pause may follow each
@@ -20,8 +23,10 @@ starts where the actor starts to change exercise. The random state of the timeli
 only on the seed, and that of a frame (grid offset, vertex and colour noise) only on the seed
 and the frame index, so any number of workers writes byte-identical files.
 
->>> sorted(MOTIONS)
-['arm-circles', 'jumping-jacks', 'knee-raises', 'pick-up', 'reach-up', 'run', 'side-bends', 'squats', 'walk']
+>>> sorted(MOTIONS)[:6]
+['arm-circles', 'box', 'jumping-jacks', 'knee-raises', 'pick-up', 'reach-up']
+>>> sorted(MOTIONS)[6:]
+['run', 'side-bends', 'squats', 'toe-touch', 'twist', 'walk']
 >>> PRESETS["gym"]["motions"][0], PRESETS["walk"]["motions"]
 ('walk', ['walk'])
 """
@@ -153,6 +158,38 @@ def _knee_raises(phase, a):
                  sh_flex_l=0.6 + 0.3 * right, sh_flex_r=0.6 + 0.3 * left, elbow_l=1.9, elbow_r=1.9)
 
 
+def _box(phase, a):
+    # Boxing: a jab with the left fist, back to the guard, then one with the right; the
+    # trunk turns into each punch and the knees stay bent.
+    th = 2 * np.pi * phase
+    left, right = max(0.0, np.sin(th)) ** 1.5, max(0.0, -np.sin(th)) ** 1.5
+    return _pose(sh_flex_l=0.75 + 0.8 * a * left, sh_flex_r=0.7 + 0.75 * a * right,
+                 elbow_l=2.2 - 2.0 * a * left, elbow_r=2.25 - 1.9 * a * right,
+                 sh_abd_l=0.25 - 0.1 * left, sh_abd_r=0.25 - 0.1 * right,
+                 yaw=0.35 * a * (right - 0.9 * left), pitch=0.12, knee_l=0.3, knee_r=0.3,
+                 hip_flex_l=0.2, hip_flex_r=0.12, hip_abd_l=0.12, hip_abd_r=0.12)
+
+
+def _toe_touch(phase, a):
+    # Bend down and touch the left foot with the right hand, up, then the right foot with the
+    # left hand; the other arm swings up behind.
+    th = 2 * np.pi * phase
+    left, right = max(0.0, np.sin(th)), max(0.0, -np.sin(th))
+    return _pose(pitch=1.45 * a * (left + 0.95 * right), yaw=0.45 * a * (left - right),
+                 sh_flex_r=0.15 + 1.25 * left, sh_flex_l=0.15 + 1.2 * right,
+                 sh_abd_l=0.15 + 1.6 * a * left, sh_abd_r=0.15 + 1.5 * a * right,
+                 elbow_l=0.15, elbow_r=0.15, hip_abd_l=0.3, hip_abd_r=0.3,
+                 knee_l=0.1 * (left + right), knee_r=0.1 * (left + right))
+
+
+def _twist(phase, a):
+    # The trunk turns left and right over still hips, arms held out, elbows a little bent.
+    th = 2 * np.pi * phase
+    return _pose(yaw=a * (0.75 * np.sin(th) - 0.05 * np.sin(th) ** 2), sh_abd_l=1.45, sh_abd_r=1.4,
+                 elbow_l=0.35 + 0.1 * max(0.0, np.sin(th)), elbow_r=0.35 + 0.1 * max(0.0, -np.sin(th)),
+                 sh_flex_l=0.15, sh_flex_r=0.2, hip_abd_l=0.16, hip_abd_r=0.16)
+
+
 def _ease(phase, up, top):
     # 0 -> 1 over [0, up), 1 over [up, top), 1 -> 0 over [top, 1): a one-off movement's course.
     if phase < up:
@@ -210,6 +247,9 @@ MOTIONS = {
     "knee-raises": Motion(_knee_raises, 1.8, 5),
     "pick-up": Motion(_pick_up, 2.4, 4, spread=4.0),
     "reach-up": Motion(_reach_up, 2.0, 4, spread=4.0),
+    "box": Motion(_box, 1.0, 8),
+    "toe-touch": Motion(_toe_touch, 3.0, 4),
+    "twist": Motion(_twist, 2.0, 5),
 }
 
 PRESETS = {

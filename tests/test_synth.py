@@ -268,3 +268,29 @@ def test_a_take_made_at_another_rate_is_built_at_that_rate(tmp_path):
     synth.generate(out, motions=["squats"], cycles=1, fps=8, vertices=1500, workers=1, progress=False,
                    overwrite=True)
     assert open_sequence(out).fps == 8 and json.loads((out / "sequence.json").read_text()) == {"fps": 8}
+
+
+def _hand(pose, side):
+    # The tip of the left ("l") or right ("r") hand: the "hand" capsules come left, then right.
+    hands = [p for p in synth.primitives(pose) if p[-1] == "hand"]
+    return hands[0 if side == "l" else 1][2]
+
+
+def test_boxing_toe_touches_and_twists_go_left_then_right():
+    # The CMU mocap6 exercises the other motions lack, each done with one side and then the
+    # other within a cycle: a jab with the left fist then the right (the fist comes forward,
+    # -y, at a quarter and three quarters of the cycle), the right hand to the floor by the
+    # left foot then the left hand by the right foot, and the trunk turned one way then the other.
+    box = synth.MOTIONS["box"].pose
+    guard = _hand(box(0.0, 1.0), "l")[1]
+    assert _hand(box(0.25, 1.0), "l")[1] < guard - 0.3 and _hand(box(0.75, 1.0), "r")[1] < guard - 0.3
+    assert _hand(box(0.25, 1.0), "r")[1] > _hand(box(0.25, 1.0), "l")[1] + 0.3   # the other fist stays back
+    touch = synth.MOTIONS["toe-touch"].pose
+    standing = min(_hand(touch(0.0, 1.0), s)[2] for s in "lr")
+    assert min(_hand(touch(0.25, 1.0), s)[2] for s in "lr") < standing - 0.3
+    assert min(_hand(touch(0.75, 1.0), s)[2] for s in "lr") < standing - 0.3
+    yaw = synth.POSE.index("yaw")
+    twist = [synth.MOTIONS["twist"].pose(p, 1.0)[yaw] for p in (0.25, 0.75)]
+    assert twist[0] > 0.5 and twist[1] < -0.5, twist
+    for name in ("box", "toe-touch", "twist"):   # a cycle ends where the next one starts
+        assert np.allclose(synth.MOTIONS[name].pose(0.0, 1.0), synth.MOTIONS[name].pose(1 - 1e-9, 1.0), atol=1e-6)

@@ -17,6 +17,7 @@ example:
   tvmedit synth --motions squats,side-bends --cycles 3 --vertices 8000 --out /tmp/two
   tvmedit synth --motions squats,jumping-jacks --rest 1.5 --out /tmp/pausing
   tvmedit synth --motions pick-up,reach-up,squats --out /tmp/one-offs
+  tvmedit synth --motions box,toe-touch,twist --out /tmp/alternating
 """
 
 import time
