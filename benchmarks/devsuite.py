@@ -342,17 +342,19 @@ def cmu_takes(seed=0):
     return takes
 
 
+def hdm_take(actor, plan, order_seed=None, options=None, group="hdm05"):
+    """One stitched HDM05 take (a :data:`HDM_SOURCES` entry) with its features and truth."""
+    folder = hdm_source(actor, plan, order_seed, **(options or {}))
+    truth = json.loads((folder / "truth.json").read_text())
+    vectors, theta = _frames_features(folder)
+    seg, per = _frame_truth(truth)
+    t = truth_of(seg.tolist(), per, float(truth["fps"]))
+    return Take(group, f"{actor}-{_key(plan, order_seed)[:4]}", vectors, theta, float(truth["fps"]), t)
+
+
 def hdm_takes():
     """The HDM05 group: stitched takes of three people (sixteen in all)."""
-    takes = []
-    for actor, plan, seed, opts in HDM_SOURCES:
-        folder = hdm_source(actor, plan, seed, **opts)
-        truth = json.loads((folder / "truth.json").read_text())
-        vectors, theta = _frames_features(folder)
-        seg, per = _frame_truth(truth)
-        t = truth_of(seg.tolist(), per, float(truth["fps"]))
-        takes.append(Take("hdm05", f"{actor}-{_key(plan, seed)[:4]}", vectors, theta, float(truth["fps"]), t))
-    return takes
+    return [hdm_take(*source) for source in HDM_SOURCES]
 
 
 #: Synthetic takes: (name, options). ``plan`` options of :func:`engine.synth.plan`, and

@@ -10,7 +10,6 @@ accuracy within 15 %, in the body's axes unless ``TVMEDIT_DEV_FRAME`` says other
 """
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -48,15 +47,7 @@ BATCHES = {
 
 def takes(batch):
     """The batch's takes (devsuite.Take, group "fresh")."""
-    out = []
-    for actor, plan, seed, options in BATCHES[batch]:
-        folder = devsuite.hdm_source(actor, plan, seed, **options)
-        truth = json.loads((folder / "truth.json").read_text())
-        vectors, theta = devsuite._frames_features(folder)
-        segments, periods = devsuite._frame_truth(truth)
-        out.append(devsuite.Take("fresh", f"{actor}-{devsuite._key(plan, seed)[:4]}", vectors, theta,
-                                 float(truth["fps"]), devsuite.truth_of(segments.tolist(), periods, float(truth["fps"]))))
-    return out
+    return [devsuite.hdm_take(*source, group="fresh") for source in BATCHES[batch]]
 
 
 def main(argv=None):
