@@ -145,7 +145,7 @@ HDM_SOURCES = [
      {"seed": 9, "build": 1.05}),
     ("bk", "squat1Reps:6,grabHighR:4,hopBothLegs1hops:8,elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:4", 10,
      {"seed": 10, "palette": "c"}),
-    # Three more, added after steps 12-15 (README) were chosen, never looked at before: the
+    # Three more, added after steps 12-15 (docs/parsing.md) were chosen, never looked at before: the
     # defaults scored 0.78 / 0.58 / 0.83 on them when they joined.
     ("bd", "hopBothLegs1hops:6,sneak2StepsLStart:3,kickLFront1Reps:4,rotateArmsBothBackward1Reps:4,grabHighR:4", 11,
      {"seed": 11, "palette": "c"}),
@@ -413,7 +413,7 @@ SYNTH = {
         ("drift-diag-slow", dict(motions=["squats", "run", "arm-circles"], periods_s=[2.6, 0.9, 1.8],
                                  cycles=[4, 10, 5], drift=(0.025, -0.025), build=1.2, seed=24)),
         # Turning as people do: a steady 6 degrees a second, and a slow random sway of the
-        # heading over +/- 90 degrees while wandering (added with step 15 of the README).
+        # heading over +/- 90 degrees while wandering (added with step 15 of docs/parsing.md).
         ("turn-steady", dict(motions=["jumping-jacks", "squats", "arm-circles", "knee-raises"], cycles=[8, 5, 6, 5],
                              turn=6.0, seed=31)),
         ("turn-sway", dict(motions=["walk", "side-bends", "jumping-jacks", "squats"], cycles=[10, 4, 8, 5],

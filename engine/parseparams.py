@@ -85,7 +85,7 @@ class StructureParams:
         development suite; 0.4 halved a texton of CMU 13_29.
     novelty_window : float
         "energy": length of each of the two blocks compared, seconds. 4 s (3 s until step 4
-        of the README) was chosen over 3 s by every fold of leave-one-group-out
+        of docs/parsing.md) was chosen over 3 s by every fold of leave-one-group-out
         cross-validation on the development suite from step 4 to step 17; it is now held
         fixed there (``benchmarks/accuracy.py``).
     novelty_threshold : float or None

@@ -15,9 +15,9 @@ peaks give:
   peak still marks a change. An exercise whose repetitions are one-off movements (putting
   something on the floor, reaching up: the HDM05 takes) makes novelty fluctuate from one
   repetition to the next and split the exercise in two or three; on the suite when the
-  step came in (README, step 6) every boundary between two clusters of at most one texton
+  step came in (docs/parsing.md, step 6) every boundary between two clusters of at most one texton
   with a confidence under 0.25 was wrong (5 of 5), and none of the right ones was that
-  weak. Since then one right one is (README, step 20), so one side at least must also show
+  weak. Since then one right one is (docs/parsing.md, step 20), so one side at least must also show
   no period: two short stretches that both repeat are two exercises, however weak the peak
   between them (CMU 13_30 played 1.4x: two alike exercises of about two 1.7 s periods each,
   one whole texton each, confidence 0.23, were joined). On the 46 takes of the suite the
