@@ -79,8 +79,8 @@ import numpy as np
 
 from .atoms import block_means, novelty
 
-__all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "pace", "whiten", "STRONG_EDGE", "PACE_SECONDS",
-           "WHITEN_FLOOR"]
+__all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "local_maxima", "turn_test", "pace", "whiten",
+           "STRONG_EDGE", "PACE_SECONDS", "WHITEN_FLOOR"]
 
 #: A novelty peak this many times ``novelty_threshold`` is a boundary even within 0.75
 #: ``min_cluster`` of the sequence's ends, where weaker peaks are not trusted. (On whitened rows
@@ -223,6 +223,34 @@ def _shoulder(n, t, claimed, reach, share):
     return False
 
 
+def local_maxima(n):
+    """Where curve ``n`` is a local maximum (at least its neighbours; never its ends).
+
+    >>> local_maxima(np.array([1.0, 2.0, 2.0, 0.0, 1.0])).tolist()
+    [False, True, True, False, False]
+    """
+    peak = np.zeros(len(n), dtype=bool)
+    peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
+    return peak
+
+
+def turn_test(n, turn_free, ratio, f):
+    """Whether peak t of novelty ``n`` (sampled at ``f`` per second) is a turn: a predicate.
+
+    A turn's peak has the heading-free novelty ``turn_free`` stay under ``ratio`` of it within
+    0.5 s (see the module docstring); without ``turn_free`` nothing is a turn. Steps 1 and 1b
+    (:mod:`engine.rhythm`) of the parser share it.
+
+    >>> turned = turn_test(np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.2, 0.0]), 0.4, 2)
+    >>> turned(1), turn_test(np.ones(3), None, 0.4, 2)(1)
+    (True, False)
+    """
+    if turn_free is None:
+        return lambda t: False
+    reach = max(1, int(round(0.5 * f)))
+    return lambda t: bool(turn_free[max(0, t - reach): t + reach + 1].max() < ratio * n[t])
+
+
 def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
     """Clusters cut at the novelty curve's peaks: step 1 of the ``energy`` parser.
 
@@ -259,11 +287,8 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
     # first exercise of 1.3 s (CMU 13_30 played at 1.4x) peaks at twice the threshold.
     edge = max(2, int(round(0.75 * sep)))
     near_end = lambda t: t < edge or len(n) - t < edge  # noqa: E731
-    is_peak = np.zeros(len(n), dtype=bool)
-    is_peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
-    reach = max(1, int(round(0.5 * f)))
-    turned = (lambda t: False) if turn_free is None else (  # noqa: E731
-        lambda t: turn_free[max(0, t - reach): t + reach + 1].max() < p.turn_ratio * n[t])
+    is_peak = local_maxima(n)
+    turned = turn_test(n, turn_free, p.turn_ratio, f)
     bounds, claimed = [], []
     for t in np.argsort(-n, kind="stable"):
         t = int(t)

@@ -48,6 +48,7 @@ motion*).
 
 import numpy as np
 
+from .boundaries import local_maxima, turn_test
 from .periods import cluster_period
 
 __all__ = ["rhythm_splits", "FLOOR", "WHOLE", "LOCAL"]
@@ -104,9 +105,7 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None):
         return list(clusters)
     f = fps / step
     sep = max(2, int(round(p.min_cluster * f))) * step
-    reach = max(1, int(round(0.5 * f)))
-    peak = np.zeros(len(n), dtype=bool)
-    peak[1:-1] = (n[1:-1] >= n[:-2]) & (n[1:-1] >= n[2:])
+    peak, turned = local_maxima(n), turn_test(n, turn_free, p.turn_ratio, f)
     low = FLOOR * p.novelty_threshold
     local = int(round(LOCAL * p.max_period * fps))
     out = list(clusters)
@@ -116,7 +115,7 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None):
             break
         if not peak[t] or n[t] >= p.novelty_threshold:
             continue
-        if turn_free is not None and turn_free[max(0, t - reach): t + reach + 1].max() < p.turn_ratio * n[t]:
+        if turned(t):
             continue
         b = t * step
         k = next(i for i, (cs, ce) in enumerate(out) if cs <= b <= ce)
