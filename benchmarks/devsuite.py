@@ -13,7 +13,8 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
 ``synth-drift``
     The same actor walking across the capture volume while exercising (up to 1.5 m over a
     take), so the paper's fixed origin at the first frame's centre falls behind, and turning
-    as it exercises (6 degrees a second, or a slow sway of +/- 90 degrees).
+    as it exercises (6 degrees a second, a slow sway of +/- 90 degrees, or turning to face
+    another way by 45-120 degrees over 1 s every 5-10 s).
 ``cmu``
     The real takes 13_29 and 13_30 (CMU subject 13) played at 0.7x and 1.4x, mirrored left to
     right, turning as they exercise (13_29 a steady 6 degrees a second, 13_30 a slow sway over
@@ -360,7 +361,8 @@ def hdm_takes():
 #: Synthetic takes: (name, options). ``plan`` options of :func:`engine.synth.plan`, and
 #: build, height (scale), noise (m), holes (fraction of frames with a hole), drift (m/s as
 #: (vx, vy)) or wander (m, a slow random walk), turn (degrees a second about the actor's own
-#: vertical axis) and sway (degrees, the largest excursion of a slow random turn).
+#: vertical axis), sway (degrees, the largest excursion of a slow random turn) and turns
+#: (degrees: every 5-10 s the actor turns to face another way, by 1/2 to 1 times that).
 SYNTH = {
     "synth": [
         ("slim-fast", dict(motions=["jumping-jacks", "knee-raises", "squats", "arm-circles"],
@@ -418,16 +420,32 @@ SYNTH = {
                              turn=6.0, seed=31)),
         ("turn-sway", dict(motions=["walk", "side-bends", "jumping-jacks", "squats"], cycles=[10, 4, 8, 5],
                            sway=90.0, wander=0.8, seed=32)),
+        # Turning to face another way now and then as they exercise, as people do between
+        # repetitions (by 45-90 or 60-120 degrees over 1 s, every 5-10 s): added after step
+        # 21, designed before the parser was run on them.
+        ("turns", dict(motions=["jumping-jacks", "side-bends", "squats", "knee-raises"], cycles=[8, 4, 5, 5],
+                       turns=90.0, seed=33)),
+        ("turns-15fps", dict(motions=["squats", "arm-circles", "box", "knee-raises"], cycles=[5, 6, 8, 5],
+                             turns=120.0, jitter=1.5, fps=15, build=1.1, seed=34)),
     ],
 }
 
 
-def _headings(n, fps, turn=None, sway=None, seed=0):
-    # The actor's heading at each frame (radians): a steady turn (degrees a second) and/or a
-    # slow random sway (largest excursion in degrees), from a generator of its own so that
-    # the frames' noise stays that of the takes without it.
+def _headings(n, fps, turn=None, sway=None, seed=0, turns=None):
+    # The actor's heading at each frame (radians): a steady turn (degrees a second), a slow
+    # random sway (largest excursion in degrees) and/or turns to face another way (every 5-10
+    # s at random, by 1/2 to 1 times ``turns`` degrees to either side, each over 1 s), from a
+    # generator of its own so that the frames' noise stays that of the takes without it.
     t = np.arange(n) / fps
     heading = np.radians(turn or 0.0) * t
+    if turns:
+        rng = np.random.default_rng(seed + 2000)
+        at = rng.uniform(5.0, 10.0)
+        while at < t[-1]:
+            angle = np.radians(turns) * rng.uniform(0.5, 1.0) * rng.choice([-1.0, 1.0])
+            x = np.clip(t - at, 0.0, 1.0)
+            heading = heading + angle * x * x * (3 - 2 * x)
+            at += 1.0 + rng.uniform(5.0, 10.0)
     if sway:
         knots = np.cumsum(np.random.default_rng(seed + 1000).normal(0, 1, int(t[-1] // 4) + 3))
         knots -= knots[0]
@@ -453,7 +471,8 @@ def synth_take(group, name, options, vertices=6000):
     """A synthetic take's features, reconstructed in memory (cached)."""
     from engine import synth
     opts = dict(options)
-    extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander", "turn", "sway") if k in opts}
+    extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander", "turn", "sway", "turns")
+             if k in opts}
     fps = float(opts.get("fps", 10))
     path = CACHE / "features" / f"{_prefix()}synth-{name}-{_key(options, vertices, synth.VERSION)}.npz"
     poses, labels, motions, periods = synth.plan(**opts)
@@ -464,7 +483,7 @@ def synth_take(group, name, options, vertices=6000):
             return Take(group, name, z["vectors"], slice(*z["theta"]), fps, truth)
     rng = np.random.default_rng(opts.get("seed", 0))
     shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
-    heading = _headings(len(poses), fps, extra.get("turn"), extra.get("sway"), opts.get("seed", 0))
+    heading = _headings(len(poses), fps, extra.get("turn"), extra.get("sway"), opts.get("seed", 0), extra.get("turns"))
     voxel = float(synth.voxel_size(vertices))
     frames = []
     for k, pose in enumerate(poses):
