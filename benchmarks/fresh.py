@@ -1,9 +1,10 @@
-"""Fresh HDM05 takes: made to check a parser step once, never part of the development suite.
+"""Fresh takes (HDM05, synthetic): made to check a parser step once, never part of the development suite.
 
     python benchmarks/fresh.py [--batch step21 ...] [--set rhythm_ratio=0 ...] [--errors]
 
 Each batch was made when a step came in and scored once before the step was tried on it, so
-it stands for a new take of people the parser was developed on; the figures the README and
+it stands for a new take of people the parser was developed on (HDM05's, or the synthetic
+actor doing what the step is for); the figures the README and
 ``docs/parsing.md`` quote for fresh takes come from here. Scored as the development suite is
 (``benchmarks/accuracy.py``): cluster-start precision and recall within 1 s, texton-length
 accuracy within 15 %, in the body's axes unless ``TVMEDIT_DEV_FRAME`` says otherwise.
@@ -22,7 +23,8 @@ import devsuite  # noqa: E402
 from engine.evaluate import pool, score  # noqa: E402
 from engine.structure import StructureParams, parse  # noqa: E402
 
-#: (actor, plan, order seed, mocap2tvm options) of each batch, as devsuite.HDM_SOURCES.
+#: (actor, plan, order seed, mocap2tvm options) of each batch, as devsuite.HDM_SOURCES, or
+#: ("synth", name, options) for a synthetic take (options as devsuite.SYNTH's).
 BATCHES = {
     "step18": [
         ("bd", "squat1Reps:5,hopBothLegs1hops:6,grabHighR:4,elbowToKnee1RepsLelbowStart:5,"
@@ -42,12 +44,23 @@ BATCHES = {
         ("dg", "squat1Reps:6,depositFloorR:4,elbowToKnee1RepsLelbowStart:5,grabHighR:4,kickLFront1Reps:4", 34,
          {"seed": 34, "build": 1.2}),
     ],
+    # The synthetic actor turning to face another way now and then (step 22: boundaries
+    # behind a turn), made before the step was tried on them.
+    "step22": [
+        ("synth", "turns-a", dict(motions=["arm-circles", "jumping-jacks", "twist", "squats"], cycles=[6, 8, 5, 5],
+                                  turns=90.0, transition=1.0, seed=51)),
+        ("synth", "turns-b-20fps", dict(motions=["knee-raises", "box", "side-bends", "run"], cycles=[5, 8, 4, 10],
+                                        turns=120.0, fps=20, jitter=1.5, build=0.9, seed=52)),
+        ("synth", "turns-c-rests", dict(motions=["squats", "toe-touch", "jumping-jacks", "arm-circles"],
+                                        cycles=[5, 4, 8, 6], turns=60.0, rest=0.8, seed=53)),
+    ],
 }
 
 
 def takes(batch):
     """The batch's takes (devsuite.Take, group "fresh")."""
-    return [devsuite.hdm_take(*source, group="fresh") for source in BATCHES[batch]]
+    return [devsuite.synth_take("fresh", *source[1:]) if source[0] == "synth"
+            else devsuite.hdm_take(*source, group="fresh") for source in BATCHES[batch]]
 
 
 def main(argv=None):

@@ -67,6 +67,25 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   lost CMU's twist boundaries (a twist differs from its neighbours mostly in which way the
   torso faces), so it only vetoes. Pooled precision 0.95 -> 0.97 on the suite with its
   turning takes.
+* **Boundaries behind a turn** (step 22 of ``docs/parsing.md``). A person who turns to face
+  another way a few seconds before they change exercise (the suite's synthetic actor
+  turning by 45-120 degrees over 1 s every 5-10 s) makes a novelty peak far higher than
+  the change's: the change lies on the turn's falling slope and is no local maximum, and
+  vetoing the turn lost both. The heading-free novelty, which the turn hardly raises,
+  peaks at the change (1.44 against the threshold 0.9, 2.4 s after the turn's peak).
+  So, within ``novelty_window`` of a vetoed turn, the heading-free novelty's own local
+  maxima over the threshold, ``min_cluster`` from every peak already taken or vetoed, are
+  boundaries (:func:`_behind_turns`); and boundaries within ``novelty_window`` of a turn
+  (:func:`turn_frames`) are moved by steps 4 and 5 (:mod:`engine.onsets`) on the
+  heading-free rows, where the turn is no change of pose (on the rows as read, both moved
+  the boundary back onto the turn). Heading-free rows everywhere lost a boundary of the
+  wandering synthetic take and a CMU texton, so only near turns. On the development suite
+  the step finds one boundary more (synth-drift 0.95 / 0.91 -> 0.96 / 0.96), and changes
+  nothing in any other group; on three fresh synthetic takes with such turns, made before
+  the step was tried on them (``benchmarks/fresh.py --batch step22``), 0.60 / 0.67 -> 0.80 /
+  0.89 (three boundaries more, two false ones fewer). Still wrong: a change of exercise
+  2 s *before* a turn, where the novelty peak is no turn (the heading-free novelty stays
+  over ``turn_ratio`` of it) and lies between the two, more than 1 s late.
 * **Ends of the take.** Within 0.75 ``min_cluster`` of either end a block is short and its
   novelty unreliable, so a peak there is taken only when it is at least :data:`STRONG_EDGE`
   times the threshold. Before that rule no boundary could lie there at all, and a first
@@ -251,6 +270,44 @@ def turn_test(n, turn_free, ratio, f):
     return lambda t: bool(turn_free[max(0, t - reach): t + reach + 1].max() < ratio * n[t])
 
 
+def turn_frames(n, turn_free, fps, step, p):
+    """Frames of the novelty peaks over the threshold that are turns (:func:`turn_test`).
+
+    Boundaries within ``p.novelty_window`` of one are placed on heading-free rows (steps 4
+    and 5 of the parser, :mod:`engine.structure`; see *Boundaries behind a turn* above).
+
+    >>> n = np.array([0, 1, 2, 1, 0, 0, 1.5, 0, 0.0]); free = np.array([0, 0, 0.2, 0, 0, 0, 1.4, 0, 0])
+    >>> p = type("P", (), {"novelty_threshold": 0.9, "turn_ratio": 0.4})
+    >>> turn_frames(n, free, 10.0, 2, p)
+    [4]
+    """
+    if turn_free is None:
+        return []
+    turned = turn_test(n, turn_free, p.turn_ratio, fps / step)
+    peaks = np.flatnonzero(local_maxima(n) & (n >= p.novelty_threshold))
+    return [int(t) * step for t in peaks if turned(int(t))]
+
+
+def _behind_turns(n, turn_free, turns, claimed, threshold, sep, reach, edge):
+    # A change of exercise within a turn's blocks can be no peak of n: the turn's far higher
+    # novelty hides it on its slope. The heading-free novelty, which the turn hardly moves,
+    # peaks there: its local maxima over the threshold, within ``reach`` of a turn and
+    # ``sep`` from every peak already claimed, strongest first, are boundaries (see *Boundaries
+    # behind a turn* above).
+    is_peak = local_maxima(turn_free)
+    out = []
+    for u in np.argsort(-turn_free, kind="stable"):
+        u = int(u)
+        if turn_free[u] < threshold:
+            break
+        if (not is_peak[u] or u < edge or len(n) - u < edge or not any(abs(u - t) <= reach for t in turns)
+                or any(abs(u - q) < sep for q in claimed)):
+            continue
+        out.append(u)
+        claimed.append(u)
+    return out
+
+
 def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
     """Clusters cut at the novelty curve's peaks: step 1 of the ``energy`` parser.
 
@@ -267,7 +324,8 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
         (:func:`engine.azimuth.azimuth_spectrum`); a peak of ``n`` under which it stays below
         ``p.turn_ratio`` of the peak within 0.5 s is a turn, not a boundary; the turn keeps
         its lower shoulders, and an earlier twin peak that is itself a turn, from becoming
-        boundaries.
+        boundaries. Within ``p.novelty_window`` of a turn its own peaks over the threshold
+        are boundaries (a change of exercise the turn hid).
 
     Returns
     -------
@@ -289,7 +347,7 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
     near_end = lambda t: t < edge or len(n) - t < edge  # noqa: E731
     is_peak = local_maxima(n)
     turned = turn_test(n, turn_free, p.turn_ratio, f)
-    bounds, claimed = [], []
+    bounds, claimed, turns = [], [], []
     for t in np.argsort(-n, kind="stable"):
         t = int(t)
         if n[t] < p.novelty_threshold:
@@ -303,6 +361,7 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
         if turned(t):
             # A turn's lower shoulders are the same turn: the vetoed peak keeps them away.
             claimed.append(t)
+            turns.append(t)
             continue
         early = [u for u in range(max(edge, t - sep + 1), t)
                  if is_peak[u] and n[u] >= p.twin_peak * n[t] and not turned(u)
@@ -310,6 +369,9 @@ def novelty_clusters(vectors, fps, p, n, step, turn_free=None):
         bounds.append(early[0] if early else t)
         # Both the peak and the boundary chosen for it keep others ``sep`` away.
         claimed += [t, bounds[-1]]
+    if turns:
+        bounds += _behind_turns(n, turn_free, turns, claimed, p.novelty_threshold, sep, int(round(p.novelty_window * f)),
+                                edge)
     bounds.sort()
     starts = [0] + [min(T - 1, t * step) for t in bounds]
     starts = sorted(set(starts))

@@ -96,8 +96,10 @@ class StructureParams:
     turn_ratio : float
         "energy": a novelty peak is no boundary where the novelty of the same blocks compared
         whichever way the body faces (engine.azimuth.azimuth_spectrum) stays under this
-        fraction of it within 0.5 s: the person turned, the motion did not change; 0: no
-        veto (nor is there one without the azimuth columns, ``theta``).
+        fraction of it within 0.5 s: the person turned, the motion did not change; near
+        such a turn, boundaries are found and placed on the heading-free rows
+        (engine.boundaries, *Boundaries behind a turn*); 0: no veto (nor is there one
+        without the azimuth columns, ``theta``).
     novelty_components : int
         "energy": the novelty compares its rows on this many principal axes of the take's
         change, each scaled to its spread (engine.boundaries.whiten), so that an exercise

@@ -54,6 +54,11 @@ Two methods are provided.
        where the person only turned: a peak under which the novelty of the same rows taken
        whichever way the body faces (:func:`engine.azimuth.azimuth_spectrum`) stays below
        ``turn_ratio`` of it is vetoed (false boundaries in exercises done while turning).
+       **Behind a turn** (step 1c): within ``novelty_window`` of a vetoed turn, the
+       heading-free novelty's own peaks over the threshold are boundaries (a change of
+       exercise a few seconds after a turn lay on the turn's slope, no peak of its own), and
+       steps 4 and 5 place the boundaries near a turn on the heading-free rows (on the
+       others the turn is the greatest change about them, and they moved onto it).
        **Where the rhythm changes** (step 1b, :mod:`engine.rhythm`): a peak under the
        threshold but at least 3/4 of it, not a turn, is a boundary where the periods before
        and after it differ by ``rhythm_ratio`` or more and not by a whole multiple (two
@@ -122,7 +127,7 @@ import numpy as np
 from .atoms import (PAPER_FPS, atom_distance, atom_distances_to, atoms_along_lag,
                     atom_window, lag_profile, novelty)
 from .azimuth import azimuth_smoothed, azimuth_spectrum
-from .boundaries import novelty_clusters, novelty_curve
+from .boundaries import novelty_clusters, novelty_curve, turn_frames
 from .confidence import boundary_confidences, texton_confidence
 from .heading import heading_track, turned
 from .onsets import onset, settle
@@ -297,8 +302,13 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
 def _parse_energy(v, fps, p, w, theta, n, step):
     # The turn veto needs the azimuth columns (theta None or empty: every peak counts).
     veto = p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0
-    turn_free = novelty_curve(azimuth_spectrum(v, theta), fps, p)[0] if veto else None
+    free = azimuth_spectrum(v, theta) if veto else None
+    turn_free = novelty_curve(free, fps, p)[0] if veto else None
     clusters = novelty_clusters(v, fps, p, n, step, turn_free)
+    # Boundaries near a turn are placed (steps 4 and 5) on the heading-free rows: on the
+    # others the turn itself is the greatest change about them (engine.boundaries).
+    turns = turn_frames(n, turn_free, fps, step, p)
+    near_turn = lambda b: any(abs(b - t) <= p.novelty_window * fps for t in turns)  # noqa: E731
     # Step 1b: weak peaks where the period changes (engine.rhythm).
     clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free)
     periods = None
@@ -309,13 +319,17 @@ def _parse_energy(v, fps, p, w, theta, n, step):
         # Step 4: each boundary between whole periods of its two clusters (engine.onsets).
         periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster)
+        if any(near_turn(cs) for cs, _ in clusters[1:]):
+            alt = settle(free, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster)
+            starts = [b if near_turn(cs) else a for a, b, (cs, _) in zip(starts, alt, clusters)]
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
     if p.onset_reach > 0:
         # Step 5: each boundary moves back from its novelty peak to where the motion left the
         # old exercise (engine.onsets), never onto the old cluster's first frame.
-        starts = [0] + [max(onset(v, clusters[i - 1][0], cs, fps, reach=p.onset_reach), clusters[i - 1][0] + 1)
+        starts = [0] + [max(onset(free if near_turn(cs) else v, clusters[i - 1][0], cs, fps, reach=p.onset_reach),
+                            clusters[i - 1][0] + 1)
                         for i, (cs, _) in enumerate(clusters) if i]
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]

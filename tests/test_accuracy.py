@@ -170,6 +170,33 @@ def test_a_person_turning_while_exercising_is_not_split_at_the_turn(devsuite):
     assert default.texton_accuracy == 1.0, default.texton_rows
 
 
+def test_a_change_of_exercise_just_after_a_turn_is_found_and_placed_where_it_is(devsuite):
+    # The development suite's "turns" take: the synthetic actor turns to face another way
+    # every 5-10 s; the first turn (5.4-6.4 s, 76 degrees) comes 2.7 s before jumping jacks
+    # give way to side bends (8.1 s). The turn's novelty peak hid the change on its slope and
+    # settling the boundary between whole periods, then at the onset, moved it back onto the
+    # turn (engine.boundaries, *Boundaries behind a turn*).
+    from engine.evaluate import score
+    from engine.structure import StructureParams, parse
+    take = devsuite.synth_take("synth-drift", "turns", dict(devsuite.SYNTH["synth-drift"])["turns"])
+    change = take.truth["segments"][1]["start"] / take.fps
+    assert abs(change - 8.1) < 0.05
+
+    def starts(**params):
+        s = parse(take.vectors, take.fps, StructureParams(**params), theta=take.theta)
+        return [cs / take.fps for cs, _ in s.clusters[1:]]
+
+    found = starts()
+    assert any(abs(b - change) <= 1.0 for b in found), found
+    assert not any(5.0 <= b <= 7.0 for b in found), found          # nothing at the turn
+    vetoless = starts(turn_ratio=0)
+    assert any(5.0 <= b <= 7.0 for b in vetoless) and not any(abs(b - change) <= 1.0 for b in vetoless), vetoless
+    # The other take that turns so (15 fps, turns of 60-120 degrees) is parsed without error.
+    other = devsuite.synth_take("synth-drift", "turns-15fps", dict(devsuite.SYNTH["synth-drift"])["turns-15fps"])
+    result = score(parse(other.vectors, other.fps, theta=other.theta), other.truth, other.fps)
+    assert (result.precision, result.recall) == (1.0, 1.0), result.matches
+
+
 def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsuite):
     # The development suite's "wander" take (the synthetic actor wandering up to 0.8 m), with
     # features in the body's own frame as build computes them: its front lies a fraction of

@@ -53,6 +53,20 @@ def test_an_earlier_twin_peak_that_is_a_turn_is_not_taken_for_the_boundary():
     assert starts(n) == [100]
 
 
+def test_a_change_hidden_on_a_turns_slope_is_found_on_the_heading_free_novelty():
+    # A turn peaking at 6 s, far higher and broader than the change of exercise 2.4 s later,
+    # which is no local maximum of the novelty; the heading-free novelty hardly rises at the
+    # turn and peaks at the change.
+    n = bump(60, 0.3, 10.0)
+    assert not any(n[83:86] >= np.maximum(n[82:85], n[84:87]))   # no peak of n at the change
+    turn_free = np.maximum(bump(60, 0.05), bump(84, 0.15))
+    assert starts(n, turn_free) == [84]
+    assert starts(n, turn_free, turn_ratio=0) == [60]              # no veto: the turn is the boundary
+    # Only near a turn (within novelty_window) does the heading-free novelty find boundaries.
+    assert starts(n, turn_free, novelty_window=2.0) == []
+    assert starts(bump(60, 0.3, 10.0) * 0, turn_free) == []         # no turn, no peak of n: nothing
+
+
 def test_the_shoulder_of_a_strong_peak_is_not_a_second_boundary():
     # A strong change at 10 s whose novelty falls away slowly, with a small bump on its
     # flank 2 s later (pauses between repetitions make such bumps): min_cluster apart, over
