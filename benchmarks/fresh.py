@@ -54,6 +54,15 @@ BATCHES = {
         ("synth", "turns-c-rests", dict(motions=["squats", "toe-touch", "jumping-jacks", "arm-circles"],
                                         cycles=[5, 4, 8, 6], turns=60.0, rest=0.8, seed=53)),
     ],
+    # Not a step's check but a known failure, recorded so that it can be rerun: turns of
+    # 90-180 degrees by an actor who stays on its spot (the features' origin stays at the
+    # first frame's centre; engine.boundaries, *Boundaries behind a turn*, "Still wrong").
+    "turns180": [
+        ("synth", "probe-walk-180", dict(motions=["walk", "jumping-jacks", "box", "side-bends"], cycles=[10, 8, 8, 4],
+                                         turns=180.0, seed=61)),
+        ("synth", "probe-run-150-drift", dict(motions=["run", "squats", "arm-circles", "knee-raises"],
+                                              cycles=[12, 5, 6, 5], turns=150.0, wander=0.8, seed=62)),
+    ],
 }
 
 

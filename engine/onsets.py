@@ -58,7 +58,7 @@ def energy_distance(D, split):
             - y.sum() / ((n - split) * (n - split - 1)))
 
 
-def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0):
+def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, other=None, use_other=()):
     """Cluster starts moved to where whole periods before and after differ most.
 
     Parameters
@@ -77,6 +77,11 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0):
     min_gap : float
         Least distance, in seconds, between a moved boundary and its neighbours (or the
         sequence's ends); a boundary already nearer stays no nearer.
+    other : (T, D') array, optional
+        Other rows of the same frames, read instead of ``vectors`` for the boundaries of
+        ``use_other`` (the start of ``clusters[i]`` for each i in it): the heading-free rows
+        for boundaries near a turn (engine.boundaries, *Boundaries behind a turn*).
+    use_other : collection of int
 
     Returns
     -------
@@ -91,8 +96,9 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0):
     """
     v = np.asarray(vectors, dtype=np.float64)
     step = max(1, int(round(fps / 10.0)))      # about 10 fps, as the novelty is computed
-    r = block_means(v, step)
-    f, n = fps / step, len(r)
+    rows = block_means(v, step)
+    alt = block_means(np.asarray(other, dtype=np.float64), step) if other is not None and use_other else rows
+    f, n = fps / step, len(rows)
 
     def block(P):
         if P is None:
@@ -110,7 +116,7 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0):
         hi = min(nxt - max(1, min(gap, nxt - b)), b + k)
         before, after = block(periods[i - 1]), block(periods[i])
         a0, a1 = max(0, lo - before), min(n, hi + after)
-        D = distance_matrix(r[a0:a1])
+        D = distance_matrix((alt if i in use_other else rows)[a0:a1])
         best, at = -np.inf, b
         for t in range(lo, hi + 1):
             i0, i1 = max(a0, t - before) - a0, min(a1, t + after) - a0

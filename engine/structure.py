@@ -127,7 +127,7 @@ import numpy as np
 from .atoms import (PAPER_FPS, atom_distance, atom_distances_to, atoms_along_lag,
                     atom_window, lag_profile, novelty)
 from .azimuth import azimuth_smoothed, azimuth_spectrum
-from .boundaries import novelty_clusters, novelty_curve, turn_frames
+from .boundaries import novelty_boundaries, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
 from .heading import heading_track, turned
 from .onsets import onset, settle
@@ -304,10 +304,9 @@ def _parse_energy(v, fps, p, w, theta, n, step):
     veto = p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0
     free = azimuth_spectrum(v, theta) if veto else None
     turn_free = novelty_curve(free, fps, p)[0] if veto else None
-    clusters = novelty_clusters(v, fps, p, n, step, turn_free)
-    # Boundaries near a turn are placed (steps 4 and 5) on the heading-free rows: on the
-    # others the turn itself is the greatest change about them (engine.boundaries).
-    turns = turn_frames(n, turn_free, fps, step, p)
+    clusters, turns = novelty_boundaries(v, fps, p, n, step, turn_free)
+    # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
+    # the others the turn itself is the greatest change about them (engine.boundaries).
     near_turn = lambda b: any(abs(b - t) <= p.novelty_window * fps for t in turns)  # noqa: E731
     # Step 1b: weak peaks where the period changes (engine.rhythm).
     clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free)
@@ -318,10 +317,9 @@ def _parse_energy(v, fps, p, w, theta, n, step):
     if p.refine_reach > 0 and len(clusters) > 1:
         # Step 4: each boundary between whole periods of its two clusters (engine.onsets).
         periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
-        starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster)
-        if any(near_turn(cs) for cs, _ in clusters[1:]):
-            alt = settle(free, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster)
-            starts = [b if near_turn(cs) else a for a, b, (cs, _) in zip(starts, alt, clusters)]
+        near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
+        starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
+                        other=free, use_other=near)
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None

@@ -64,7 +64,11 @@ def test_a_change_hidden_on_a_turns_slope_is_found_on_the_heading_free_novelty()
     assert starts(n, turn_free, turn_ratio=0) == [60]              # no veto: the turn is the boundary
     # Only near a turn (within novelty_window) does the heading-free novelty find boundaries.
     assert starts(n, turn_free, novelty_window=2.0) == []
-    assert starts(bump(60, 0.3, 10.0) * 0, turn_free) == []         # no turn, no peak of n: nothing
+    # Not within min_cluster of the turn (the turn's own heading-free bump), nor at the
+    # take's end, where a block is too short to trust.
+    assert starts(n, np.maximum(bump(60, 0.05), bump(75, 0.15))) == []
+    late = bump(165, 0.3, 10.0)
+    assert starts(late, np.maximum(bump(165, 0.05), bump(192, 0.15))) == []
 
 
 def test_the_shoulder_of_a_strong_peak_is_not_a_second_boundary():
