@@ -8,8 +8,8 @@ A parse is judged on takes it was not tuned on. The suite holds four groups:
     orders, transitions of 0.2-3 s (with standing still between exercises), pauses of up to
     0.8 or 1.5 s after each repetition, one-off movements (putting something on the floor,
     reaching up: each repetition goes elsewhere and lasts another time), the left-then-right
-    exercises (knee raises, side bends, boxing, toe touches, twists), vertex noise and holes,
-    frame rates 10-60 fps.
+    exercises (knee raises, side bends, boxing, toe touches, twists), warm-up routines
+    (marching, jogging and high knees in place), vertex noise and holes, frame rates 10-60 fps.
 ``synth-drift``
     The same actor walking across the capture volume while exercising (up to 1.5 m over a
     take), so the paper's fixed origin at the first frame's centre falls behind, and turning
@@ -404,6 +404,13 @@ SYNTH = {
                                transition=1.0, build=1.1, seed=41)),
         ("alternating-15fps", dict(motions=["box", "knee-raises", "twist", "toe-touch"], cycles=[8, 5, 5, 4],
                                    jitter=1.5, fps=15, build=0.9, height=0.95, noise=0.004, seed=42)),
+        # Warm-up routines: marching, jogging and high knees in place, one after another (alike
+        # poses at another tempo, as HDM05's misses of step 21 were). Added after step 22,
+        # designed before the parser was run on them, to be kept whatever they scored.
+        ("warm-up", dict(motions=["walk", "run", "knee-raises", "jumping-jacks"], periods_s=[1.2, 0.7, 1.4, 1.0],
+                         cycles=[8, 12, 8, 8], transition=0.5, seed=43)),
+        ("warm-up-20fps", dict(motions=["knee-raises", "run", "walk", "squats"], periods_s=[2.0, 0.8, 1.1, 2.2],
+                               cycles=[5, 12, 8, 5], jitter=1.5, fps=20, build=1.15, seed=44)),
     ],
     "synth-drift": [
         ("drift-x", dict(motions=["jumping-jacks", "squats", "side-bends", "knee-raises"], cycles=[8, 5, 4, 5],

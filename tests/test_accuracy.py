@@ -191,10 +191,26 @@ def test_a_change_of_exercise_just_after_a_turn_is_found_and_placed_where_it_is(
     assert not any(5.0 <= b <= 7.0 for b in found), found          # nothing at the turn
     vetoless = starts(turn_ratio=0)
     assert any(5.0 <= b <= 7.0 for b in vetoless) and not any(abs(b - change) <= 1.0 for b in vetoless), vetoless
-    # The other take that turns so (15 fps, turns of 60-120 degrees) is parsed without error.
+    # The other take that turns so (15 fps, turns of 60-120 degrees) is parsed right too (with
+    # the turn veto; step 22 changes nothing there).
     other = devsuite.synth_take("synth-drift", "turns-15fps", dict(devsuite.SYNTH["synth-drift"])["turns-15fps"])
     result = score(parse(other.vectors, other.fps, theta=other.theta), other.truth, other.fps)
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
+
+
+def test_marching_jogging_and_high_knees_in_place_are_told_apart(devsuite):
+    # The development suite's "warm-up" take: marching (1.2 s), jogging (0.7 s) and high
+    # knees (1.4 s, left then right) in place, then jumping jacks: alike poses at another
+    # tempo. Whitened novelty rows (StructureParams.novelty_components) tell them apart; on
+    # the rows as they are, jogging and high knees are one exercise.
+    from engine.evaluate import score
+    from engine.structure import StructureParams, parse
+    take = devsuite.synth_take("synth", "warm-up", dict(devsuite.SYNTH["synth"])["warm-up"])
+    found = score(parse(take.vectors, take.fps, theta=take.theta), take.truth, take.fps)
+    assert (found.precision, found.recall, found.texton_accuracy) == (1.0, 1.0, 1.0), found.matches
+    plain = score(parse(take.vectors, take.fps, StructureParams(novelty_components=0, novelty_threshold=0.05),
+                        theta=take.theta), take.truth, take.fps)
+    assert plain.recall < 1.0
 
 
 def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsuite):
