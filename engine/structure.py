@@ -144,6 +144,7 @@ __all__ = [
     "parse",
     "textons_for",
     "texton_curve",
+    "vetoed_turns",
     "parser_view",
     "followed_heading",
     "atom_window",
@@ -299,11 +300,17 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
     return textons
 
 
+def _heading_free(v, fps, p, theta):
+    # The heading-free rows and their novelty, for the turn veto; (None, None) without one (it
+    # needs the azimuth columns: theta None or empty, every peak counts).
+    if not (p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0):
+        return None, None
+    free = azimuth_spectrum(v, theta)
+    return free, novelty_curve(free, fps, p)[0]
+
+
 def _parse_energy(v, fps, p, w, theta, n, step):
-    # The turn veto needs the azimuth columns (theta None or empty: every peak counts).
-    veto = p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0
-    free = azimuth_spectrum(v, theta) if veto else None
-    turn_free = novelty_curve(free, fps, p)[0] if veto else None
+    free, turn_free = _heading_free(v, fps, p, theta)
     clusters, turns = novelty_boundaries(v, fps, p, n, step, turn_free)
     # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
     # the others the turn itself is the greatest change about them (engine.boundaries).
@@ -421,6 +428,25 @@ def followed_heading(vectors, params=None, theta=None, fps=None):
         return None
     heading = _heading(azimuth_smoothed(vectors, theta), p, theta, fps)
     return None if heading is None else np.degrees(heading)
+
+
+def vetoed_turns(vectors, params=None, theta=None, fps=None):
+    """Frames where the parser read the person turning and cut no boundary (the turn veto,
+    :mod:`engine.boundaries`), in order; [] where there is no veto (method "paper",
+    ``turn_ratio`` 0, no azimuth columns). For showing them (the report), not for parsing.
+
+    >>> v = np.zeros((80, 76)); v[:, 4:] = 1.0
+    >>> vetoed_turns(v, theta=slice(4, 76), fps=10), vetoed_turns(v, StructureParams(turn_ratio=0), slice(4, 76), 10)
+    ([], [])
+    """
+    p = params or StructureParams()
+    v = np.asarray(vectors, dtype=np.float64)
+    if p.method != "energy" or theta is None or fps is None or len(v) < 2:
+        return []
+    v = parser_view(v, p, theta, fps)
+    n, step = novelty_curve(v, fps, p)
+    turn_free = _heading_free(v, fps, p, theta)[1]
+    return [] if turn_free is None else novelty_boundaries(v, fps, p, n, step, turn_free)[1]
 
 
 def _parse_paper(v, fps, p, w):

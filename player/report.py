@@ -46,7 +46,7 @@ import numpy as np
 from engine import atomic
 from engine.errors import TvmError
 from engine.evaluate import TOLERANCE_S, score
-from engine.structure import StructureParams, followed_heading
+from engine.structure import StructureParams, followed_heading, vetoed_turns
 
 #: Frames per node contact sheet (evenly spaced over the texton, first and last included).
 SHEET_FRAMES = 8
@@ -90,7 +90,7 @@ def _save(fig, out_png):
 
 
 def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None, fps=None,
-                         title="", size=CURVE_SIZE, automatic=None, heading=None):
+                         title="", size=CURVE_SIZE, automatic=None, heading=None, turns=None):
     """Figure 4 for one sequence: d_A(t, t_first) with texton starts and cluster bands.
 
     Parameters
@@ -114,12 +114,15 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     heading : (T,) array_like, optional
         The person's heading as the parser followed it, degrees
         (:func:`engine.structure.followed_heading`): a grey line on its own axis, right.
+    turns : list of int, optional
+        Frames where the parser read the person turning and cut no boundary
+        (:func:`engine.structure.vetoed_turns`): purple triangles along the top.
 
     Returns
     -------
     dict
         ``texton_starts``: the x positions (frames) of the markers as plotted, in order;
-        ``size``: the PNG's (width, height).
+        ``turns``: those of the turn markers; ``size``: the PNG's (width, height).
     """
     curve = np.asarray(curve, dtype=np.float64)
     starts = sorted(int(_start_end(t)[0]) for t in textons)
@@ -143,6 +146,11 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
             for b in sorted(frames):
                 ax.axvline(b - 0.5, **style)
     ax.set_xlim(-0.5, max(len(curve), 1) - 0.5)
+    shown = []
+    if turns:
+        (mark,) = ax.plot(sorted(int(t) for t in turns), [0.97] * len(turns), "v", color=TURN_COLOUR, ms=7,
+                          transform=ax.get_xaxis_transform(), clip_on=False, label="turn, no boundary")
+        shown = [int(x) for x in mark.get_xdata()]
     ax.set_ylabel("atom distance")
     ax.tick_params(labelbottom=False)
     handles = ax.get_legend_handles_labels()[0]
@@ -177,7 +185,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     fig.axes[-1].set_xlabel(unit)
     _save(fig, out_png)
     # What the figure really marks, read back from the plotted line (not the input).
-    return {"texton_starts": [int(x) for x in markers.get_xdata()], "size": list(size)}
+    return {"texton_starts": [int(x) for x in markers.get_xdata()], "turns": shown, "size": list(size)}
 
 
 #: Where along its arc an edge's weight is written (0: at the source, 1: at the target).
@@ -185,6 +193,9 @@ LABEL_AT = 0.35
 
 #: Label colour of the edges added to connect the graph (and of boundaries removed by hand).
 ADDED_COLOUR = "#c0262d"
+
+#: Where the parser read a turn and cut no boundary (structure figure).
+TURN_COLOUR = "#8a3ab9"
 #: Colour of the cluster boundaries added or moved by hand.
 ADDED_COLOUR_BOUNDARY = "#e07010"
 
@@ -424,12 +435,14 @@ class _Report:
             fixes = corrections.get(seq.name)
             automatic = self.library.parse(seq.name).clusters if fixes else None
             features = self.library.features(seq.name)
-            heading = followed_heading(features.vectors, StructureParams.recorded(structure.params),
-                                       features.theta_columns, seq.fps)
+            params = StructureParams.recorded(structure.params)
+            heading = followed_heading(features.vectors, params, features.theta_columns, seq.fps)
+            turns = vetoed_turns(features.vectors, params, features.theta_columns, seq.fps)
             plotted = atom_distance_figure(structure.curve, structure.textons, structure.clusters,
                                            self.folder / png,
                                            truth_segments=scored.segments if scored else None,
-                                           fps=seq.fps, title=seq.name, automatic=automatic, heading=heading)
+                                           fps=seq.fps, title=seq.name, automatic=automatic, heading=heading,
+                                           turns=turns)
             row = {"name": seq.name, "image": png, "texton_starts": plotted["texton_starts"],
                    "clusters": [list(map(int, c)) for c in structure.clusters],
                    "textons": len(structure.textons)}
@@ -444,6 +457,7 @@ class _Report:
                 parts.append(_corrections_paragraph(fixes, automatic, structure.clusters))
             parts.append(_confidence_paragraph(structure, row))
             parts.append(_heading_paragraph(heading, row))
+            parts.append(_turns_paragraph(plotted["turns"], seq.fps, row))
             if scored is not None:
                 parts.append(self._score_paragraph(seq, structure, scored, row))
             summary["sequences"].append(row)
@@ -775,6 +789,16 @@ def _heading_paragraph(heading, row):
                 f"(dashed grey, right axis) and read every frame turned back by it; where the line "
                 f"moves with no turn in the capture, look there first")
     return f"<p class='heading'>{_e(text)}.</p>"
+
+
+def _turns_paragraph(turns, fps, row):
+    """Where the parser read a turn and cut no boundary (the turn veto), for the page and report.json."""
+    row.update(turns_s=[round(t / fps, 2) for t in turns])
+    if not turns:
+        return ""
+    at = ", ".join(f"{t / fps:.1f} s" for t in turns)
+    return (f"<p class='turns'>{_e(f'The parser read the person turning at {at} (purple triangles) and cut no boundary there')}: "
+            "if the motion changes there too, add the boundary by hand (<code>tvmedit correct</code>).</p>")
 
 
 def _confidence_paragraph(structure, row):

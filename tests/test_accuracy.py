@@ -198,6 +198,18 @@ def test_a_change_of_exercise_just_after_a_turn_is_found_and_placed_where_it_is(
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
 
 
+def test_the_turns_the_parser_vetoed_are_where_the_actor_turned(devsuite):
+    # engine.structure.vetoed_turns, which the report marks: on the "turns" take, the turns of
+    # 5.4-6.4 s and 14.5-15.5 s (the later two lie at boundaries and are no veto's); none on
+    # a take of the actor facing one way.
+    from engine.structure import vetoed_turns
+    take = devsuite.synth_take("synth-drift", "turns", dict(devsuite.SYNTH["synth-drift"])["turns"])
+    seen = [f / take.fps for f in vetoed_turns(take.vectors, None, take.theta, take.fps)]
+    assert len(seen) == 2 and 5.4 <= seen[0] <= 6.9 and 14.5 <= seen[1] <= 16.0, seen
+    still = devsuite.synth_take("synth", "slim-fast", dict(devsuite.SYNTH["synth"])["slim-fast"])
+    assert vetoed_turns(still.vectors, None, still.theta, still.fps) == []
+
+
 def test_marching_jogging_and_high_knees_in_place_are_told_apart(devsuite):
     # The development suite's "warm-up" take: marching (1.2 s), jogging (0.7 s) and high
     # knees (1.4 s, left then right) in place, then jumping jacks: alike poses at another

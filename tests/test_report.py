@@ -233,6 +233,27 @@ def test_plotting_returns_the_markers_it_draws(tmp_path):
     assert iio.imread(tmp_path / "c.png").shape[:2] == (200, 400)
 
 
+def test_turns_the_parser_cut_no_boundary_at_are_marked_and_named(report, tmp_path):
+    # The synthetic actor never turns: nothing is marked, and the page says nothing of turns.
+    _, page, summary = report
+    assert summary["sequences"][0]["turns_s"] == []
+    assert "turning at" not in page
+    # Turns are drawn as purple triangles along the top, where the parser read them.
+    from player.report import TURN_COLOUR, _turns_paragraph, atom_distance_figure
+
+    curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
+    purple, rgb = [], np.array([int(TURN_COLOUR[i:i + 2], 16) for i in (1, 3, 5)])
+    for turns in (None, [15, 40]):
+        plotted = atom_distance_figure(curve, [(0, 9)], [(0, 59)], tmp_path / "t.png", size=(400, 200), turns=turns)
+        image = iio.imread(tmp_path / "t.png")[..., :3].astype(int)
+        purple.append((np.abs(image - rgb).max(axis=-1) <= 24).sum())
+    assert plotted["turns"] == [15, 40]
+    assert purple[0] == 0 and purple[1] > 40, purple
+    row = {}
+    text = _turns_paragraph([60, 151], 10.0, row)
+    assert row["turns_s"] == [6.0, 15.1] and "6.0 s, 15.1 s" in text and "tvmedit correct" in text
+
+
 def test_the_heading_the_parser_followed_is_shown_beside_the_curve(report, tmp_path):
     # The synthetic actor stands facing one way: the page says no turn was followed.
     _, page, summary = report
