@@ -441,7 +441,7 @@ def vetoed_turns(vectors, params=None, theta=None, fps=None):
     """
     p = params or StructureParams()
     v = np.asarray(vectors, dtype=np.float64)
-    if p.method != "energy" or theta is None or fps is None or len(v) < 2:
+    if p.method != "energy" or not p.turn_ratio > 0 or theta is None or fps is None or len(v) < 2:
         return []
     v = parser_view(v, p, theta, fps)
     n, step = novelty_curve(v, fps, p)

@@ -438,6 +438,10 @@ class _Report:
             params = StructureParams.recorded(structure.params)
             heading = followed_heading(features.vectors, params, features.theta_columns, seq.fps)
             turns = vetoed_turns(features.vectors, params, features.theta_columns, seq.fps)
+            if fixes:
+                # A boundary drawn by hand at a turn: the parser's veto is no longer the news.
+                near = params.min_cluster * seq.fps
+                turns = [t for t in turns if all(abs(t - cs) > near for cs, _ in structure.clusters[1:])]
             plotted = atom_distance_figure(structure.curve, structure.textons, structure.clusters,
                                            self.folder / png,
                                            truth_segments=scored.segments if scored else None,
