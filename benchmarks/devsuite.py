@@ -45,6 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
+from engine import synth
 from engine.featcache import code_version
 from engine.features import follow_picks
 from engine.orientation import feature_frame, sample_indices
@@ -238,11 +239,7 @@ def _frames_features(folder, start=0, stop=None):
     return f.vectors, theta
 
 
-def _turned_about_own_axis(verts, angle):
-    """Vertices (Z up) turned by ``angle`` radians about the vertical through their own centre."""
-    c, s = np.cos(angle), np.sin(angle)
-    centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]
-    return (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+_turned_about_own_axis = synth.turned_about_own_axis
 
 
 def _turned_features(folder, frames, heading):
@@ -444,15 +441,7 @@ def _headings(n, fps, turn=None, sway=None, seed=0, turns=None):
     # s at random, by 1/2 to 1 times ``turns`` degrees to either side, each over 1 s), from a
     # generator of its own so that the frames' noise stays that of the takes without it.
     t = np.arange(n) / fps
-    heading = np.radians(turn or 0.0) * t
-    if turns:
-        rng = np.random.default_rng(seed + 2000)
-        at = rng.uniform(5.0, 10.0)
-        while at < t[-1]:
-            angle = np.radians(turns) * rng.uniform(0.5, 1.0) * rng.choice([-1.0, 1.0])
-            x = np.clip(t - at, 0.0, 1.0)
-            heading = heading + angle * x * x * (3 - 2 * x)
-            at += 1.0 + rng.uniform(5.0, 10.0)
+    heading = np.radians(turn or 0.0) * t + synth.turn_headings(n, fps, turns, seed)
     if sway:
         knots = np.cumsum(np.random.default_rng(seed + 1000).normal(0, 1, int(t[-1] // 4) + 3))
         knots -= knots[0]

@@ -497,6 +497,39 @@ def make_frame(pose, voxel, rng, build=1.0, noise=NOISE_M):
     return verts.astype(np.float32), faces.astype(np.int32), colours
 
 
+def turn_headings(n, fps, turns, seed=0):
+    """The heading (radians) of an actor who turns to face another way now and then.
+
+    Every 5-10 s at random the actor turns by 1/2 to 1 times ``turns`` degrees to either side,
+    over 1 s (smoothly), as people do between repetitions; 0 at every frame where ``turns`` is
+    0. ``n`` frames at ``fps``; the turns' own random numbers (from ``seed``) leave every
+    other draw of a take as it was.
+
+    >>> h = np.degrees(turn_headings(300, 10.0, 90.0, seed=1))
+    >>> float(h[0]), bool(np.abs(np.diff(h)).max() > 5), bool(np.abs(np.diff(h)[:40]).max() == 0)
+    (0.0, True, True)
+    """
+    t = np.arange(n) / fps
+    heading = np.zeros(n)
+    if not turns or n == 0:
+        return heading
+    rng = np.random.default_rng(seed + 2000)
+    at = rng.uniform(5.0, 10.0)
+    while at < t[-1]:
+        angle = np.radians(turns) * rng.uniform(0.5, 1.0) * rng.choice([-1.0, 1.0])
+        x = np.clip(t - at, 0.0, 1.0)
+        heading = heading + angle * x * x * (3 - 2 * x)
+        at += 1.0 + rng.uniform(5.0, 10.0)
+    return heading
+
+
+def turned_about_own_axis(verts, angle):
+    """Vertices (Z up) turned by ``angle`` radians about the vertical through their own centre."""
+    c, s = np.cos(angle), np.sin(angle)
+    centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]
+    return (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+
+
 def _colours(prims, verts, rng):
     """Garment colour of the nearest primitive, with a little brightness and hue noise."""
     x, y, z = verts.T
@@ -521,9 +554,11 @@ def _colours(prims, verts, rng):
 
 
 def _frame_job(job):
-    out, index, pose, voxel, seed = job
+    out, index, pose, voxel, seed, heading = job
     rng = np.random.default_rng(np.random.SeedSequence([seed, 1, index]))
     verts, faces, colours = make_frame(pose, voxel, rng)
+    if heading:
+        verts = turned_about_own_axis(verts, heading).astype(np.float32)
     write_ply(Path(out) / f"frame_{index:05d}.ply", verts, faces, colours)
     return index, len(verts)
 
@@ -649,7 +684,7 @@ def _ours(out):
 
 
 def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=16000, seed=0,
-             workers=None, overwrite=False, progress=True, rest=0.0):
+             workers=None, overwrite=False, progress=True, rest=0.0, turns=0.0):
     """Write a synthetic TVM take into folder ``out`` and return its truth (``truth.json``).
 
     ``out/frame_00000.ply, ...`` are binary PLY frames; ``sequence.json`` gives their frame
@@ -659,15 +694,19 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
     segment), ``vertex_counts`` and the generator settings. ``motions`` (names from
     :data:`MOTIONS`) and ``cycles`` override the preset; ``rest`` (seconds) pauses the actor
     after each cycle for up to that long, at random, and the periods then count the pauses
-    (:func:`plan`). Files are identical for any number of ``workers`` (default: all cores).
+    (:func:`plan`); ``turns`` (degrees) turns the actor to face another way every 5-10 s
+    (:func:`turn_headings`). Files are identical for any number of ``workers`` (default: all
+    cores).
     """
     vertices = whole("vertices", vertices, at_least=1000, at_most=1_000_000)
+    turns = number("turns", turns, at_least=0, at_most=180, hint=" degrees")
     if workers is not None:
         workers = whole("workers", workers, at_least=1, at_most=1024)
     poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed, rest=rest)
     out = _prepare(out, overwrite)
     voxel = float(voxel_size(vertices))
-    jobs = [(str(out), k, pose, voxel, seed) for k, pose in enumerate(poses)]
+    headings = turn_headings(len(poses), fps, turns, seed)
+    jobs = [(str(out), k, pose, voxel, seed, float(h)) for k, (pose, h) in enumerate(zip(poses, headings))]
     counts = _write_frames(jobs, workers, progress, out.name)
     segments = _segments(labels)
     hints = []
@@ -690,12 +729,14 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
                              "acf_peak is the pose autocorrelation at that lag",
         "transitions": f"the {TRANSITION_S} s blend between two motions is labelled with the "
                        "motion it leads into",
-        "coordinates": "Z up, metres, feet on z = 0; subject faces -Y and moves on the spot",
+        "coordinates": "Z up, metres, feet on z = 0; subject faces -Y and moves on the spot"
+                       + (f", turning to face another way every 5-10 s (by {turns / 2:g}-{turns:g} degrees)"
+                          if turns else ""),
         "vertex_counts": counts,
         "generator": {"tool": "tvmedit synth", "version": VERSION, "preset": preset,
                       "motions": motions, "cycles": cycles, "seed": seed, "vertices": vertices,
                       "voxel_m": round(voxel, 6), "noise_m": NOISE_M,
-                      "transition_s": TRANSITION_S, "rest_s": rest, "cycle_periods_s": [
+                      "transition_s": TRANSITION_S, "rest_s": rest, "turns_deg": turns, "cycle_periods_s": [
                           [round(p, 4) for p in per] for per in periods]},
     }
     # The frame rate beside the frames, where `tvmedit build` reads it (PLY frames carry none).

@@ -261,6 +261,26 @@ def test_turns_the_parser_cut_no_boundary_at_are_marked_and_named(report, tmp_pa
     assert row["turns_s"] == [6.0, 15.1] and "6.0 s, 15.1 s" in text and "tvmedit correct" in text
 
 
+def test_a_take_where_the_actor_turns_names_the_turns_on_its_page(ctx, tmp_path):
+    # A real take of the synthetic actor turning to face another way now and then (tvmedit
+    # synth --turns 90), built and reported: the page and report.json name the turns the
+    # parser read, within a second of where the actor turned, and the parse is right.
+    from engine import synth
+    from player.report import write_report
+
+    take = synth_take("gym", motions=["jumping-jacks", "side-bends", "squats"], turns=90.0, vertices=4000, seed=3)
+    truth = json.loads((take / "truth.json").read_text())
+    heading = np.degrees(synth.turn_headings(truth["frames"], truth["fps"], 90.0, seed=3))
+    turning = np.flatnonzero(np.abs(np.diff(heading)) > 1e-6) / truth["fps"]
+    lib = build([("turning", str(take))], tmp_path / "t.lib", workers=2, cache=False)
+    write_report(lib, tmp_path / "rep", progress=False)
+    row = json.loads((tmp_path / "rep" / "report.json").read_text())["sequences"][0]
+    assert row["turns_s"] and all(np.abs(turning - t).min() <= 1.0 for t in row["turns_s"]), (row["turns_s"], turning)
+    assert (row["precision"], row["recall"]) == (1.0, 1.0)
+    page = (tmp_path / "rep" / "index.html").read_text()
+    assert "turning at " + ", ".join(f"{t:.1f} s" for t in row["turns_s"]) in page
+
+
 def test_the_heading_the_parser_followed_is_shown_beside_the_curve(report, tmp_path):
     # The synthetic actor stands facing one way: the page says no turn was followed.
     _, page, summary = report

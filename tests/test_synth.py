@@ -164,7 +164,7 @@ def test_cli_help_runs():
     result = subprocess.run([sys.executable, "-m", "tvmedit", "synth", "--help"],
                             capture_output=True, text=True)
     assert result.returncode == 0
-    for option in ("--preset", "--motions", "--cycles", "--rest", "--vertices", "--workers", "--overwrite"):
+    for option in ("--preset", "--motions", "--cycles", "--rest", "--turns", "--vertices", "--workers", "--overwrite"):
         assert option in result.stdout
 
 
@@ -208,6 +208,12 @@ def test_pauses_between_repetitions_hold_the_pose_and_count_in_the_period():
     assert np.allclose(poses[still], poses[0], atol=0.2)
     with pytest.raises(ValueError, match="rest"):
         synth.plan(rest=-1, **kw)
+
+
+def test_a_turn_of_more_than_half_a_circle_is_refused_before_anything_is_written(tmp_path):
+    with pytest.raises(ValueError, match="turns=200"):
+        synth.generate(tmp_path / "t", motions=["squats"], cycles=1, turns=200, vertices=2000, progress=False)
+    assert not (tmp_path / "t").exists()
 
 
 def test_a_take_that_pauses_is_made_from_the_command_line(tmp_path):

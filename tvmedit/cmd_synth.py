@@ -18,6 +18,7 @@ example:
   tvmedit synth --motions squats,jumping-jacks --rest 1.5 --out /tmp/pausing
   tvmedit synth --motions pick-up,reach-up,squats --out /tmp/one-offs
   tvmedit synth --motions box,toe-touch,twist --out /tmp/alternating
+  tvmedit synth --motions jumping-jacks,side-bends --turns 90 --out /tmp/turning
 """
 
 import time
@@ -37,6 +38,9 @@ def add_arguments(parser):
     parser.add_argument("--rest", type=float, default=0.0, metavar="S",
                         help="pause after each cycle for up to S seconds, at random, as people pause "
                              "between repetitions (default: 0, no pauses)")
+    parser.add_argument("--turns", type=float, default=0.0, metavar="DEG",
+                        help="turn to face another way every 5-10 s, by DEG/2 to DEG degrees to either "
+                             "side, as people turn between repetitions (default: 0, facing -y)")
     parser.add_argument("--fps", type=float, default=10, help="frames per second (default: 10)")
     parser.add_argument("--vertices", type=int, default=16000, metavar="N",
                         help="target vertices per frame; sets the grid resolution (default: 16000)")
@@ -57,7 +61,7 @@ def run(args):
     start = time.perf_counter()
     truth = generate(args.out or args.preset, preset=args.preset, motions=motions, cycles=args.cycles,
                      fps=fps, vertices=args.vertices, seed=args.seed, workers=args.workers,
-                     overwrite=args.overwrite, progress=not args.quiet, rest=args.rest)
+                     overwrite=args.overwrite, progress=not args.quiet, rest=args.rest, turns=args.turns)
     if not args.quiet:
         counts = truth["vertex_counts"]
         segments = ", ".join(f"{s['label']} {s['start']}-{s['end']}" for s in truth["segments"])
