@@ -239,9 +239,6 @@ def _frames_features(folder, start=0, stop=None):
     return f.vectors, theta
 
 
-_turned_about_own_axis = synth.turned_about_own_axis
-
-
 def _turned_features(folder, frames, heading):
     """Features of the folder's ``frames`` with the body turned by ``heading`` (radians, one a
     frame) about the vertical through its own centre, the meshes themselves rotated, then
@@ -257,7 +254,7 @@ def _turned_features(folder, frames, heading):
     sequence = open_sequence(str(folder))
 
     def frame_at(k):
-        return _turned_about_own_axis(
+        return synth.turned_about_own_axis(
             read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions, heading[k])
 
     body = _body(len(frames), frame_at)
@@ -465,7 +462,6 @@ def _offsets(n, fps, drift=None, wander=None, seed=0):
 
 def synth_take(group, name, options, vertices=6000):
     """A synthetic take's features, reconstructed in memory (cached)."""
-    from engine import synth
     opts = dict(options)
     extra = {k: opts.pop(k) for k in ("build", "height", "noise", "holes", "drift", "wander", "turn", "sway", "turns")
              if k in opts}
@@ -485,7 +481,7 @@ def synth_take(group, name, options, vertices=6000):
     for k, pose in enumerate(poses):
         verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
         if heading[k]:
-            verts = _turned_about_own_axis(verts, heading[k])
+            verts = synth.turned_about_own_axis(verts, heading[k])
         verts = verts * extra.get("height", 1.0) + shift[k]
         if rng.random() < extra.get("holes", 0.0):
             centre = verts[rng.integers(len(verts))]

@@ -280,7 +280,7 @@ def turn_test(n, turn_free, ratio, f):
     return lambda t: bool(turn_free[max(0, t - reach): t + reach + 1].max() < ratio * n[t])
 
 
-def _behind_turns(n, turn_free, turns, claimed, threshold, sep, reach, edge):
+def _behind_turns(turn_free, turns, claimed, threshold, sep, reach, near_end):
     # A change of exercise within a turn's blocks can be no peak of n: the turn's far higher
     # novelty hides it on its slope. The heading-free novelty, which the turn hardly moves,
     # peaks there: its local maxima over the threshold, within ``reach`` of a turn and
@@ -292,7 +292,7 @@ def _behind_turns(n, turn_free, turns, claimed, threshold, sep, reach, edge):
         u = int(u)
         if turn_free[u] < threshold:
             break
-        if (not is_peak[u] or u < edge or len(n) - u < edge or not any(abs(u - t) <= reach for t in turns)
+        if (not is_peak[u] or near_end(u) or not any(abs(u - t) <= reach for t in turns)
                 or any(abs(u - q) < sep for q in claimed)):
             continue
         out.append(u)
@@ -386,8 +386,8 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
         # Both the peak and the boundary chosen for it keep others ``sep`` away.
         claimed += [t, bounds[-1]]
     if turns:
-        bounds += _behind_turns(n, turn_free, turns, claimed, p.novelty_threshold, sep, int(round(p.novelty_window * f)),
-                                edge)
+        bounds += _behind_turns(turn_free, turns, claimed, p.novelty_threshold, sep, int(round(p.novelty_window * f)),
+                                near_end)
     bounds.sort()
     starts = [0] + [min(T - 1, t * step) for t in bounds]
     starts = sorted(set(starts))

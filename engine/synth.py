@@ -525,9 +525,8 @@ def turn_headings(n, fps, turns, seed=0):
 
 def turned_about_own_axis(verts, angle):
     """Vertices (Z up) turned by ``angle`` radians about the vertical through their own centre."""
-    c, s = np.cos(angle), np.sin(angle)
     centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]
-    return (verts - centre) @ np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]]) + centre
+    return (verts - centre) @ _rot("z", angle).T + centre
 
 
 def _colours(prims, verts, rng):
