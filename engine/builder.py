@@ -38,7 +38,8 @@ from . import atomic, featcache, libformat, meshstore
 from .blend import preload
 from .blendstore import blend_library, loop_frames
 from .errors import InputError, TvmError
-from .features import FeatureAccumulator, Features, follow_picks, frame_histograms, frame_origin, moves_across
+from .features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
+                       moves_across)
 from .load import expand_inputs, open_sequence, read_frame
 from .parallel import Workers
 from .settings import Settings
@@ -66,7 +67,8 @@ def _read(path, skip_bad_frames, orientation=None, detail="full"):
 def _feature_task(task):
     """Histograms of a chunk of frames: ``(rows, read_s, compute_s)``.
 
-    A row is ``(h_r, h_theta, h_phi)`` as float32 (what :class:`Features` stores), or the
+    A row is ``((h_r, h_theta, h_phi), centred)`` as float32 (what :class:`Features` stores;
+    ``centred`` the same about the frame's own centre, None where the origin follows), or the
     reason the frame was skipped.
     """
     paths, origin, bins, skip_bad_frames, orientation, follow = task
@@ -78,8 +80,9 @@ def _feature_task(task):
             rows.append(reason)
             continue
         t1 = time.perf_counter()
-        at = frame_origin(frame.positions, origin, follow)
-        rows.append(tuple(h.astype(np.float32) for h in frame_histograms(frame.positions, at, bins)))
+        own = frame_histograms(frame.positions, frame_origin(frame.positions, origin, follow), bins)
+        centred = None if follow else centred_histograms(frame.positions, origin, bins)
+        rows.append(tuple(None if h is None else tuple(a.astype(np.float32) for a in h) for h in (own, centred)))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return rows, read_s, compute_s
@@ -176,7 +179,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
         raise InputError(f"no usable frames in sequence {sequence.name!r}: all {len(paths)} were bad.")
     t0 = time.perf_counter()
     follow = origin_follows(paths[first:], orientation, frame.positions)
-    accumulator = FeatureAccumulator(bins, follow=follow)
+    accumulator = FeatureAccumulator(bins, follow=follow, centred=True)
     accumulator.add(frame.positions)
     run.add_times(0.0, time.perf_counter() - t0)
     bar.update()
@@ -189,7 +192,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
             if isinstance(row, str):
                 skipped.append((str(path), row))
             else:
-                accumulator.add_histograms(*row)
+                accumulator.add_histograms(*row[0], centred=row[1])
                 kept.append(str(Path(path).resolve()))
         run.add_times(read_s, compute_s)
         bar.update(len(chunk))
@@ -237,8 +240,10 @@ def library_features(old, key, bins):
         if record.get("feature_key") == key:
             f = old.features(record["name"])
             width = record["r_bins"]
+            c = f.centred
+            centred = None if c is None else Features(np.array(c.r), np.array(c.theta), np.array(c.phi), c.origin, bins)
             features = Features(np.array(f.r[:, :width]), np.array(f.theta), np.array(f.phi),
-                                np.array(record["origin"], dtype=np.float64), bins)
+                                np.array(record["origin"], dtype=np.float64), bins, centred)
             paths = [row[0] for row in record["files"]]
             skipped = [tuple(s) for s in record.get("skipped", [])]
             return _SequenceFeatures(features, paths, skipped, key, "library")
@@ -267,7 +272,8 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
         # engine.structure): left and right poses share their r and phi histograms.
         if parses is None:
             parses = run.stage("structure", lambda: {
-                seq.name: structure_module.parse(vectors[seq.name], seq.fps, params, theta=f.theta_columns)
+                seq.name: structure_module.parse(vectors[seq.name], seq.fps, params, theta=f.theta_columns,
+                                                 centred=f.centred)
                 for seq, f in zip(sequences, padded)})
         t0 = time.perf_counter()
         thetas = {seq.name: f.theta_columns for seq, f in zip(sequences, padded)}
@@ -289,9 +295,7 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
     libformat.write_json(tmp / "blends.json", run.blends["data"])
     bins = settings.bins
     structures, nodes, graph = analysis.structures, analysis.nodes, analysis.graph
-    features_all = (np.concatenate([f.vectors for f in padded]) if padded
-                    else np.zeros((0, 0), np.float32))
-    np.save(tmp / "features.npy", np.ascontiguousarray(features_all, dtype=np.float32))
+    centred_rows, centred_width = libformat.write_features(tmp, padded)
     libformat.write_json(tmp / "structure.json", {name: s.to_json() for name, s in structures.items()})
     if analysis.corrections:
         libformat.write_corrections(tmp, analysis.corrections.to_json(),
@@ -305,12 +309,12 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
             graph.nodes[int(i)]["name"] = name
     libformat.write_graphml(graph, tmp / "graph.graphml")
     records, row = [], 0
-    for seq, entry in zip(sequences, computed):
+    for seq, entry, centred in zip(sequences, computed, centred_rows):
         n = len(entry.features)
         files = [entry.stats.get(path, [path, None, None]) for path in entry.paths]
         records.append(libformat.sequence_record(seq.name, seq.fps, (row, row + n), entry.features,
                                                  entry.key, files, entry.skipped, seq.format,
-                                                 seq.orientation.to_json()))
+                                                 seq.orientation.to_json(), centred))
         row += n
     width = padded[0].r.shape[1] if padded else 0
     libformat.write_manifest(tmp, libformat.manifest(
@@ -318,7 +322,7 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
         params={"bins": bins.to_json(), "structure": settings.params, "mu": settings.mu,
                 "skip_bad_frames": settings.skip_bad_frames, "connect": settings.connect,
                 "blend_frames": settings.blend_frames, "keep_frames": settings.keep_frames},
-        feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi},
+        feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi, "centred_r": centred_width},
         counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
                 "stored_frames": meshes.frames, "blend_frames": run.blends["frames"]},
         bounds=_union(meshes.bounds, run.blends["bounds"] if run.blends["frames"] else meshes.bounds),

@@ -136,7 +136,7 @@ def score_take(folder, params=None, bins=None, cache_dir=None, frame="body"):
     features = sequence_features(folder, bins=bins, cache_dir=cache_dir, frame=frame)
     fps = float(truth["fps"])
     t0 = time.perf_counter()
-    structure = parse(features.vectors, fps, params, theta=features.theta_columns)
+    structure = parse(features.vectors, fps, params, theta=features.theta_columns, centred=features.centred)
     seconds = time.perf_counter() - t0
     result = score(structure, truth, fps)
     result.structure = structure
@@ -298,7 +298,7 @@ def sequence_features(folder, bins=None, cache_dir=None, frame="body"):
     found = featcache.read(key, bins, cache_dir)
     if found is not None:
         return found[0]
-    acc = FeatureAccumulator(bins, follow=origin_follows(paths, orientation))
+    acc = FeatureAccumulator(bins, follow=origin_follows(paths, orientation), centred=True)
     for _, frame in iter_frames(paths, orientation=orientation, detail="geometry"):
         acc.add(frame.positions)
     features = acc.result()

@@ -70,7 +70,9 @@ def read(entry_key, bins, folder=None):
     try:
         with np.load(_file(entry_key, folder), allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
-            features = Features(data["r"], data["theta"], data["phi"], data["origin"], bins)
+            centred = (Features(data["centred_r"], data["centred_theta"], data["centred_phi"], data["origin"], bins)
+                       if "centred_r" in data else None)
+            features = Features(data["r"], data["theta"], data["phi"], data["origin"], bins, centred)
     except (OSError, ValueError, KeyError, EOFError):
         return None
     return features, meta
@@ -82,8 +84,9 @@ def write(entry_key, features, meta, folder=None):
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         with atomic.replacing_file(path) as tmp, open(tmp, "wb") as handle:
-            f = features
-            np.savez(handle, r=f.r, theta=f.theta, phi=f.phi, origin=f.origin,
-                     meta=np.array(json.dumps(meta)))
+            f, c = features, features.centred
+            centred = {} if c is None else {"centred_r": c.r, "centred_theta": c.theta, "centred_phi": c.phi}
+            np.savez(handle, r=f.r, theta=f.theta, phi=f.phi, origin=f.origin, meta=np.array(json.dumps(meta)),
+                     **centred)
     except OSError:
         pass  # a cache that cannot be written only costs time on the next build

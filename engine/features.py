@@ -57,6 +57,9 @@ __all__ = [
     "Features",
     "FeatureAccumulator",
     "frame_histograms",
+    "centred_histograms",
+    "CENTRED_VERTICES",
+    "stacked",
     "spherical",
     "features_of",
     "frame_origin",
@@ -368,6 +371,12 @@ class Features:
     origin : (3,) float64
         Centroid of the first frame, the origin of every frame's coordinates.
     bins : BinSizes
+    centred : Features or None
+        The same frames' histograms about each frame's own centre (:func:`centred_histograms`),
+        where the origin stays put, else None (then they are these). A person
+        turning about their own axis away from the origin changes these rows much less than
+        those about the origin; the parser's turn veto reads them
+        (:func:`engine.structure.parse`). Not padded with the rows above.
 
     Examples
     --------
@@ -383,6 +392,7 @@ class Features:
     phi: np.ndarray
     origin: np.ndarray = field(default_factory=lambda: np.zeros(3))
     bins: BinSizes = field(default_factory=BinSizes)
+    centred: "Features | None" = None
 
     def __len__(self) -> int:
         return int(self.r.shape[0])
@@ -406,7 +416,7 @@ class Features:
             raise ValueError(f"cannot pad {self.r.shape[1]} r bins down to {width}")
         r = np.zeros((self.r.shape[0], width), dtype=np.float32)
         r[:, : self.r.shape[1]] = self.r
-        return Features(r, self.theta, self.phi, self.origin, self.bins)
+        return Features(r, self.theta, self.phi, self.origin, self.bins, self.centred)
 
 
 #: A person whose centre strays further than this from where the take starts (metres,
@@ -470,26 +480,54 @@ def frame_origin(positions, origin, follow):
     return np.array([centre[0], centre[1], origin[2]])
 
 
+#: At most about this many vertices of a frame go into its histograms about its own centre
+#: (:func:`centred_histograms`; every k-th vertex in file order, which spreads them over the
+#: surface). The turn veto compares blocks of frames of those rows, where sampling noise
+#: averages out; all of a 17,000-vertex frame would double a build's feature pass.
+CENTRED_VERTICES = 4000
+
+
+def centred_histograms(positions, origin, bins: BinSizes = BinSizes()):
+    """A frame's histograms about its own centre (:func:`frame_origin` with ``follow``): what
+    :attr:`Features.centred` holds, from at most about :data:`CENTRED_VERTICES` of its vertices
+    (the centre too).
+
+    >>> frame = np.column_stack([np.linspace(0.0, 0.3, 9000), np.zeros(9000), np.zeros(9000)])
+    >>> h_r = centred_histograms(frame, np.zeros(3))[0]
+    >>> len(h_r), float(h_r.sum())
+    (8, 1.0)
+    """
+    positions = np.asarray(positions)
+    sample = positions[:: max(1, len(positions) // CENTRED_VERTICES)]
+    return frame_histograms(sample, frame_origin(sample, origin, True), bins)
+
+
 class FeatureAccumulator:
     """Builds :class:`Features` one frame at a time, so no caller must hold every mesh.
 
-    The first frame added fixes the origin (its centroid) for all later frames.
+    The first frame added fixes the origin (its centroid) for all later frames. With
+    ``centred`` and an origin that does not ``follow``, each frame's histograms about its own
+    centre are kept too (:attr:`Features.centred`).
 
     Examples
     --------
-    >>> acc = FeatureAccumulator(BinSizes())
+    >>> acc = FeatureAccumulator(BinSizes(), centred=True)
     >>> acc.add(np.array([[0.0, 0, 0], [0.0, 0, 0.1]]))
+    >>> acc.add(np.array([[0.5, 0, 0], [0.5, 0, 0.1]]))
     >>> acc.origin.tolist()
     [0.0, 0.0, 0.05]
-    >>> len(acc.result())
-    1
+    >>> f = acc.result()
+    >>> len(f), f.r[1].nonzero()[0].tolist(), f.centred.r[1].nonzero()[0].tolist()
+    (2, [25], [2])
     """
 
-    def __init__(self, bins: BinSizes | None = None, origin=None, follow=False):
+    def __init__(self, bins: BinSizes | None = None, origin=None, follow=False, centred=False):
         self.bins = bins if bins is not None else BinSizes()
         self.origin = None if origin is None else np.asarray(origin, dtype=np.float64)
         self.follow = bool(follow)
+        self.centred = bool(centred) and not self.follow
         self._rows: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+        self._centred_rows: list[tuple[np.ndarray, np.ndarray, np.ndarray]] = []
 
     def add(self, positions) -> None:
         """Append one frame's histograms; ``positions`` is (N, 3)."""
@@ -499,27 +537,46 @@ class FeatureAccumulator:
                 raise InputError("the first frame has no vertices, so it gives no origin")
             self.origin = positions.mean(axis=0, dtype=np.float64)
         self._rows.append(frame_histograms(positions, frame_origin(positions, self.origin, self.follow), self.bins))
+        if self.centred:
+            self._centred_rows.append(centred_histograms(positions, self.origin, self.bins))
 
-    def add_histograms(self, h_r, h_theta, h_phi) -> None:
-        """Append histograms computed elsewhere (e.g. by a worker with the same origin)."""
+    def add_histograms(self, h_r, h_theta, h_phi, centred=None) -> None:
+        """Append histograms computed elsewhere (e.g. by a worker with the same origin);
+        ``centred``: the frame's ``(h_r, h_theta, h_phi)`` about its own centre, where kept."""
         self._rows.append((np.asarray(h_r), np.asarray(h_theta), np.asarray(h_phi)))
+        if self.centred:
+            if centred is None:
+                raise ValueError("this accumulator keeps histograms about each frame's own centre: pass them")
+            self._centred_rows.append(tuple(np.asarray(h) for h in centred))
 
     def __len__(self) -> int:
         return len(self._rows)
 
     def result(self) -> Features:
         """Stack the frames added so far into zero-padded arrays."""
-        t = len(self._rows)
-        width = max((len(row[0]) for row in self._rows), default=1)
-        r = np.zeros((t, width), dtype=np.float32)
-        theta = np.zeros((t, self.bins.n_theta), dtype=np.float32)
-        phi = np.zeros((t, self.bins.n_phi), dtype=np.float32)
-        for i, (h_r, h_t, h_p) in enumerate(self._rows):
-            r[i, : len(h_r)] = h_r
-            theta[i] = h_t
-            phi[i] = h_p
         origin = self.origin if self.origin is not None else np.zeros(3)
-        return Features(r, theta, phi, origin, self.bins)
+        centred = stacked(self._centred_rows, origin, self.bins) if self.centred else None
+        return stacked(self._rows, origin, self.bins, centred)
+
+
+def stacked(rows, origin, bins: BinSizes, centred: Features | None = None) -> Features:
+    """:class:`Features` of frames given as ``(h_r, h_theta, h_phi)`` rows, r zero-padded to the
+    widest.
+
+    >>> rows = [frame_histograms(np.array([[0.0, 0, z]]), np.zeros(3)) for z in (0.01, 0.03)]
+    >>> stacked(rows, np.zeros(3), BinSizes()).r.tolist()
+    [[1.0, 0.0], [0.0, 1.0]]
+    """
+    t = len(rows)
+    width = max((len(row[0]) for row in rows), default=1)
+    r = np.zeros((t, width), dtype=np.float32)
+    theta = np.zeros((t, bins.n_theta), dtype=np.float32)
+    phi = np.zeros((t, bins.n_phi), dtype=np.float32)
+    for i, (h_r, h_t, h_p) in enumerate(rows):
+        r[i, : len(h_r)] = h_r
+        theta[i] = h_t
+        phi[i] = h_p
+    return Features(r, theta, phi, origin, bins, centred)
 
 
 def features_of(frames: Iterable, bins: BinSizes | None = None) -> Features:

@@ -5,12 +5,19 @@ A library is a directory written by :func:`engine.build` and opened by
 
 ``manifest.json``
     format version, tvmedit version, build parameters, and per sequence its name, fps,
-    frame count, rows in ``features.npy``, r width, origin, feature cache key, frame files
+    frame count, rows in ``features.npy`` (and ``features_centred.npy``), r width, origin,
+    feature cache key, frame files
     (resolved path, size, mtime_ns) and skipped frames; the size of every file below (checked
     on open), the bounds of the stored meshes and their largest vertex and face counts.
 ``features.npy``
     (T, D) float32: one feature vector per frame of every sequence in order (eq. (1)-(4)),
     r histograms zero-padded to the library's widest, then theta, then phi.
+``features_centred.npy``
+    only where the origin of some sequence stays put: its frames' histograms about each
+    frame's own centre (:attr:`engine.features.Features.centred`, which the parser's turn veto
+    reads), as ``features.npy``, sequence after sequence, r padded to the widest of them; the
+    manifest gives a sequence's ``centred_rows`` and ``centred_r_bins``. A library without it
+    (built before) opens as before: its sequences have no centred features.
 ``structure.json``
     per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
 ``database.json``
@@ -69,13 +76,14 @@ __all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", 
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
            "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
-           "read_parse", "link_meshes", "read_blends"]
+           "read_parse", "link_meshes", "read_blends", "write_features", "read_features"]
 
 #: On-disk format version; a library of another version must be rebuilt.
 FORMAT = 2
 
 #: Files whose sizes the manifest records and :func:`read_manifest` checks.
-CHECKED_FILES = ("features.npy", "structure.json", "database.json", "graph.json", "positions.npy",
+CHECKED_FILES = ("features.npy", "features_centred.npy", "structure.json", "database.json", "graph.json",
+                 "positions.npy",
                  "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
                  "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json",
                  "blends.json", "blend_positions.npy", "blend_colours.npy", "blend_normals.npy",
@@ -342,13 +350,62 @@ def read_parse(path):
     return read_json(path, "parse.json") if (Path(path) / "parse.json").exists() else None
 
 
+def write_features(folder, features):
+    """Write ``features.npy`` from the :class:`engine.features.Features` of every sequence, in
+    order (r padded to one width), and ``features_centred.npy`` from their ``centred`` ones
+    where any has them; returns each sequence's rows in ``features_centred.npy`` (None where
+    it has none) and their r width, for :func:`sequence_record` and :func:`manifest`."""
+    folder = Path(folder)
+    vectors = np.concatenate([f.vectors for f in features]) if features else np.zeros((0, 0), np.float32)
+    np.save(folder / "features.npy", np.ascontiguousarray(vectors, dtype=np.float32))
+    kept = [f.centred for f in features if f.centred is not None]
+    rows, at = [], 0
+    for f in features:
+        rows.append(None if f.centred is None else (at, at + len(f.centred)))
+        at += 0 if f.centred is None else len(f.centred)
+    if not kept:
+        return rows, 0
+    width = max(c.r.shape[1] for c in kept)
+    np.save(folder / "features_centred.npy",
+            np.ascontiguousarray(np.concatenate([c.pad_r(width).vectors for c in kept]), dtype=np.float32))
+    return rows, width
+
+
+def read_features(path, manifest, record, bins, rows=None, centred_rows=None):
+    """The :class:`engine.features.Features` of the sequence of manifest ``record`` (with its
+    centred features where it has them, r at its own width) from the library at ``path``;
+    ``rows`` and ``centred_rows``: the two arrays memory-mapped, where already open."""
+    from .features import Features
+
+    columns = manifest["feature_columns"]
+    w_r, w_t = columns["r"], columns["theta"]
+    origin = np.array(record["origin"], dtype=np.float64)
+
+    def split(array, start, stop, width, own):
+        block = array[start:stop]
+        return Features(block[:, :own], block[:, width:width + w_t], block[:, width + w_t:], origin, bins)
+
+    rows = load_array(path, "features.npy") if rows is None else rows
+    centred = None
+    if record.get("centred_rows") is not None:
+        centred_rows = load_array(path, "features_centred.npy") if centred_rows is None else centred_rows
+        centred = split(centred_rows, *record["centred_rows"], columns["centred_r"], record["centred_r_bins"])
+    features = split(rows, *record["rows"], w_r, w_r)
+    features.centred = centred
+    return features
+
+
 def sequence_record(name, fps, rows, features, feature_key, files, skipped, format=None,
-                    orientation=None):
+                    orientation=None, centred_rows=None):
     """One sequence's entry in the manifest; ``features`` are its own (unpadded) ones; ``format``
-    names its reader, ``orientation`` (JSON) the map into tvmedit's frame it was read with."""
+    names its reader, ``orientation`` (JSON) the map into tvmedit's frame it was read with;
+    ``centred_rows`` its rows in ``features_centred.npy`` (:func:`write_features`)."""
     extra = {} if format is None else {"format": format}
     if orientation is not None:
         extra["orientation"] = orientation
+    if centred_rows is not None:
+        extra["centred_rows"] = list(centred_rows)
+        extra["centred_r_bins"] = int(features.centred.r.shape[1])
     return {
         "name": name,
         "fps": fps,

@@ -187,6 +187,11 @@ class Library:
     def _features(self):
         return libformat.load_array(self.path, "features.npy")
 
+    @cached_property
+    @_reads_format
+    def _centred(self):
+        return libformat.load_array(self.path, "features_centred.npy")
+
     def _record(self, name):
         """Sequence ``name``'s entry in the manifest."""
         return self.manifest["sequences"][self._sequence_index[self.sequence(name).name]]
@@ -204,16 +209,16 @@ class Library:
         """Features of sequence ``name``, memory-mapped (r padded to the library's width).
 
         Returns an ``engine.features.Features`` whose arrays are read-only views of
-        ``features.npy``; ``.vectors`` of two sequences compare directly.
+        ``features.npy``; ``.vectors`` of two sequences compare directly. Its ``centred``
+        (the histograms about each frame's own centre, where the origin stays put, for
+        :func:`engine.structure.parse`) are views of ``features_centred.npy``, or None.
         """
-        from .features import BinSizes, Features
+        from .features import BinSizes
 
         record = self._record(name)
-        columns = self.manifest["feature_columns"]
-        rows = self._features[record["rows"][0]:record["rows"][1]]
-        w_r, w_t = columns["r"], columns["theta"]
-        return Features(rows[:, :w_r], rows[:, w_r:w_r + w_t], rows[:, w_r + w_t:],
-                        np.array(record["origin"], dtype=np.float64), BinSizes(**self.params["bins"]))
+        centred = self._centred if record.get("centred_rows") is not None else None
+        return libformat.read_features(self.path, self.manifest, record, BinSizes(**self.params["bins"]),
+                                       self._features, centred)
 
     # --- the database and the graph ------------------------------------------------------
 

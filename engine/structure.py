@@ -300,17 +300,25 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
     return textons
 
 
-def _heading_free(v, fps, p, theta):
+def _heading_free(v, fps, p, theta, centred=None):
     # The heading-free rows and their novelty, for the turn veto; (None, None) without one (it
-    # needs the azimuth columns: theta None or empty, every peak counts).
+    # needs the azimuth columns: theta None or empty, every peak counts). From the features
+    # about each frame's own centre where given (Features.centred): about an origin the person
+    # stands away from, turning about their own axis changes even the heading-free rows.
     if not (p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0):
         return None, None
-    free = azimuth_spectrum(v, theta)
+    if centred is not None:
+        if len(centred.vectors) != len(v):
+            raise ValueError(f"the centred features have {len(centred.vectors)} frames, the features {len(v)}")
+        c = centred.theta_columns
+        free = azimuth_spectrum(azimuth_smoothed(centred.vectors, c), c)
+    else:
+        free = azimuth_spectrum(v, theta)
     return free, novelty_curve(free, fps, p)[0]
 
 
-def _parse_energy(v, fps, p, w, theta, n, step):
-    free, turn_free = _heading_free(v, fps, p, theta)
+def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
+    free, turn_free = _heading_free(v, fps, p, theta, centred)
     clusters, turns = novelty_boundaries(v, fps, p, n, step, turn_free)
     # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
     # the others the turn itself is the greatest change about them (engine.boundaries).
@@ -430,7 +438,7 @@ def followed_heading(vectors, params=None, theta=None, fps=None):
     return None if heading is None else np.degrees(heading)
 
 
-def vetoed_turns(vectors, params=None, theta=None, fps=None):
+def vetoed_turns(vectors, params=None, theta=None, fps=None, centred=None):
     """Frames where the parser read the person turning and cut no boundary (the turn veto,
     :mod:`engine.boundaries`), in order; [] where there is no veto (method "paper",
     ``turn_ratio`` 0, no azimuth columns). For showing them (the report), not for parsing.
@@ -445,7 +453,7 @@ def vetoed_turns(vectors, params=None, theta=None, fps=None):
         return []
     v = parser_view(v, p, theta, fps)
     n, step = novelty_curve(v, fps, p)
-    turn_free = _heading_free(v, fps, p, theta)[1]
+    turn_free = _heading_free(v, fps, p, theta, centred)[1]
     return [] if turn_free is None else novelty_boundaries(v, fps, p, n, step, turn_free)[1]
 
 
@@ -516,7 +524,7 @@ def _curve(v, clusters, textons, w):
     return curve
 
 
-def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=None) -> Structure:
+def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=None, centred=None) -> Structure:
     """Parse a sequence's motion structure (section 4) from its feature vectors.
 
     Parameters
@@ -530,6 +538,11 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
         Columns of ``vectors`` that hold the azimuth (theta) histogram, i.e.
         :attr:`engine.features.Features.theta_columns`. With it, "energy" tells a half
         period of a left-right exercise from a whole one and a turn from a boundary.
+    centred : engine.features.Features, optional
+        The same frames' features about each frame's own centre
+        (:attr:`engine.features.Features.centred`, where the origin stays put): the turn
+        veto reads their heading-free rows, so a person turning about their own axis away
+        from the origin is read as turning. Without them it reads ``vectors``'.
 
     Returns
     -------
@@ -561,7 +574,7 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
     elif p.method == "paper":
         clusters, textons = _parse_paper(v, fps, p, w)
     else:
-        clusters, textons = _parse_energy(v, fps, p, w, theta, curve, step)
+        clusters, textons = _parse_energy(v, fps, p, w, theta, curve, step, centred)
     params = asdict(p)
     params["window_taps"] = list(p.window_taps)
     for t in textons:

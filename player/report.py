@@ -437,7 +437,7 @@ class _Report:
             features = self.library.features(seq.name)
             params = StructureParams.recorded(structure.params)
             heading = followed_heading(features.vectors, params, features.theta_columns, seq.fps)
-            turns = vetoed_turns(features.vectors, params, features.theta_columns, seq.fps)
+            turns = vetoed_turns(features.vectors, params, features.theta_columns, seq.fps, features.centred)
             if fixes:
                 # A boundary drawn by hand at a turn: the parser's veto is no longer the news.
                 near = params.min_cluster * seq.fps

@@ -12,6 +12,7 @@ import os
 import shutil
 
 import jsonschema
+import numpy as np
 import pytest
 
 import engine
@@ -221,6 +222,10 @@ def test_a_correction_of_stored_motions_only_reads_no_frame_file_at_all(base, ta
         restore()
     assert fixed.report["read_frames"] == 0
     assert [n.name for n in fixed.nodes] == [n.name for n in base.nodes if n.id != 1]
+    # The features about each frame's own centre (the subject stays on its spot) go along, so
+    # that a later rebuild's parse reads turns as the first did.
+    centred = base.features(NAME).centred, fixed.features(NAME).centred
+    assert centred[0] is not None and np.array_equal(centred[0].vectors, centred[1].vectors)
     for node in fixed.nodes:
         assert (fixed.frame_mesh((NAME, node.start))[0] == base.frame_mesh((NAME, node.start))[0]).all()
 

@@ -281,6 +281,28 @@ def test_a_take_where_the_actor_turns_names_the_turns_on_its_page(ctx, tmp_path)
     assert "turning at " + ", ".join(f"{t:.1f} s" for t in row["turns_s"]) in page
 
 
+def test_an_actor_turning_right_round_on_its_spot_is_read_as_turning(tmp_path):
+    # The actor stays where it started (the features' origin stays at the first frame's
+    # centre) and turns by 90-180 degrees every 5-10 s. About that origin a turn of a body
+    # standing a little off it changes even the heading-free rows, and without the histograms
+    # about each frame's own centre two turns became false boundaries (precision 0.5).
+    from engine import synth
+    from player.report import write_report
+
+    take = synth_take("gym", motions=["walk", "jumping-jacks", "box", "side-bends"], cycles=[10, 8, 8, 4],
+                      turns=180.0, vertices=4000, seed=61)
+    truth = json.loads((take / "truth.json").read_text())
+    heading = np.degrees(synth.turn_headings(truth["frames"], truth["fps"], 180.0, seed=61))
+    turning = np.flatnonzero(np.abs(np.diff(heading)) > 1e-6) / truth["fps"]
+    lib = build([("spin", str(take))], tmp_path / "s.lib", workers=2, cache=False)
+    assert lib.features("spin").centred is not None and len(lib.features("spin").centred) == truth["frames"]
+    write_report(lib, tmp_path / "rep", progress=False)
+    row = json.loads((tmp_path / "rep" / "report.json").read_text())["sequences"][0]
+    assert (row["precision"], row["recall"]) == (1.0, 1.0), row
+    assert len(row["turns_s"]) >= 2, row["turns_s"]
+    assert all(np.abs(turning - t).min() <= 1.0 for t in row["turns_s"]), (row["turns_s"], turning)
+
+
 def test_the_heading_the_parser_followed_is_shown_beside_the_curve(report, tmp_path):
     # The synthetic actor stands facing one way: the page says no turn was followed.
     _, page, summary = report
