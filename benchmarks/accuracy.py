@@ -58,7 +58,7 @@ def run(takes, params):
     out = []
     for take in takes:
         t0 = time.perf_counter()
-        s = parse(take.vectors, take.fps, params, theta=take.theta)
+        s = parse(take.vectors, take.fps, params, theta=take.theta, centred=take.centred)
         result = score(s, take.truth, take.fps)
         result.structure, result.parse_seconds = s, time.perf_counter() - t0
         out.append(result)

@@ -73,6 +73,9 @@ class Take:
     truth : dict
         ``fps``, ``segments`` (inclusive frame ranges with labels) and ``periods_hint``
         (``period_frames`` per segment, None where unknown), as in ``truth.json``.
+    centred : Rows or None
+        The rows about each frame's own centre (:attr:`engine.features.Features.centred`),
+        where the origin stays put; ``parse(..., centred=take.centred)``.
     """
 
     group: str
@@ -81,6 +84,45 @@ class Take:
     theta: slice
     fps: float
     truth: dict
+    centred: "Rows | None" = None
+
+
+@dataclass
+class Rows:
+    """Feature rows and their azimuth columns: what :func:`engine.structure.parse` reads of
+    :class:`engine.features.Features`."""
+
+    vectors: np.ndarray
+    theta_columns: slice
+
+    def at(self, idx):
+        return Rows(self.vectors[idx], self.theta_columns)
+
+    def mirrored(self):
+        return Rows(mirror_theta(self.vectors, self.theta_columns), self.theta_columns)
+
+
+def _at(rows, idx):
+    return None if rows is None else rows.at(idx)
+
+
+def _store(path, f):
+    """Cache features ``f`` (with their centred rows, where kept) at ``path``; what
+    :func:`_cached` reads back."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    c = f.centred
+    extra = {} if c is None else {"centred": c.vectors, "centred_theta": [c.theta_columns.start, c.theta_columns.stop]}
+    np.savez(path, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop], **extra)
+    return _cached(path)
+
+
+def _cached(path):
+    """``(vectors, theta, centred Rows or None)`` cached at ``path``, or None."""
+    if not path.exists():
+        return None
+    with np.load(path) as z:
+        centred = Rows(z["centred"], slice(*z["centred_theta"])) if "centred" in z else None
+        return z["vectors"], slice(*z["theta"]), centred
 
 
 def _key(*parts):
@@ -183,7 +225,7 @@ def _accumulator(centroids):
     from engine.features import FeatureAccumulator, moves_across
 
     follow = moves_across(centroids) if ORIGIN == "auto" else ORIGIN == "follow"
-    return FeatureAccumulator(follow=follow)
+    return FeatureAccumulator(follow=follow, centred=True)
 
 
 #: The axes features are computed in: "body" (the body's own over the take,
@@ -220,8 +262,7 @@ def _frames_features(folder, start=0, stop=None):
     stop = len(sequence.paths) if stop is None else stop
     path = CACHE / "features" / f"{_prefix()}{folder.name}-{start}-{stop}.npz"
     if path.exists():
-        with np.load(path) as z:
-            return z["vectors"], slice(*z["theta"])
+        return _cached(path)
     from engine.builder import origin_follows
 
     paths = sequence.paths[start:stop]
@@ -232,11 +273,7 @@ def _frames_features(folder, start=0, stop=None):
     acc = _accumulator([[0, 0, 0], [1, 0, 0]] if follows else [])
     for _, frame in iter_frames(paths, orientation=orientation, detail="geometry"):
         acc.add(frame.positions)
-    f = acc.result()
-    theta = f.theta_columns
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(path, vectors=f.vectors, theta=[theta.start, theta.stop])
-    return f.vectors, theta
+    return _store(path, acc.result())
 
 
 def _turned_features(folder, frames, heading):
@@ -249,8 +286,7 @@ def _turned_features(folder, frames, heading):
     key = _key([int(i) for i in frames], np.round(heading, 6).tolist())
     path = CACHE / "features" / f"{_prefix()}{folder.name}-turned-{key}.npz"
     if path.exists():
-        with np.load(path) as z:
-            return z["vectors"], slice(*z["theta"])
+        return _cached(path)
     sequence = open_sequence(str(folder))
 
     def frame_at(k):
@@ -261,10 +297,7 @@ def _turned_features(folder, frames, heading):
     acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
     for k in range(len(frames)):
         acc.add(frame_at(k) @ body.T)
-    f = acc.result()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(path, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop])
-    return f.vectors, f.theta_columns
+    return _store(path, acc.result())
 
 
 def truth_of(labels, periods_s, fps):
@@ -311,40 +344,52 @@ def cmu_takes(seed=0):
     for take, opts in CMU_SOURCES.items():
         folder = cmu_source(take, **opts)
         truth = json.loads((folder / "truth.json").read_text())
-        vectors, theta = _frames_features(folder)
+        vectors, theta, centred = _frames_features(folder)
         seg, per = _frame_truth(truth)
         src_fps = float(truth["fps"])
         for speed in (1.0, 0.7, 1.4):
             idx = np.round(np.arange(0, len(seg) / (speed * src_fps / 10)) * speed * src_fps / 10).astype(int)
             idx = idx[idx < len(seg)]
             t = truth_of(seg[idx].tolist(), per[idx] / speed, 10.0)
-            takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t))
+            takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t, _at(centred, idx)))
         base = takes[-3]
-        takes.append(Take("cmu", f"{take}-mirror", mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth))
-        one_x = np.round(np.arange(0, len(seg) / (src_fps / 10)) * src_fps / 10).astype(int)
-        one_x = one_x[one_x < len(seg)]
-        turning, turn_theta = _turned_features(folder, one_x, _headings(len(one_x), 10.0, **CMU_TURNS[take]))
-        takes.append(Take("cmu", f"{take}-turn", turning, turn_theta, 10.0, base.truth))
+        takes.append(Take("cmu", f"{take}-mirror", mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth,
+                          None if base.centred is None else base.centred.mirrored()))
+        takes.append(cmu_turning_take(take, CMU_TURNS[take]))
         segs = truth["segments"]
         pairs = [(a, b) for a in range(1, len(segs) - 1) for b in range(a + 1, len(segs))]
         for i in rng.choice(len(pairs), 2, replace=False):
             a, b = pairs[int(i)]
             start, stop = segs[a]["start"], segs[b]["end"] + 1
-            vec, cut_theta = _frames_features(folder, start, stop)
+            vec, cut_theta, cut_centred = _frames_features(folder, start, stop)
             idx = np.arange(0, stop - start, int(src_fps // 10))
             t = truth_of(seg[start:stop][idx].tolist(), per[start:stop][idx], 10.0)
-            takes.append(Take("cmu", f"{take}-cut{a}-{b}", vec[idx], cut_theta, 10.0, t))
+            takes.append(Take("cmu", f"{take}-cut{a}-{b}", vec[idx], cut_theta, 10.0, t, _at(cut_centred, idx)))
     return takes
+
+
+def cmu_turning_take(take, turning, group="cmu", name=None):
+    """CMU take ``take`` at 1x (10 fps) with the body turned about its own axis as
+    :func:`_headings` options ``turning`` say (the meshes rotated, then taken as a capture)."""
+    folder = cmu_source(take, **CMU_SOURCES[take])
+    truth = json.loads((folder / "truth.json").read_text())
+    seg, per = _frame_truth(truth)
+    src_fps = float(truth["fps"])
+    one_x = np.round(np.arange(0, len(seg) / (src_fps / 10)) * src_fps / 10).astype(int)
+    one_x = one_x[one_x < len(seg)]
+    vectors, theta, centred = _turned_features(folder, one_x, _headings(len(one_x), 10.0, **turning))
+    return Take(group, name or f"{take}-turn", vectors, theta, 10.0,
+                truth_of(seg[one_x].tolist(), per[one_x], 10.0), centred)
 
 
 def hdm_take(actor, plan, order_seed=None, options=None, group="hdm05"):
     """One stitched HDM05 take (a :data:`HDM_SOURCES` entry) with its features and truth."""
     folder = hdm_source(actor, plan, order_seed, **(options or {}))
     truth = json.loads((folder / "truth.json").read_text())
-    vectors, theta = _frames_features(folder)
+    vectors, theta, centred = _frames_features(folder)
     seg, per = _frame_truth(truth)
     t = truth_of(seg.tolist(), per, float(truth["fps"]))
-    return Take(group, f"{actor}-{_key(plan, order_seed)[:4]}", vectors, theta, float(truth["fps"]), t)
+    return Take(group, f"{actor}-{_key(plan, order_seed)[:4]}", vectors, theta, float(truth["fps"]), t, centred)
 
 
 def hdm_takes():
@@ -470,9 +515,9 @@ def synth_take(group, name, options, vertices=6000):
     poses, labels, motions, periods = synth.plan(**opts)
     per = {m: float(np.mean(p)) for m, p in zip(motions, periods)}
     truth = truth_of(labels, np.array([per[m] for m in labels]), fps)
-    if path.exists():
-        with np.load(path) as z:
-            return Take(group, name, z["vectors"], slice(*z["theta"]), fps, truth)
+    found = _cached(path)
+    if found is not None:
+        return Take(group, name, *found[:2], fps, truth, found[2])
     rng = np.random.default_rng(opts.get("seed", 0))
     shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
     heading = _headings(len(poses), fps, extra.get("turn"), extra.get("sway"), opts.get("seed", 0), extra.get("turns"))
@@ -493,10 +538,8 @@ def synth_take(group, name, options, vertices=6000):
     acc = _accumulator([frames[k].mean(axis=0) for k in picks])
     for verts in frames:
         acc.add(verts)
-    f = acc.result()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    np.savez(path, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop])
-    return Take(group, name, f.vectors, f.theta_columns, fps, truth)
+    vectors, theta, centred = _store(path, acc.result())
+    return Take(group, name, vectors, theta, fps, truth, centred)
 
 
 def takes(groups=GROUPS):
