@@ -77,6 +77,22 @@ BATCHES = {
         ("cmu", "13_29", {"turns": 150.0, "seed": 74}),
         ("cmu", "13_30", {"turns": 120.0, "seed": 75}),
     ],
+    # Changes of exercise 1-2.5 s after a turn starts (step 23's misses), chosen by their design
+    # alone, before anything was tried on them: the first four of random synthetic plans (seeds
+    # from 81 on) and the first turning seeds of CMU 13_29 and 13_30 (from 100 on) with such a
+    # change somewhere; never parsed before a step for them was written.
+    "after-turns": [
+        ("synth", "after-a-15fps", dict(motions=["knee-raises", "reach-up", "squats", "box", "toe-touch"],
+                                        cycles=[5, 4, 3, 9, 3], fps=15, turns=180.0, seed=81)),
+        ("synth", "after-b-rests", dict(motions=["side-bends", "run", "walk", "knee-raises", "toe-touch"],
+                                        cycles=[4, 9, 7, 4, 3], fps=15, turns=150.0, rest=0.6, seed=83)),
+        ("synth", "after-c-20fps", dict(motions=["run", "walk", "squats", "twist", "box"], cycles=[11, 9, 4, 5, 8],
+                                        fps=20, turns=180.0, seed=87)),
+        ("synth", "after-d-rests", dict(motions=["run", "toe-touch", "jumping-jacks", "twist", "walk"],
+                                        cycles=[8, 3, 10, 5, 6], fps=15, turns=150.0, rest=0.6, seed=91)),
+        ("cmu", "13_29", {"turns": 120.0, "seed": 100}),
+        ("cmu", "13_30", {"turns": 150.0, "seed": 101}),
+    ],
 }
 
 
