@@ -92,12 +92,17 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   little off it changes even the heading-free rows (0.5-0.7 of the turn's novelty): turns
   of 90-180 degrees were not vetoed. So where the origin stays put the builder also keeps
   each frame's histograms about its own centre (:attr:`engine.features.Features.centred`,
-  from at most :data:`engine.features.CENTRED_VERTICES` vertices a frame), and the
-  heading-free rows are taken from them (:func:`engine.structure.parse`, ``centred``). The
-  suite's figures do not move (no take of it turns so on its spot); five fresh takes made
-  for the step (``benchmarks/fresh.py --batch step23``: the synthetic actor and CMU 13_29
-  and 13_30 turning by 60-180 degrees on their spot) 0.67 / 0.78 / 1.00 -> 0.83 / 0.83 /
-  1.00. People who stray (every HDM05 take of the suite but one) have their origin followed
+  from 4,000-8,000 vertices of a larger frame: :data:`engine.features.CENTRED_VERTICES`),
+  and the heading-free rows are taken from them (:func:`engine.structure.parse`,
+  ``centred``). The suite's figures do not move (no take of it turns so on its spot); five
+  fresh takes made for the step (``benchmarks/fresh.py --batch step23``: the synthetic
+  actor and CMU 13_29 and 13_30 turning by 60-180 degrees on their spot) 0.67 / 0.78 / 1.00
+  -> 0.83 / 0.83 / 1.00; six more made after it, chosen for changes of exercise 1-2.5 s
+  after a turn (``--batch after-turns``), 0.62 / 0.80 / 0.84 -> 0.76 / 0.76 / 0.77: half
+  the false boundaries, one right one fewer, and clusters that now run across a turn read
+  half periods of left-right exercises more often. Still wrong: changes of exercise 1-2.5 s
+  after a turn (placed back on the turn, or kept away by a vetoed one). People who stray
+  (every HDM05 take of the suite but one) have their origin followed
   already, and so no centred rows.
 * **Ends of the take.** Within 0.75 ``min_cluster`` of either end a block is short and its
   novelty unreliable, so a peak there is taken only when it is at least :data:`STRONG_EDGE`

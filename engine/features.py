@@ -480,17 +480,18 @@ def frame_origin(positions, origin, follow):
     return np.array([centre[0], centre[1], origin[2]])
 
 
-#: At most about this many vertices of a frame go into its histograms about its own centre
-#: (:func:`centred_histograms`; every k-th vertex in file order, which spreads them over the
-#: surface). The turn veto compares blocks of frames of those rows, where sampling noise
-#: averages out; all of a 17,000-vertex frame would double a build's feature pass.
+#: About this many vertices of a frame go into its histograms about its own centre
+#: (:func:`centred_histograms`): every k-th in file order, which spreads them over the surface,
+#: with k = vertices // CENTRED_VERTICES (so 4,000-8,000 of a larger frame, all of a smaller).
+#: The turn veto compares blocks of frames of those rows, where sampling noise averages out;
+#: all of a 17,000-vertex frame would double a build's feature pass.
 CENTRED_VERTICES = 4000
 
 
 def centred_histograms(positions, origin, bins: BinSizes = BinSizes()):
     """A frame's histograms about its own centre (:func:`frame_origin` with ``follow``): what
-    :attr:`Features.centred` holds, from at most about :data:`CENTRED_VERTICES` of its vertices
-    (the centre too).
+    :attr:`Features.centred` holds, from every k-th of its vertices (the centre too; see
+    :data:`CENTRED_VERTICES`).
 
     >>> frame = np.column_stack([np.linspace(0.0, 0.3, 9000), np.zeros(9000), np.zeros(9000)])
     >>> h_r = centred_histograms(frame, np.zeros(3))[0]

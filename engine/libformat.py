@@ -15,8 +15,9 @@ A library is a directory written by :func:`engine.build` and opened by
 ``features_centred.npy``
     only where the origin of some sequence stays put: its frames' histograms about each
     frame's own centre (:attr:`engine.features.Features.centred`, which the parser's turn veto
-    reads), as ``features.npy``, sequence after sequence, r padded to the widest of them; the
-    manifest gives a sequence's ``centred_rows`` and ``centred_r_bins``. A library without it
+    reads), as ``features.npy``, sequence after sequence, r padded to the widest of them
+    (``feature_columns.centred_r`` in the manifest); the manifest gives a sequence's
+    ``centred_rows`` and ``centred_r_bins``. A library without it
     (built before) opens as before: its sequences have no centred features.
 ``structure.json``
     per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
@@ -372,8 +373,9 @@ def write_features(folder, features):
 
 
 def read_features(path, manifest, record, bins, rows=None, centred_rows=None):
-    """The :class:`engine.features.Features` of the sequence of manifest ``record`` (with its
-    centred features where it has them, r at its own width) from the library at ``path``;
+    """The :class:`engine.features.Features` of the sequence of manifest ``record``, r at the
+    library's width, with its centred features where it has them (r at their own width), from
+    the library at ``path``;
     ``rows`` and ``centred_rows``: the two arrays memory-mapped, where already open."""
     from .features import Features
 

@@ -57,16 +57,19 @@ def _in_memory(take):
     sequences = [open_sequence(source, name=name) for name, source in _inputs(take)]
     features = {}
     for sequence in sequences:
-        acc = FeatureAccumulator(BinSizes())
+        # The subject stays on its spot: the histograms about each frame's own centre too.
+        acc = FeatureAccumulator(BinSizes(), centred=True)
         in_body_axes = sequence.orientation.for_features()   # features in the body's own frame
         for path in sequence.paths:
             acc.add(read_frame(path, in_body_axes).positions)
         features[sequence.name] = acc.result()
     width = max(f.r.shape[1] for f in features.values())
     vectors = {name: f.pad_r(width).vectors for name, f in features.items()}
-    # As the builder does: with the azimuth columns, which tell a half period from a whole one.
+    # As the builder does: with the azimuth columns, which tell a half period from a whole one,
+    # and the centred rows, which the turn veto reads.
     structures = {s.name: parse(vectors[s.name], s.fps, StructureParams(),
-                                theta=features[s.name].pad_r(width).theta_columns) for s in sequences}
+                                theta=features[s.name].pad_r(width).theta_columns,
+                                centred=features[s.name].centred) for s in sequences}
     graph = build_graph(build_database(structures), vectors)
     return sequences, features, vectors, structures, graph
 
@@ -88,6 +91,7 @@ def test_reopened_library_matches_the_analysis_in_memory(built, take_13_30):
         f = library.features(sequence.name)
         assert isinstance(f.r.base, np.memmap) or isinstance(f.r, np.memmap)
         np.testing.assert_array_equal(f.vectors, vectors[sequence.name])
+        np.testing.assert_array_equal(f.centred.vectors, features[sequence.name].centred.vectors)
         np.testing.assert_array_equal(f.origin, features[sequence.name].origin)
         assert _plain(library.structure(sequence.name).to_json()) == _plain(structures[sequence.name].to_json())
 
@@ -120,6 +124,47 @@ def test_reopened_library_matches_the_analysis_in_memory(built, take_13_30):
         most = [max(most[0], len(positions)), max(most[1], len(faces))]
     assert library.bounds() == (tuple(low.tolist()), tuple(high.tolist()))
     assert library.max_counts() == tuple(most)
+
+
+def test_centred_rows_of_sequences_that_stay_stand_beside_one_that_strays(take_13_30, tmp_path):
+    # Three sequences, the middle one moving 3 cm a frame (its origin follows: no centred
+    # rows). Each keeps its own rows and r width whatever its neighbours, and parses as the
+    # library says; a library from before step 23 (no features_centred.npy) opens and parses.
+    import trimesh
+
+    from engine.structure import StructureParams, parse
+
+    stray = tmp_path / "stray"
+    stray.mkdir()
+    for k, path in enumerate(sorted(take_13_30.glob("frame_000[0-5]?.ply"))):
+        mesh = trimesh.load(path, process=False)
+        mesh.vertices = mesh.vertices + np.array([0.03 * k, 0.0, 0.0])
+        mesh.export(stray / path.name)
+    (a, first), (b, second) = _inputs(take_13_30)
+    library = build([(a, first), ("stray", str(stray)), (b, second)], tmp_path / "three.lib", workers=2, cache=False)
+    alone = build([(b, second)], tmp_path / "alone.lib", workers=2, cache=False)
+    records = {r["name"]: r for r in library.manifest["sequences"]}
+    assert "centred_rows" not in records["stray"] and library.features("stray").centred is None
+    assert records[a]["centred_rows"] == [0, 60] and records[b]["centred_rows"] == [60, 120]
+    np.testing.assert_array_equal(library.features(b).centred.vectors, alone.features(b).centred.vectors)
+    for name in (a, "stray", b):
+        f = library.features(name)
+        params = StructureParams.recorded(library.parse(name).params)
+        again = parse(f.vectors, library.sequence(name).fps, params, theta=f.theta_columns, centred=f.centred)
+        assert again.clusters == library.parse(name).clusters
+    old = tmp_path / "old.lib"
+    shutil.copytree(tmp_path / "three.lib", old)
+    (old / "features_centred.npy").unlink()
+    manifest = json.loads((old / "manifest.json").read_text())
+    del manifest["files"]["features_centred.npy"]
+    for record in manifest["sequences"]:
+        record.pop("centred_rows", None)
+        record.pop("centred_r_bins", None)
+    (old / "manifest.json").write_text(json.dumps(manifest))
+    opened = Library.open(old)
+    assert opened.features(b).centred is None
+    np.testing.assert_array_equal(opened.features(b).vectors, library.features(b).vectors)
+    assert opened.structure(b).clusters == library.structure(b).clusters
 
 
 def test_graphml_loads_back_with_the_same_edges(built):

@@ -100,7 +100,7 @@ def test_obliquely_rotated_take_is_put_upright_and_parses_alike(take_13_30, orig
 
 def _parse(folder, cache_dir):
     features = sequence_features(folder, cache_dir=cache_dir)   # the builder's default: the body's frame
-    s = parse(features.vectors, open_sequence(folder).fps, theta=features.theta_columns)
+    s = parse(features.vectors, open_sequence(folder).fps, theta=features.theta_columns, centred=features.centred)
     return features, s.clusters, [(t.start, t.end, t.cluster) for t in s.textons]
 
 
