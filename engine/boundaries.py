@@ -99,8 +99,9 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   actor and CMU 13_29 and 13_30 turning by 60-180 degrees on their spot) 0.67 / 0.78 / 1.00
   -> 0.83 / 0.83 / 1.00; six more made after it, chosen for changes of exercise 1-2.5 s
   after a turn (``--batch after-turns``), 0.62 / 0.80 / 0.84 -> 0.76 / 0.76 / 0.77: half
-  the false boundaries, one right one fewer, and clusters that now run across a turn read
-  half periods of left-right exercises more often. Still wrong: changes of exercise 1-2.5 s
+  the false boundaries, one right one fewer, and one texton length more wrong (blocks of
+  toe touches with rests, no longer cut at turns into pieces of one texton, read at half
+  their period, as they are with no turn in them). Still wrong: changes of exercise 1-2.5 s
   after a turn (placed back on the turn, or kept away by a vetoed one). People who stray
   (every HDM05 take of the suite but one) have their origin followed
   already, and so no centred rows.
