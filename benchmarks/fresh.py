@@ -93,6 +93,19 @@ BATCHES = {
         ("cmu", "13_29", {"turns": 120.0, "seed": 100}),
         ("cmu", "13_30", {"turns": 150.0, "seed": 101}),
     ],
+    # Left-right exercises (toe touches, side bends, knee raises, boxing, twists) with pauses of
+    # random length after each repetition, one take turning too: made for the half periods
+    # of toe touches with rests seen in after-turns, before anything was tried on them.
+    "lr-rests": [
+        ("synth", "lr-rests-a", dict(motions=["toe-touch", "side-bends", "knee-raises", "box"], cycles=[5, 4, 6, 8],
+                                     rest=0.8, seed=121)),
+        ("synth", "lr-rests-b-15fps", dict(motions=["twist", "toe-touch", "squats", "knee-raises"], cycles=[5, 5, 5, 6],
+                                           rest=0.6, fps=15, jitter=1.5, seed=122)),
+        ("synth", "lr-rests-c-20fps", dict(motions=["side-bends", "box", "toe-touch", "jumping-jacks"],
+                                           cycles=[4, 8, 4, 8], rest=1.0, fps=20, build=0.9, seed=123)),
+        ("synth", "lr-rests-d-turns", dict(motions=["knee-raises", "toe-touch", "twist", "side-bends"],
+                                           cycles=[6, 4, 5, 4], rest=0.6, turns=120.0, seed=124)),
+    ],
 }
 
 
