@@ -348,8 +348,7 @@ def cmu_takes(seed=0):
         seg, per = _frame_truth(truth)
         src_fps = float(truth["fps"])
         for speed in (1.0, 0.7, 1.4):
-            idx = np.round(np.arange(0, len(seg) / (speed * src_fps / 10)) * speed * src_fps / 10).astype(int)
-            idx = idx[idx < len(seg)]
+            idx = _at_10fps(len(seg), src_fps, speed)
             t = truth_of(seg[idx].tolist(), per[idx] / speed, 10.0)
             takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t, _at(centred, idx)))
         base = takes[-3]
@@ -368,15 +367,19 @@ def cmu_takes(seed=0):
     return takes
 
 
+def _at_10fps(n, fps, speed=1.0):
+    """Frames of an ``n``-frame take at ``fps`` that play it at ``speed`` and 10 fps."""
+    idx = np.round(np.arange(0, n / (speed * fps / 10)) * speed * fps / 10).astype(int)
+    return idx[idx < n]
+
+
 def cmu_turning_take(take, turning, group="cmu", name=None):
     """CMU take ``take`` at 1x (10 fps) with the body turned about its own axis as
     :func:`_headings` options ``turning`` say (the meshes rotated, then taken as a capture)."""
     folder = cmu_source(take, **CMU_SOURCES[take])
     truth = json.loads((folder / "truth.json").read_text())
     seg, per = _frame_truth(truth)
-    src_fps = float(truth["fps"])
-    one_x = np.round(np.arange(0, len(seg) / (src_fps / 10)) * src_fps / 10).astype(int)
-    one_x = one_x[one_x < len(seg)]
+    one_x = _at_10fps(len(seg), float(truth["fps"]))
     vectors, theta, centred = _turned_features(folder, one_x, _headings(len(one_x), 10.0, **turning))
     return Take(group, name or f"{take}-turn", vectors, theta, 10.0,
                 truth_of(seg[one_x].tolist(), per[one_x], 10.0), centred)

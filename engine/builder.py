@@ -64,6 +64,10 @@ def _read(path, skip_bad_frames, orientation=None, detail="full"):
         return None, str(error)
 
 
+def _float32(histograms):
+    return tuple(h.astype(np.float32) for h in histograms)
+
+
 def _feature_task(task):
     """Histograms of a chunk of frames: ``(rows, read_s, compute_s)``.
 
@@ -81,8 +85,8 @@ def _feature_task(task):
             continue
         t1 = time.perf_counter()
         own = frame_histograms(frame.positions, frame_origin(frame.positions, origin, follow), bins)
-        centred = None if follow else centred_histograms(frame.positions, origin, bins)
-        rows.append(tuple(None if h is None else tuple(a.astype(np.float32) for a in h) for h in (own, centred)))
+        centred = None if follow else _float32(centred_histograms(frame.positions, origin, bins))
+        rows.append((_float32(own), centred))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return rows, read_s, compute_s

@@ -372,29 +372,25 @@ def write_features(folder, features):
     return rows, width
 
 
-def read_features(path, manifest, record, bins, rows=None, centred_rows=None):
+def read_features(manifest, record, bins, rows, centred_rows):
     """The :class:`engine.features.Features` of the sequence of manifest ``record``, r at the
-    library's width, with its centred features where it has them (r at their own width), from
-    the library at ``path``;
-    ``rows`` and ``centred_rows``: the two arrays memory-mapped, where already open."""
+    library's width, with its centred features where it has them (r at their own width).
+    ``rows``: ``features.npy`` memory-mapped (:func:`load_array`); ``centred_rows``: a callable
+    giving ``features_centred.npy`` so, called only where the record has rows in it."""
     from .features import Features
 
     columns = manifest["feature_columns"]
     w_r, w_t = columns["r"], columns["theta"]
     origin = np.array(record["origin"], dtype=np.float64)
 
-    def split(array, start, stop, width, own):
+    def split(array, start, stop, width, own, centred=None):
         block = array[start:stop]
-        return Features(block[:, :own], block[:, width:width + w_t], block[:, width + w_t:], origin, bins)
+        return Features(block[:, :own], block[:, width:width + w_t], block[:, width + w_t:], origin, bins, centred)
 
-    rows = load_array(path, "features.npy") if rows is None else rows
     centred = None
     if record.get("centred_rows") is not None:
-        centred_rows = load_array(path, "features_centred.npy") if centred_rows is None else centred_rows
-        centred = split(centred_rows, *record["centred_rows"], columns["centred_r"], record["centred_r_bins"])
-    features = split(rows, *record["rows"], w_r, w_r)
-    features.centred = centred
-    return features
+        centred = split(centred_rows(), *record["centred_rows"], columns["centred_r"], record["centred_r_bins"])
+    return split(rows, *record["rows"], w_r, w_r, centred)
 
 
 def sequence_record(name, fps, rows, features, feature_key, files, skipped, format=None,

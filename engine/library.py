@@ -215,10 +215,8 @@ class Library:
         """
         from .features import BinSizes
 
-        record = self._record(name)
-        centred = self._centred if record.get("centred_rows") is not None else None
-        return libformat.read_features(self.path, self.manifest, record, BinSizes(**self.params["bins"]),
-                                       self._features, centred)
+        return libformat.read_features(self.manifest, self._record(name), BinSizes(**self.params["bins"]),
+                                       self._features, lambda: self._centred)
 
     # --- the database and the graph ------------------------------------------------------
 
