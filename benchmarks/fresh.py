@@ -106,6 +106,21 @@ BATCHES = {
         ("synth", "lr-rests-d-turns", dict(motions=["knee-raises", "toe-touch", "twist", "side-bends"],
                                            cycles=[6, 4, 5, 4], rest=0.6, turns=120.0, seed=124)),
     ],
+    # Turning takes with new seeds (the actor and CMU 13_29 / 13_30 turning by 60-180 degrees
+    # every 5-10 s), for the onsets of changes that follow a turn (engine.onsets): designed and
+    # committed before anything was tried on them; wherever the turns fall.
+    "onset-turns": [
+        ("synth", "ot-a", dict(motions=["jumping-jacks", "side-bends", "run", "squats"], cycles=[8, 4, 10, 5],
+                               turns=150.0, seed=131)),
+        ("synth", "ot-b-15fps", dict(motions=["arm-circles", "box", "knee-raises", "twist"], cycles=[6, 8, 5, 5],
+                                     turns=180.0, fps=15, seed=132)),
+        ("synth", "ot-c-20fps-rests", dict(motions=["walk", "squats", "toe-touch", "jumping-jacks"],
+                                           cycles=[9, 5, 3, 8], turns=120.0, rest=0.6, fps=20, seed=133)),
+        ("synth", "ot-d", dict(motions=["reach-up", "run", "side-bends", "box", "squats"], cycles=[4, 10, 4, 8, 4],
+                               turns=160.0, build=1.1, seed=134)),
+        ("cmu", "13_29", {"turns": 180.0, "seed": 135}),
+        ("cmu", "13_30", {"turns": 150.0, "seed": 136}),
+    ],
 }
 
 
