@@ -121,6 +121,19 @@ BATCHES = {
         ("cmu", "13_29", {"turns": 180.0, "seed": 135}),
         ("cmu", "13_30", {"turns": 150.0, "seed": 136}),
     ],
+    # A second such batch, with HDM05 takes (their clips change heading from one to the next),
+    # designed and committed before a second attempt at the onsets after a turn was tried.
+    "onset-turns-2": [
+        ("bk", "squat1Reps:5,kickLFront1Reps:5,hopBothLegs1hops:7,elbowToKnee1RepsLelbowStart:5,grabHighR:4", 141,
+         {"seed": 141, "palette": "c"}),
+        ("dg", "elbowToKnee1RepsLelbowStart:5,hopBothLegs1hops:7,rotateArmsBothBackward1Reps:2,squat1Reps:6,"
+               "kickLFront1Reps:5", 142, {"seed": 142, "build": 0.95}),
+        ("synth", "ot2-a-15fps", dict(motions=["box", "squats", "jumping-jacks", "side-bends"], cycles=[8, 5, 8, 4],
+                                      turns=170.0, fps=15, seed=143)),
+        ("synth", "ot2-b", dict(motions=["knee-raises", "walk", "arm-circles", "run"], cycles=[5, 9, 6, 10],
+                                turns=140.0, jitter=1.5, seed=144)),
+        ("cmu", "13_29", {"turns": 160.0, "seed": 145}),
+    ],
 }
 
 
