@@ -92,7 +92,11 @@ Two methods are provided.
     5. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
        of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
        suite's takes with 3 s transitions); each boundary moves back, by up to
-       ``onset_reach`` seconds, to where the motion left the old exercise's poses.
+       ``onset_reach`` seconds, to where the motion left the old exercise's poses. Where the
+       frames it would leave behind are the old poses turned
+       (:func:`engine.onsets.turned_away`), the onset is read on the heading-free rows
+       instead (a person who turned 1-2.5 s before changing exercise had the boundary taken
+       back to the turn).
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
@@ -130,7 +134,7 @@ from .azimuth import azimuth_smoothed, azimuth_spectrum
 from .boundaries import novelty_boundaries, novelty_curve
 from .confidence import boundary_confidences, texton_confidence
 from .heading import heading_track, turned
-from .onsets import onset, settle
+from .onsets import onset, settle, turned_away
 from .parseparams import StructureParams
 from .pauses import moving_frames, with_pauses
 from .periods import cluster_period
@@ -317,6 +321,15 @@ def _heading_free(v, fps, p, theta, centred=None):
     return free, novelty_curve(free, fps, p)[0]
 
 
+def _turn_rows(v, theta, centred=None):
+    # The rows and azimuth columns engine.onsets.turned_away reads: about each frame's own
+    # centre where given (a turn about the body's own axis only shifts their azimuth
+    # histograms), else the parser's view.
+    if centred is not None:
+        return azimuth_smoothed(centred.vectors, centred.theta_columns), centred.theta_columns
+    return v, theta
+
+
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     free, turn_free = _heading_free(v, fps, p, theta, centred)
     clusters, turns = novelty_boundaries(v, fps, p, n, step, turn_free)
@@ -340,10 +353,20 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
             periods = None
     if p.onset_reach > 0:
         # Step 5: each boundary moves back from its novelty peak to where the motion left the
-        # old exercise (engine.onsets), never onto the old cluster's first frame.
-        starts = [0] + [max(onset(free if near_turn(cs) else v, clusters[i - 1][0], cs, fps, reach=p.onset_reach),
-                            clusters[i - 1][0] + 1)
-                        for i, (cs, _) in enumerate(clusters) if i]
+        # old exercise (engine.onsets), never onto the old cluster's first frame; read on the
+        # heading-free rows near a turn, vetoed or left behind by the onset.
+        turn_rows = _turn_rows(v, theta, centred) if free is not None else None
+
+        def start_of(i, cs):
+            first = clusters[i - 1][0]
+            if near_turn(cs):
+                return onset(free, first, cs, fps, reach=p.onset_reach)
+            left = onset(v, first, cs, fps, reach=p.onset_reach)
+            if left < cs and turn_rows is not None and turned_away(*turn_rows, first, left, cs, fps):
+                return max(left, onset(free, first, cs, fps, reach=p.onset_reach))
+            return left
+
+        starts = [0] + [max(start_of(i, cs), clusters[i - 1][0] + 1) for i, (cs, _) in enumerate(clusters) if i]
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None

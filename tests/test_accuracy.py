@@ -201,6 +201,26 @@ def test_a_change_of_exercise_just_after_a_turn_is_found_and_placed_where_it_is(
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
 
 
+def test_a_change_of_exercise_after_a_turn_is_not_taken_back_to_the_turn(devsuite):
+    # Fresh batch "step23", take spin-a (benchmarks/fresh.py): the actor turns on its spot
+    # (9.6-10.6 s, 139 degrees) while doing squats, and circles its arms from 11.1 s. The turn's
+    # peak and the change's merge, so no turn is vetoed; the boundary settles at 11.5 s, and
+    # the onset step took it back to 9.6 s, where the squats, seen turned, looked left
+    # behind (a false start and a miss). Those frames are the old poses turned
+    # (engine.onsets.turned_away), so the onset is read on the heading-free rows: 11.1 s.
+    import fresh
+
+    from engine.structure import parse
+    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-a"}["spin-a"]
+    take = devsuite.synth_take("fresh", "spin-a", options)
+    change = take.truth["segments"][1]["start"] / take.fps
+    assert abs(change - 11.1) < 0.05 and take.truth["segments"][1]["label"] == "arm-circles"
+    starts = [cs / take.fps for cs, _ in parse(take.vectors, take.fps, theta=take.theta,
+                                                centred=take.centred).clusters[1:]]
+    assert any(abs(b - change) <= 1.0 for b in starts), starts
+    assert not any(9.0 <= b <= 10.0 for b in starts), starts       # nothing at the turn's start
+
+
 def test_the_turns_the_parser_vetoed_are_where_the_actor_turned(devsuite):
     # engine.structure.vetoed_turns, which the report marks: on the "turns" take, the turns of
     # 5.4-6.4 s and 14.5-15.5 s (the later two lie at boundaries and are no veto's); none on
