@@ -134,6 +134,21 @@ BATCHES = {
                                 turns=140.0, jitter=1.5, seed=144)),
         ("cmu", "13_29", {"turns": 160.0, "seed": 145}),
     ],
+    # Turning takes made after the actor's turns were put on its feet (engine.synth.turned_about;
+    # before, each frame turned about its own centre and the feet slid), designed and committed
+    # before anything was tried on them: for the steps that place boundaries near turns.
+    "onset-turns-3": [
+        ("synth", "ot3-a", dict(motions=["side-bends", "jumping-jacks", "toe-touch", "run"], cycles=[4, 9, 3, 10],
+                                turns=160.0, seed=151)),
+        ("synth", "ot3-b-20fps", dict(motions=["squats", "box", "walk", "knee-raises"], cycles=[5, 8, 9, 5],
+                                      turns=120.0, fps=20, seed=152)),
+        ("synth", "ot3-c-15fps-rests", dict(motions=["twist", "arm-circles", "side-bends", "squats"],
+                                            cycles=[5, 6, 4, 5], turns=180.0, rest=0.6, fps=15, seed=153)),
+        ("synth", "ot3-d-wander", dict(motions=["knee-raises", "run", "jumping-jacks", "toe-touch"], cycles=[5, 10, 8, 3],
+                                       turns=140.0, wander=0.8, seed=154)),
+        ("cmu", "13_30", {"turns": 170.0, "seed": 155}),
+        ("cmu", "13_29", {"turns": 100.0, "seed": 156}),
+    ],
 }
 
 
