@@ -278,20 +278,28 @@ def _frames_features(folder, start=0, stop=None):
 
 def _turned_features(folder, frames, heading):
     """Features of the folder's ``frames`` with the body turned by ``heading`` (radians, one a
-    frame) about the vertical through its own centre, the meshes themselves rotated, then
-    taken as the builder takes a capture: its own body frame, its own origin (cached)."""
+    frame) about the vertical through where the person stands (the mean of their centre over
+    the 4 s about each frame: people turn on their feet, :func:`engine.synth.turned_about`),
+    the meshes themselves rotated, then taken as the builder takes a capture: its own body
+    frame, its own origin (cached)."""
     from engine.load import open_sequence, read_frame
 
     heading = np.asarray(heading, dtype=np.float64)
-    key = _key([int(i) for i in frames], np.round(heading, 6).tolist())
+    key = _key([int(i) for i in frames], np.round(heading, 6).tolist(), "on the feet")
     path = CACHE / "features" / f"{_prefix()}{folder.name}-turned-{key}.npz"
     if path.exists():
         return _cached(path)
     sequence = open_sequence(str(folder))
 
+    def positions(k):
+        return read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions
+
+    centres = np.array([positions(k).mean(axis=0)[:2] for k in range(len(frames))])
+    half = min(len(frames) // 2, 20)                       # 2 s either side at 10 fps
+    spots = np.array([centres[max(0, k - half): k + half + 1].mean(axis=0) for k in range(len(frames))])
+
     def frame_at(k):
-        return synth.turned_about_own_axis(
-            read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions, heading[k])
+        return synth.turned_about(positions(k), heading[k], spots[k])
 
     body = _body(len(frames), frame_at)
     acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
@@ -529,7 +537,7 @@ def synth_take(group, name, options, vertices=6000):
     for k, pose in enumerate(poses):
         verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
         if heading[k]:
-            verts = synth.turned_about_own_axis(verts, heading[k])
+            verts = synth.turned_about(verts, heading[k])      # on the spot the actor stands on
         verts = verts * extra.get("height", 1.0) + shift[k]
         if rng.random() < extra.get("holes", 0.0):
             centre = verts[rng.integers(len(verts))]

@@ -27,7 +27,10 @@ peaks gave:
   :mod:`engine.heading` follows only 30 degrees a second, and the turn veto of
   :mod:`engine.boundaries` sees no turn of its own where the turn's peak and the change's
   merge). Where the frames the onset left behind are the old poses turned, the parser reads
-  the onset on the heading-free rows instead, as it does near a vetoed turn. They are the
+  the onset on the heading-free rows instead, as it does near a vetoed turn; so does
+  :func:`settle` for a boundary it would move back over such frames (a change 1.7 s after a
+  turn, whose peak was right, was settled onto the turn once the synthetic actor turned on
+  its feet instead of sliding them). They are the
   old poses turned when, matched with the old poses turned about the vertical by every whole
   number of azimuth bins (on the rows about each frame's own centre where the person stays
   on their spot, as the turn veto reads them: about an origin they stand away from, a turn

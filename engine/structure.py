@@ -96,7 +96,7 @@ Two methods are provided.
        frames it would leave behind are the old poses turned
        (:func:`engine.onsets.turned_away`), the onset is read on the heading-free rows
        instead (a person who turned 1-2.5 s before changing exercise had the boundary taken
-       back to the turn).
+       back to the turn), and so is step 4 where it would move a boundary back over them.
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
@@ -340,14 +340,23 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free)
     periods = None
     count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0))  # noqa: E731
+    # Frames a boundary would move back over that are only the old poses turned (step 24).
+    turn_rows = _turn_rows(v, theta, centred) if free is not None else None
+    turned_back = lambda i, to, cs: (to < cs and turn_rows is not None  # noqa: E731
+                                     and turned_away(*turn_rows, clusters[i - 1][0], to, cs, fps))
     if p.max_transition > 0:
         clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count)
     if p.refine_reach > 0 and len(clusters) > 1:
-        # Step 4: each boundary between whole periods of its two clusters (engine.onsets).
+        # Step 4: each boundary between whole periods of its two clusters (engine.onsets); on
+        # the heading-free rows near a turn, vetoed or one it would move back onto.
         periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
                         other=free, use_other=near)
+        back = {i for i, (cs, _) in enumerate(clusters) if i and i not in near and turned_back(i, starts[i], cs)}
+        if back:
+            starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
+                            other=free, use_other=near | back)
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
@@ -355,14 +364,12 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
         # Step 5: each boundary moves back from its novelty peak to where the motion left the
         # old exercise (engine.onsets), never onto the old cluster's first frame; read on the
         # heading-free rows near a turn, vetoed or left behind by the onset.
-        turn_rows = _turn_rows(v, theta, centred) if free is not None else None
-
         def start_of(i, cs):
             first = clusters[i - 1][0]
             if near_turn(cs):
                 return onset(free, first, cs, fps, reach=p.onset_reach)
             left = onset(v, first, cs, fps, reach=p.onset_reach)
-            if left < cs and turn_rows is not None and turned_away(*turn_rows, first, left, cs, fps):
+            if turned_back(i, left, cs):
                 return max(left, onset(free, first, cs, fps, reach=p.onset_reach))
             return left
 

@@ -47,7 +47,7 @@ from .plyfast import write_ply
 
 #: Most cycles of one motion a take may have (a cycle is a few seconds of frames).
 MAX_CYCLES = 1000
-VERSION = 2                 # bump when the output for given options changes
+VERSION = 3                 # bump when the output for given options changes (3: turns on the feet)
 TRANSITION_S = 0.8          # blend between two motions, seconds
 NOISE_M = 0.002             # Gaussian vertex noise, metres
 PERIOD_JITTER = 0.04        # relative standard deviation of a cycle's period
@@ -523,10 +523,20 @@ def turn_headings(n, fps, turns, seed=0):
     return heading
 
 
-def turned_about_own_axis(verts, angle):
-    """Vertices (Z up) turned by ``angle`` radians about the vertical through their own centre."""
-    centre = verts.mean(axis=0) * [1.0, 1.0, 0.0]
-    return (verts - centre) @ _rot("z", angle).T + centre
+def turned_about(verts, angle, at=(0.0, 0.0)):
+    """Vertices (Z up) turned by ``angle`` radians about the vertical through ``at`` (x, y).
+
+    ``at`` is the spot the person turns on: people turn on their feet. Until VERSION 3 each
+    frame turned about its own centre, which moves with the pose (0.1-0.2 m as the actor bends
+    to touch its toes): the feet slid by up to twice that in a turn of 180 degrees, and a
+    turned left-right exercise lost its mirror symmetry about any fixed point.
+
+    >>> v = np.array([[0.2, 0.0, 1.0], [0.0, 0.0, 0.0]])          # a hand out front, a foot
+    >>> np.round(turned_about(v, np.pi), 6).tolist()              # the foot stays where it was
+    [[-0.2, 0.0, 1.0], [0.0, 0.0, 0.0]]
+    """
+    centre = np.array([at[0], at[1], 0.0])
+    return (np.asarray(verts) - centre) @ _rot("z", angle).T + centre
 
 
 def _colours(prims, verts, rng):
@@ -557,7 +567,7 @@ def _frame_job(job):
     rng = np.random.default_rng(np.random.SeedSequence([seed, 1, index]))
     verts, faces, colours = make_frame(pose, voxel, rng)
     if heading:
-        verts = turned_about_own_axis(verts, heading).astype(np.float32)
+        verts = turned_about(verts, heading).astype(np.float32)     # the actor stands at x = y = 0
     write_ply(Path(out) / f"frame_{index:05d}.ply", verts, faces, colours)
     return index, len(verts)
 

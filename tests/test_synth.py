@@ -300,3 +300,26 @@ def test_boxing_toe_touches_and_twists_go_left_then_right():
     assert twist[0] > 0.5 and twist[1] < -0.5, twist
     for name in ("box", "toe-touch", "twist"):   # a cycle ends where the next one starts
         assert np.allclose(synth.MOTIONS[name].pose(0.0, 1.0), synth.MOTIONS[name].pose(1 - 1e-9, 1.0), atol=1e-6)
+
+
+def test_a_turning_actor_turns_on_its_feet(tmp_path):
+    # tvmedit synth --turns: the actor turns to face another way now and then while touching
+    # its toes. People turn on their feet: the feet (the lowest vertices) stay on their spot
+    # through every turn. Turned about each frame's own centre, which moves 0.1-0.2 m with the
+    # pose, they slid by up to 0.4 m (synth VERSION 2), and the development suite's turning
+    # takes had that artefact.
+    from engine.load import open_sequence, read_frame
+    out = tmp_path / "turning"
+    synth.generate(out, motions=["toe-touch"], cycles=4, turns=180.0, vertices=3000, seed=2, progress=False)
+    sequence = open_sequence(str(out))
+    feet, centres = [], []
+    for path in sequence.paths:
+        v = read_frame(path, sequence.orientation, "geometry").positions
+        feet.append(v[v[:, 2] < v[:, 2].min() + 0.08, :2].mean(axis=0))
+        centres.append(v[:, :2].mean(axis=0))
+    feet, centres = np.array(feet), np.array(centres)
+    heading = synth.turn_headings(len(feet), 10.0, 180.0, seed=2)
+    assert np.ptp(heading) > np.radians(90)                         # it does turn
+    assert np.ptp(np.linalg.norm(centres - centres[0], axis=1)) > 0.15   # and bends
+    slid = np.linalg.norm(feet - feet[0], axis=1).max()
+    assert slid < 0.12, slid        # the ankles stay put; the toes, 0.1 m in front of them, turn
