@@ -281,7 +281,8 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
                 for seq, f in zip(sequences, padded)})
         t0 = time.perf_counter()
         thetas = {seq.name: f.theta_columns for seq, f in zip(sequences, padded)}
-        structures = apply_structures(parses, vectors, corrections, thetas, lambda m: run.say(f"warning: {m}"))
+        structures = apply_structures(parses, vectors, corrections, thetas, lambda m: run.say(f"warning: {m}"),
+                                      {seq.name: f.centred for seq, f in zip(sequences, padded)})
         nodes = apply_database(build_database(structures), structures, corrections)
         graph = build_graph(nodes, vectors, mu=mu, connect=connect)
         run.stages["graph"] = time.perf_counter() - t0

@@ -448,7 +448,7 @@ def _texton_edits(textons, entry, reach, window, say, where):
     return changed
 
 
-def apply_structure(structure, vectors, entry, *, theta=None, source="corrections", name="", say=None):
+def apply_structure(structure, vectors, entry, *, theta=None, centred=None, source="corrections", name="", say=None):
     """The structure of one sequence with its corrections applied (see the module docstring).
 
     Parameters
@@ -460,6 +460,10 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
     entry : SequenceCorrections
     theta : slice, optional
         The theta columns, as for :func:`engine.structure.parse`.
+    centred : engine.features.Features, optional
+        The rows about each frame's own centre (``Features.centred``), as for
+        :func:`engine.structure.parse`: the textons of a cluster drawn by hand are found as
+        the parser finds them.
     source, name : str
         The corrections' file and the sequence's name, for messages.
     say : callable, optional
@@ -491,7 +495,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
             raise CorrectionError(f"{where('boundaries')} make cluster {cs}-{ce} {ce - cs + 1} frame"
                                   f"{'s' * (ce != cs)} long, shorter than the {len(w)}-frame atom window; "
                                   f"keep boundaries at least {len(w)} frames apart and from the last frame.")
-        textons += [replace(t, cluster=k) for t in textons_for(v, [(cs, ce)], fps, params, theta)]
+        textons += [replace(t, cluster=k) for t in textons_for(v, [(cs, ce)], fps, params, theta, centred)]
     edited = _Textons(textons, clusters)
     changed = _texton_edits(edited, entry, reach, len(w), say, where)
     old = {(t.start, t.end): t for t in textons}
@@ -512,12 +516,13 @@ def apply_structure(structure, vectors, entry, *, theta=None, source="correction
                      [sure.get(cs, 1.0) if k else 1.0 for k, (cs, _) in enumerate(clusters)])
 
 
-def apply_structures(parses, vectors, corrections, thetas=None, say=None):
+def apply_structures(parses, vectors, corrections, thetas=None, say=None, centreds=None):
     """:func:`apply_structure` for every sequence: ``{name: Structure}`` from the automatic
-    ``parses`` and ``vectors`` (``{name: (T, D) array}``); uncorrected sequences as parsed."""
-    thetas = thetas or {}
+    ``parses`` and ``vectors`` (``{name: (T, D) array}``); uncorrected sequences as parsed.
+    ``thetas`` and ``centreds``: each sequence's theta columns and centred rows, by name."""
+    thetas, centreds = thetas or {}, centreds or {}
     return {name: apply_structure(parse, vectors[name], corrections.of(name), theta=thetas.get(name),
-                                  source=corrections.source, name=name, say=say)
+                                  centred=centreds.get(name), source=corrections.source, name=name, say=say)
             if corrections.sequences.get(name) else parse for name, parse in parses.items()}
 
 

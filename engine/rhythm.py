@@ -61,7 +61,7 @@ WHOLE = 0.05
 LOCAL = 3.0
 
 
-def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None):
+def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror=None):
     """Clusters split where a weak novelty peak and a change of period coincide.
 
     Parameters
@@ -83,6 +83,8 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None):
     turn_free : array like ``n``, optional
         The heading-free novelty of step 1's turn veto: a peak under which it stays below
         ``turn_ratio`` of the peak within 0.5 s is a turn and splits nothing.
+    mirror : ((T, D') array, slice), optional
+        Other rows for the periods' mirror test (:func:`engine.periods.cluster_period`).
 
     Returns
     -------
@@ -124,8 +126,8 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None):
             continue
         # Each side's period on at most LOCAL times max_period next to the peak: the
         # tempo there is what changes, and a long cluster costs no more.
-        before = cluster_period(v, max(cs, b - local), b - 1, fps, w, p, theta)[0]
-        after = cluster_period(v, b, min(ce, b + local - 1), fps, w, p, theta)[0]
+        before = cluster_period(v, max(cs, b - local), b - 1, fps, w, p, theta, mirror=mirror)[0]
+        after = cluster_period(v, b, min(ce, b + local - 1), fps, w, p, theta, mirror=mirror)[0]
         if not before or not after:
             continue
         ratio = max(before, after) / min(before, after)

@@ -275,30 +275,31 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
-def _cluster_textons(v, cs, ce, fps, p, w, theta, P, ci):
+def _cluster_textons(v, cs, ce, fps, p, w, theta, P, ci, mirror=None):
     # Step 2 for one cluster: whole periods of P (from its lag profile where None). Where its
     # repetitions pause (engine.pauses), the period and textons come from its moving frames
-    # and each texton keeps the pause after it.
+    # and each texton keeps the pause after it. ``mirror``: other rows for the mirror test.
     moving = moving_frames(v, cs, ce, fps, p.pause_share)
     if moving is not None:
         sub = v[moving]
-        period = cluster_period(sub, 0, len(sub) - 1, fps, w, p, theta, broad=True)[0]
+        period = cluster_period(sub, 0, len(sub) - 1, fps, w, p, theta, broad=True,
+                                mirror=None if mirror is None else (mirror[0][moving], mirror[1]))[0]
         found = _textons_by_period(sub, 0, len(sub) - 1, period, w, ci)
         if found:
             for t in with_pauses(found, moving, ce, period):
                 t.distance = atom_distance(v, t.end, t.start, w)
             return found
     if P is None:
-        P = cluster_period(v, cs, ce, fps, w, p, theta, broad=True)[0]
+        P = cluster_period(v, cs, ce, fps, w, p, theta, broad=True, mirror=mirror)[0]
     return _textons_by_period(v, cs, ce, P, w, ci)
 
 
-def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None):
+def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None, mirror=None):
     # Step 2: each cluster's period (given, or from its lag profile), then its textons.
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
         P = periods[ci] if periods is not None else None
-        textons.extend(_cluster_textons(v, cs, ce, fps, p, w, theta, P, ci))
+        textons.extend(_cluster_textons(v, cs, ce, fps, p, w, theta, P, ci, mirror))
     for t in textons:
         t.confidence = texton_confidence(v, t.start, t.end, w)
     return textons
@@ -312,22 +313,28 @@ def _heading_free(v, fps, p, theta, centred=None):
     if not (p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0):
         return None, None
     if centred is not None:
-        if len(centred.vectors) != len(v):
-            raise ValueError(f"the centred features have {len(centred.vectors)} frames, the features {len(v)}")
-        c = centred.theta_columns
-        free = azimuth_spectrum(azimuth_smoothed(centred.vectors, c), c)
+        rows, c = _centred_rows(centred, len(v))
+        free = azimuth_spectrum(rows, c)
     else:
         free = azimuth_spectrum(v, theta)
     return free, novelty_curve(free, fps, p)[0]
+
+
+def _centred_rows(centred, frames):
+    # The features about each frame's own centre (Features.centred) as the parser reads them,
+    # azimuth histograms smoothed, with their azimuth columns; None without them.
+    if centred is None:
+        return None
+    if len(centred.vectors) != frames:
+        raise ValueError(f"the centred features have {len(centred.vectors)} frames, the features {frames}")
+    return azimuth_smoothed(centred.vectors, centred.theta_columns), centred.theta_columns
 
 
 def _turn_rows(v, theta, centred=None):
     # The rows and azimuth columns engine.onsets.turned_away reads: about each frame's own
     # centre where given (a turn about the body's own axis only shifts their azimuth
     # histograms), else the parser's view.
-    if centred is not None:
-        return azimuth_smoothed(centred.vectors, centred.theta_columns), centred.theta_columns
-    return v, theta
+    return _centred_rows(centred, len(v)) or (v, theta)
 
 
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
@@ -336,20 +343,23 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
     # the others the turn itself is the greatest change about them (engine.boundaries).
     near_turn = lambda b: any(abs(b - t) <= p.novelty_window * fps for t in turns)  # noqa: E731
+    # The mirror test of every period also reads the rows about each frame's own centre
+    # (engine.periods, *About the body's own centre*).
+    mirror = _centred_rows(centred, len(v)) if theta is not None else None
     # Step 1b: weak peaks where the period changes (engine.rhythm).
-    clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free)
+    clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free, mirror)
     periods = None
-    count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0))  # noqa: E731
+    count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0, mirror))  # noqa: E731
     # Frames a boundary would move back over that are only the old poses turned (step 24).
     turn_rows = _turn_rows(v, theta, centred) if free is not None else None
     turned_back = lambda i, to, cs: (to < cs and turn_rows is not None  # noqa: E731
                                      and turned_away(*turn_rows, clusters[i - 1][0], to, cs, fps))
     if p.max_transition > 0:
-        clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count)
+        clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count, mirror)
     if p.refine_reach > 0 and len(clusters) > 1:
         # Step 4: each boundary between whole periods of its two clusters (engine.onsets); on
         # the heading-free rows near a turn, vetoed or one it would move back onto.
-        periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+        periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta, mirror=mirror)[0] for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
                         other=free, use_other=near)
@@ -379,11 +389,13 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
             periods = None
     if p.weak_boundary > 0:
         clusters, periods = merge_weak(v, fps, p, w, theta, clusters, count,
-                                       boundary_confidences(n, step, clusters, p.novelty_threshold), periods)
-    return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta, periods)
+                                       boundary_confidences(n, step, clusters, p.novelty_threshold), periods,
+                                       mirror)
+    return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta, periods, mirror)
 
 
-def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None = None, theta=None) -> list:
+def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None = None, theta=None,
+                centred=None) -> list:
     """The textons of given clusters, found as step 2 of ``method="energy"`` finds them.
 
     For clusters drawn by hand (:mod:`engine.corrections`): each cluster's period from its
@@ -395,8 +407,9 @@ def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None
         Rows of :attr:`engine.features.Features.vectors`.
     clusters : list of (start, end)
         Inclusive frame ranges; ``Texton.cluster`` indexes this list.
-    fps, params, theta
-        As for :func:`parse`.
+    fps, params, theta, centred
+        As for :func:`parse` (the centred rows for the periods' mirror test, as the parser
+        reads them).
 
     Returns
     -------
@@ -404,7 +417,9 @@ def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None
     """
     p = params or StructureParams()
     v = parser_view(vectors, p, theta, fps)
-    return _textons_of_clusters(v, clusters, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta)
+    mirror = _centred_rows(centred, len(v)) if p.method == "energy" and theta is not None else None
+    return _textons_of_clusters(v, clusters, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta,
+                                mirror=mirror)
 
 
 def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructureParams | None = None, theta=None):

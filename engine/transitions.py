@@ -53,15 +53,17 @@ def activity(v, cluster, fps):
     return float(np.sqrt(np.einsum("nd,nd->n", d, d)).mean())
 
 
-def _join(v, fps, p, w, theta, clusters, periods, a, b):
+def _join(v, fps, p, w, theta, clusters, periods, a, b, mirror=None):
     # Clusters a..b become one; its period is found again.
     merged = (clusters[a][0], clusters[b][1])
     clusters[a: b + 1] = [merged]
-    periods[a: b + 1] = [cluster_period(v, merged[0], merged[1], fps, w, p, theta)[0]]
+    periods[a: b + 1] = [cluster_period(v, merged[0], merged[1], fps, w, p, theta, mirror=mirror)[0]]
 
 
-def absorb_transitions(v, fps, p, w, theta, clusters, count):
+def absorb_transitions(v, fps, p, w, theta, clusters, count, mirror=None):
     """Clusters with transitions joined (see the module docstring), and each one's period.
+
+    ``mirror``: other rows for the mirror test (:func:`engine.periods.cluster_period`).
 
     Returns
     -------
@@ -69,7 +71,7 @@ def absorb_transitions(v, fps, p, w, theta, clusters, count):
     periods : list of int or None
     """
     clusters = list(clusters)
-    periods = [cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+    periods = [cluster_period(v, cs, ce, fps, w, p, theta, mirror=mirror)[0] for cs, ce in clusters]
     cyclic = lambda k: periods[k] is not None and count(*clusters[k], periods[k]) >= 1  # noqa: E731
     limit = p.max_transition * fps
     i = 0
@@ -80,21 +82,21 @@ def absorb_transitions(v, fps, p, w, theta, clusters, count):
         if ce - cs + 1 > limit or j is None or (cyclic(i) and not still):
             i += 1
             continue
-        _join(v, fps, p, w, theta, clusters, periods, min(i, j), max(i, j))
+        _join(v, fps, p, w, theta, clusters, periods, min(i, j), max(i, j), mirror)
         i = min(i, j)
     return clusters, periods
 
 
-def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None):
+def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None, mirror=None):
     """Clusters with weak boundaries between non-repeating stretches dropped, and their periods.
 
     ``confidence`` holds each cluster's boundary confidence (:mod:`engine.confidence`); a
     boundary under ``p.weak_boundary`` between two clusters of at most one texton each, one of
-    them at least showing no period, goes.
+    them at least showing no period, goes. ``mirror`` as for :func:`absorb_transitions`.
     """
     clusters, confidence = list(clusters), list(confidence)
     periods = list(periods) if periods is not None else [
-        cluster_period(v, cs, ce, fps, w, p, theta)[0] for cs, ce in clusters]
+        cluster_period(v, cs, ce, fps, w, p, theta, mirror=mirror)[0] for cs, ce in clusters]
     few = lambda k: periods[k] is None or count(*clusters[k], periods[k]) <= 1  # noqa: E731
     i = 1
     while i < len(clusters):
@@ -102,7 +104,7 @@ def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None):
         # exercises, however alike (CMU 13_30 at 1.4x, two of two periods each).
         aperiodic = periods[i - 1] is None or periods[i] is None
         if confidence[i] < p.weak_boundary and aperiodic and few(i - 1) and few(i):
-            _join(v, fps, p, w, theta, clusters, periods, i - 1, i)
+            _join(v, fps, p, w, theta, clusters, periods, i - 1, i, mirror)
             del confidence[i]
             continue
         i += 1

@@ -183,8 +183,9 @@ class InspectorApp(CameraControls):
         entry = self.corrections.sequences.get(name)
         mine = Corrections({name: entry} if entry else {}, self.corrections.source)
         mine.check_sequences({s.name: len(s) for s in self.library.sequences})
-        structure = (apply_structure(parse, self.library.features(name).vectors, entry, name=name,
-                                     theta=self.library.features(name).theta_columns, source="corrections")
+        features = self.library.features(name)
+        structure = (apply_structure(parse, features.vectors, entry, name=name, theta=features.theta_columns,
+                                     centred=features.centred, source="corrections")
                      if entry else parse)
         nodes = apply_database(build_database({name: structure}), {name: structure}, mine,
                                whole=len(self.library.sequences) == 1)

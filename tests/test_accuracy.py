@@ -9,6 +9,7 @@ development suite guards the sub-multiple step of ``engine.periods``, another st
 (``engine.rhythm``).
 """
 
+import numpy as np
 import pytest
 
 from conftest import CACHE, mocap_take
@@ -223,6 +224,31 @@ def test_a_change_of_exercise_after_a_turn_is_not_taken_back_to_the_turn(devsuit
                                                 centred=take.centred).clusters[1:]]
     assert any(abs(b - change) <= 1.0 for b in starts), starts
     assert not any(9.0 <= b <= 10.0 for b in starts), starts       # nothing at the turn's start
+
+
+def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
+    # Fresh batch "step23", take spin-c-rests: four toe touches (left then right, 3.3 s a
+    # cycle with its rest), in which the actor turns 147 degrees on its feet (10.3-11.3 s),
+    # a spot a little off the first frame's centre, the features' origin. Every reflection the
+    # mirror test tries is about a plane through that origin; the turned body's own plane no
+    # longer passes through it, so the test read half cycles (1.6 s). About each frame's own
+    # centre (Features.centred) the halves are mirror images, and the cycle is whole
+    # (engine.periods, *About the body's own centre*).
+    import fresh
+
+    from engine.structure import parse, textons_for
+    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-c-rests"}["spin-c-rests"]
+    take = devsuite.synth_take("fresh", "spin-c-rests", options)
+    assert take.truth["segments"][0]["label"] == "toe-touch"
+    cluster = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred).clusters[0]
+    assert abs(cluster[1] / take.fps - 13.2) < 1.0, cluster
+
+    def cycle(centred):
+        found = textons_for(take.vectors, [cluster], take.fps, theta=take.theta, centred=centred)
+        return float(np.median([t.end - t.start + 1 for t in found])) / take.fps
+
+    assert abs(cycle(take.centred) - 3.3) < 0.4, cycle(take.centred)
+    assert abs(cycle(None) - 1.6) < 0.3, cycle(None)
 
 
 def test_the_turns_the_parser_vetoed_are_where_the_actor_turned(devsuite):
