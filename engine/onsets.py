@@ -26,9 +26,10 @@ peaks gave:
   the boundary taken back to the turn's start (1.2-2 s early; the heading tracker of
   :mod:`engine.heading` follows only 30 degrees a second, and the turn veto of
   :mod:`engine.boundaries` sees no turn of its own where the turn's peak and the change's
-  merge). Where the frames the onset left behind are the old poses turned, the parser reads
-  the onset on the heading-free rows instead, as it does near a vetoed turn; so does
-  :func:`settle` for a boundary it would move back over such frames (a change 1.7 s after a
+  merge). Where the frames the onset left behind are the old poses turned, the parser also
+  reads the onset on the heading-free rows (as it does near a vetoed turn) and takes the later
+  of the two; :func:`settle` reads the heading-free rows
+  for a boundary it would move back over such frames (a change 1.7 s after a
   turn, whose peak was right, was settled onto the turn once the synthetic actor turned on
   its feet instead of sliding them). They are the
   old poses turned when, matched with the old poses turned about the vertical by every whole
@@ -245,6 +246,10 @@ def turned_away(rows, theta, start, left, peak, fps, reference=10.0):
     >>> new = rows.copy(); new[100:] = [pose(50)] * 20          # a new pose from frame 100
     >>> turned_away(new, slice(0, 72), 0, 100, 119, 10)
     False
+    >>> half = np.clip(t - 100, 0, 10) * 3.6                  # about: 180 degrees, either way
+    >>> [turned_away(np.array([np.roll(r, int(s * a)) for r, a in zip(old, half)]), slice(0, 72), 0, 100, 119, 10)
+    ...  for s in (1, -1)]
+    [True, True]
     >>> flip = old.copy(); flip[100:] = [np.roll(old[k], 36) for k in range(100, 120)]
     >>> turned_away(flip, slice(0, 72), 0, 100, 119, 10)    # 180 degrees at once: no turn seen
     False
@@ -261,11 +266,16 @@ def turned_away(rows, theta, start, left, peak, fps, reference=10.0):
     for s in range(n):
         turned[:, theta] = np.roll(stretch[:, theta], s, axis=1)
         dist[s] = distance_matrix(turned, ref).min(axis=1)
-    # Angles in degrees, -180 to 180, of the turn that brings each frame nearest.
+    # Angles in degrees, -180 to 180, of the turn that brings each frame nearest; the last
+    # third's about its circular mean (a turn of about 180 degrees reads +175 and -175).
     best = np.argmin(dist, axis=0)
     angle = ((best + n // 2) % n - n // 2) * 360.0 / n
     last = slice(len(stretch) - max(1, len(stretch) // 3), None)
-    end = float(np.median(angle[last]))
-    halfway = np.abs((angle - end / 2 + 180) % 360 - 180) <= max(15.0, abs(end) / 4)
+    mean = np.degrees(np.angle(np.exp(1j * np.radians(angle[last])).mean()))
+    end = float((mean + np.median((angle[last] - mean + 180) % 360 - 180) + 180) % 360 - 180)
+    tol = max(15.0, abs(end) / 4)
+    # Near 180 degrees the turn may have gone either way round: half of either will do.
+    ends = [end] + ([end - 360.0 * np.sign(end)] if 360 - 2 * abs(end) <= 2 * tol else [])
+    halfway = any((np.abs((angle - e / 2 + 180) % 360 - 180) <= tol).any() for e in ends)
     explains = np.median(dist.min(axis=0)[last]) <= TURN_EXPLAINS * np.median(dist[0][last])
-    return bool(abs(end) >= TURN_DEGREES and halfway.any() and explains)
+    return bool(abs(end) >= TURN_DEGREES and halfway and explains)

@@ -94,9 +94,10 @@ Two methods are provided.
        suite's takes with 3 s transitions); each boundary moves back, by up to
        ``onset_reach`` seconds, to where the motion left the old exercise's poses. Where the
        frames it would leave behind are the old poses turned
-       (:func:`engine.onsets.turned_away`), the onset is read on the heading-free rows
-       instead (a person who turned 1-2.5 s before changing exercise had the boundary taken
-       back to the turn), and so is step 4 where it would move a boundary back over them.
+       (:func:`engine.onsets.turned_away`), the onset is also read on the heading-free rows
+       and the later of the two taken (a person who turned 1-2.5 s before changing exercise
+       had the boundary taken back to the turn); step 4 reads the heading-free rows where it
+       would move a boundary back over such frames.
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two

@@ -240,8 +240,11 @@ def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
     options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-c-rests"}["spin-c-rests"]
     take = devsuite.synth_take("fresh", "spin-c-rests", options)
     assert take.truth["segments"][0]["label"] == "toe-touch"
-    cluster = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred).clusters[0]
+    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
+    cluster = structure.clusters[0]
     assert abs(cluster[1] / take.fps - 13.2) < 1.0, cluster
+    parsed = [t.end - t.start + 1 for t in structure.textons_of(0)]
+    assert abs(float(np.median(parsed)) / take.fps - 3.3) < 0.4, parsed     # the parser's own textons
 
     def cycle(centred):
         found = textons_for(take.vectors, [cluster], take.fps, theta=take.theta, centred=centred)
