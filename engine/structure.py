@@ -306,16 +306,15 @@ def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None, mirro
     return textons
 
 
-def _heading_free(v, fps, p, theta, centred=None):
+def _heading_free(v, fps, p, theta, centred_rows=None):
     # The heading-free rows and their novelty, for the turn veto; (None, None) without one (it
     # needs the azimuth columns: theta None or empty, every peak counts). From the features
-    # about each frame's own centre where given (Features.centred): about an origin the person
+    # about each frame's own centre where given (_centred_rows): about an origin the person
     # stands away from, turning about their own axis changes even the heading-free rows.
     if not (p.turn_ratio > 0 and theta is not None and len(range(*theta.indices(v.shape[1]))) > 0):
         return None, None
-    if centred is not None:
-        rows, c = _centred_rows(centred, len(v))
-        free = azimuth_spectrum(rows, c)
+    if centred_rows is not None:
+        free = azimuth_spectrum(*centred_rows)
     else:
         free = azimuth_spectrum(v, theta)
     return free, novelty_curve(free, fps, p)[0]
@@ -331,28 +330,26 @@ def _centred_rows(centred, frames):
     return azimuth_smoothed(centred.vectors, centred.theta_columns), centred.theta_columns
 
 
-def _turn_rows(v, theta, centred=None):
-    # The rows and azimuth columns engine.onsets.turned_away reads: about each frame's own
-    # centre where given (a turn about the body's own axis only shifts their azimuth
-    # histograms), else the parser's view.
-    return _centred_rows(centred, len(v)) or (v, theta)
-
-
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
-    free, turn_free = _heading_free(v, fps, p, theta, centred)
+    # The rows about each frame's own centre, smoothed once for the turn veto, the mirror test
+    # and step 24.
+    centred_rows = _centred_rows(centred, len(v))
+    free, turn_free = _heading_free(v, fps, p, theta, centred_rows)
     clusters, turns = novelty_boundaries(v, fps, p, n, step, turn_free)
     # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
     # the others the turn itself is the greatest change about them (engine.boundaries).
     near_turn = lambda b: any(abs(b - t) <= p.novelty_window * fps for t in turns)  # noqa: E731
     # The mirror test of every period also reads the rows about each frame's own centre
     # (engine.periods, *About the body's own centre*).
-    mirror = _centred_rows(centred, len(v)) if theta is not None else None
+    mirror = centred_rows if theta is not None else None
     # Step 1b: weak peaks where the period changes (engine.rhythm).
     clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free, mirror)
     periods = None
     count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0, mirror))  # noqa: E731
-    # Frames a boundary would move back over that are only the old poses turned (step 24).
-    turn_rows = _turn_rows(v, theta, centred) if free is not None else None
+    # Frames a boundary would move back over that are only the old poses turned (step 24),
+    # read about each frame's own centre where given (a turn about the body's own axis only
+    # shifts their azimuth histograms), else on the parser's view.
+    turn_rows = (centred_rows or (v, theta)) if free is not None else None
     turned_back = lambda i, to, cs: (to < cs and turn_rows is not None  # noqa: E731
                                      and turned_away(*turn_rows, clusters[i - 1][0], to, cs, fps))
     if p.max_transition > 0:
@@ -499,7 +496,7 @@ def vetoed_turns(vectors, params=None, theta=None, fps=None, centred=None):
         return []
     v = parser_view(v, p, theta, fps)
     n, step = novelty_curve(v, fps, p)
-    turn_free = _heading_free(v, fps, p, theta, centred)[1]
+    turn_free = _heading_free(v, fps, p, theta, _centred_rows(centred, len(v)))[1]
     return [] if turn_free is None else novelty_boundaries(v, fps, p, n, step, turn_free)[1]
 
 
