@@ -149,6 +149,25 @@ BATCHES = {
         ("cmu", "13_30", {"turns": 170.0, "seed": 155}),
         ("cmu", "13_29", {"turns": 100.0, "seed": 156}),
     ],
+    # People who turn steadily as they exercise (the CMU takes and the synthetic actor at
+    # 4-8 degrees a second either way, a rate the heading tracker follows only in whole
+    # bins) and three more HDM05 takes of exercises at other tempos: made after step 25, before
+    # the rhythm step's short-side rule (docs/parsing.md, step 26) was tried on them.
+    "steady-turns": [
+        ("cmu", "13_29", {"turn": -4.0}),
+        ("cmu", "13_30", {"turn": 8.0}),
+        ("cmu", "13_29", {"turn": 7.0}),
+        ("synth", "steady-a", dict(motions=["toe-touch", "jumping-jacks", "side-bends", "run"], cycles=[4, 8, 4, 10],
+                                   turn=-7.0, seed=161)),
+        ("synth", "steady-b-15fps", dict(motions=["squats", "twist", "knee-raises", "box"], cycles=[5, 5, 6, 8],
+                                         turn=5.0, fps=15, jitter=1.5, seed=162)),
+        ("bd", "kickLFront1Reps:5,rotateArmsBothBackward1Reps:3,squat1Reps:6,hopBothLegs1hops:7,"
+               "elbowToKnee1RepsLelbowStart:4", 41, {"seed": 41, "palette": "b"}),
+        ("bk", "depositFloorR:4,hopBothLegs1hops:8,grabHighR:4,squat1Reps:5,kickLFront1Reps:5", 42,
+         {"seed": 42, "build": 0.95}),
+        ("dg", "elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:4,rotateArmsBothBackward1Reps:3,squat1Reps:5,"
+               "grabHighR:4", 43, {"seed": 43, "palette": "a"}),
+    ],
 }
 
 
@@ -158,7 +177,8 @@ def _take(source):
         return devsuite.synth_take("fresh", *rest)
     if kind == "cmu":
         take, turning = rest
-        return devsuite.cmu_turning_take(take, turning, "fresh", f"{take}-turns-{turning['turns']:g}")
+        kind = "turns" if "turns" in turning else "turn"
+        return devsuite.cmu_turning_take(take, turning, "fresh", f"{take}-{kind}-{turning[kind]:g}")
     return devsuite.hdm_take(*source, group="fresh")
 
 
