@@ -165,7 +165,7 @@ BATCHES = {
                "elbowToKnee1RepsLelbowStart:4", 41, {"seed": 41, "palette": "b"}),
         ("bk", "depositFloorR:4,hopBothLegs1hops:8,grabHighR:4,squat1Reps:5,kickLFront1Reps:5", 42,
          {"seed": 42, "build": 0.95}),
-        ("dg", "elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:4,rotateArmsBothBackward1Reps:3,squat1Reps:5,"
+        ("dg", "elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:4,rotateArmsBothBackward1Reps:2,squat1Reps:5,"
                "grabHighR:4", 43, {"seed": 43, "palette": "a"}),
     ],
 }
