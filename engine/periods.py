@@ -68,7 +68,7 @@ import numpy as np
 
 from .atoms import lag_profile
 
-__all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO"]
+__all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO", "LONGEST"]
 
 #: A lag whose mirrored frames are at most this fraction as far as the frames themselves is
 #: half a cycle of a left-then-right exercise. Measured (theta histograms): 0.3-0.7 at half
@@ -77,6 +77,10 @@ __all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO"]
 #: period of symmetric exercises (jumping jacks, squats, arm circles) and above 1 at whole
 #: periods.
 MIRROR_RATIO = 0.8
+
+#: Longest period a stretch of frames can show, as a share of its length: the lag profile
+#: runs to this share of it, for the period and for the half-period test's 2L and 3L.
+LONGEST = 0.8
 
 #: Fractions of the chosen lag tried by the sub-multiple test, most parts first.
 SUBMULTIPLES = (3, 2)
@@ -217,12 +221,12 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     """
     length = ce - cs + 1
     lo = max(2, int(round(p.min_texton * fps)))
-    hi = min(int(round(p.max_period * fps)), int(length * 0.8))
+    hi = min(int(round(p.max_period * fps)), int(length * LONGEST))
     if hi <= lo + 1:
         return None, 0.0
-    # The profile runs on to 0.8 of the cluster (past ``max_period``) so that the half-period
+    # The profile runs on to LONGEST of the cluster (past ``max_period``) so that the half-period
     # test below can look at 2L and 3L.
-    top = max(hi, int(length * 0.8))
+    top = max(hi, int(length * LONGEST))
     seg = v[cs: ce + 1]
     # The subject drifts away from the fixed origin, which makes every histogram change
     # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which

@@ -19,6 +19,18 @@ no evidence: the period step's known failure is a multiple of the true period (a
 raises with long pauses between them read 3.15 s on one side and 1.05 s on the other, one
 motion). Peaks are taken strongest first, each in the cluster it lies in by then.
 
+**A side too short to tell** (step 26). The period step reads no period longer than
+:data:`engine.periods.LONGEST` (0.8) of the frames it is given, so a side shorter than that
+share of the other side's period could not have shown it: its shorter period is no evidence
+that the tempo changed, only of what fits in it (often a half period). Such a peak splits
+nothing. On the development suite, CMU 13_29 turning 6 degrees a second had a weak peak 2.5 s
+into a block of one-hand toe touches (period 2.8 s): the 2.4 s before it read 1.3 s, the
+block after it 2.9 s, and the split it made was kept while the true boundary 3 s earlier
+was merged away as the weaker; with the rule, that boundary is found and the false one goes
+(that take finds 4 of its 5 changes, not 3, with one false boundary, not 2; every other
+suite take is unchanged). On eleven fresh batches (52 takes, ``benchmarks/fresh.py``), one
+of them (``steady-turns``) made for this step before it was tried, nothing changes.
+
 The periods are the period step's as it reads them, not the true tempos: at the five
 boundaries it reads 1.5 / 3.3 s (true 1.32 / 1.64 s: the kicks read at two repetitions),
 1.5 / 1.0 s (true 1.50 / 1.04), 1.8 / 0.8 s (1.79 / 0.79), 2.3 / 1.5 s (2.62 / 1.45) and
@@ -49,7 +61,7 @@ motion*).
 import numpy as np
 
 from .boundaries import local_maxima, turn_test
-from .periods import cluster_period
+from .periods import LONGEST, cluster_period
 
 __all__ = ["rhythm_splits", "FLOOR", "WHOLE", "LOCAL"]
 
@@ -126,9 +138,15 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror
             continue
         # Each side's period on at most LOCAL times max_period next to the peak: the
         # tempo there is what changes, and a long cluster costs no more.
-        before = cluster_period(v, max(cs, b - local), b - 1, fps, w, p, theta, mirror=mirror)[0]
-        after = cluster_period(v, b, min(ce, b + local - 1), fps, w, p, theta, mirror=mirror)[0]
+        first, last = max(cs, b - local), min(ce, b + local - 1)
+        before = cluster_period(v, first, b - 1, fps, w, p, theta, mirror=mirror)[0]
+        after = cluster_period(v, b, last, fps, w, p, theta, mirror=mirror)[0]
         if not before or not after:
+            continue
+        # The side that read the shorter period must be long enough to have shown the longer
+        # one: else it only showed what fits in it (*A side too short to tell*).
+        short = b - first if before < after else last + 1 - b
+        if LONGEST * short < max(before, after):
             continue
         ratio = max(before, after) / min(before, after)
         if ratio >= p.rhythm_ratio and abs(ratio - round(ratio)) > WHOLE * ratio:

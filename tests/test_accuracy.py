@@ -306,10 +306,11 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     # stand, the turn makes novelty peaks inside exercises (boundaries more than there are
     # changes) and textons of the wrong length. Turned back by the tracked heading
     # (engine.heading, StructureParams.heading_window) there are as many boundaries as changes
-    # and every texton is right. Two of its five changes are placed over 1 s off either way
-    # since the take turns on the person's feet (synth VERSION 3; before, when each frame
-    # turned about its own centre, it parsed as the take does facing one way): README, *The
-    # turning takes' feet*.
+    # and every texton is right. One of its five changes (16.0 s) is taken 1.1 s early at its
+    # onset since the take turns on the person's feet (synth VERSION 3; before, when each
+    # frame turned about its own centre, it parsed as the take does facing one way): README,
+    # *The turning takes' feet*. A second one (22.5 s) was merged away in favour of a split
+    # 2.5 s into the toe touches, until step 26 (engine.rhythm, *A side too short to tell*).
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_29-turn")
@@ -322,7 +323,7 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     changes = len(take.truth["segments"]) - 1
     assert followed.detected == changes and followed.texton_accuracy == 1.0, (followed.matches, followed.texton_rows)
     assert unfollowed.detected > changes and unfollowed.texton_accuracy < 1.0    # the turn read as changes of pose
-    assert followed.recall >= 0.6, followed.matches
+    assert followed.recall >= 0.8, followed.matches
 
 
 def test_repetitions_with_pauses_get_textons_of_a_whole_repetition(devsuite):
