@@ -168,6 +168,20 @@ BATCHES = {
         ("dg", "elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:4,rotateArmsBothBackward1Reps:2,squat1Reps:5,"
                "grabHighR:4", 43, {"seed": 43, "palette": "a"}),
     ],
+    # Everyday movement more than exercise, as the held-out CMU takes of everyday activities
+    # are (walk, jump, punch, kick): HDM05's people sneaking and jogging in a circle across
+    # the floor, throwing, kicking, lying down on the floor and getting up, hopping. Made
+    # after step 26 to see how the parser holds on such takes, before anything was tried on it.
+    "everyday": [
+        ("bd", "sneak2StepsLStart:3,throwBasketball:3,jogLeftCircle4StepsRstart:2,kickLFront1Reps:4,lieDownFloor:2",
+         51, {"seed": 51, "palette": "c"}),
+        ("bk", "jogLeftCircle4StepsRstart:3,hopBothLegs1hops:6,throwBasketball:3,sneak2StepsLStart:2,lieDownFloor:2",
+         52, {"seed": 52, "build": 1.1}),
+        ("dg", "lieDownFloor:2,sneak2StepsLStart:3,kickLFront1Reps:4,jogLeftCircle4StepsRstart:2,throwBasketball:3",
+         53, {"seed": 53, "palette": "b"}),
+        ("bk", "kickLFront1Reps:5,grabHighR:3,jogLeftCircle4StepsRstart:3,depositFloorR:3,hopBothLegs1hops:6",
+         54, {"seed": 54, "build": 0.9}),
+    ],
 }
 
 
