@@ -182,6 +182,26 @@ BATCHES = {
         ("bk", "kickLFront1Reps:5,grabHighR:3,jogLeftCircle4StepsRstart:3,depositFloorR:3,hopBothLegs1hops:6",
          54, {"seed": 54, "build": 0.9}),
     ],
+    # Long takes, as a real session runs on: eight or nine exercises, 60-90 s (every take of
+    # the development suite lasts 30-45 s). Made to see whether a boundary's strength depends
+    # on what else the take holds far from it, before anything was tried on them.
+    "long": [
+        ("bd", "squat1Reps:5,hopBothLegs1hops:6,kickLFront1Reps:4,elbowToKnee1RepsLelbowStart:4,"
+               "rotateArmsBothBackward1Reps:3,depositFloorR:4,grabHighR:3,throwBasketball:3,sneak2StepsLStart:3",
+         61, {"seed": 61, "palette": "a"}),
+        ("bk", "elbowToKnee1RepsLelbowStart:5,squat1Reps:6,grabHighR:4,hopBothLegs1hops:7,kickLFront1Reps:5,"
+               "rotateArmsBothBackward1Reps:3,depositFloorR:4,jogLeftCircle4StepsRstart:3",
+         62, {"seed": 62, "build": 1.05}),
+        ("dg", "kickLFront1Reps:4,squat1Reps:6,depositFloorR:4,hopBothLegs1hops:7,elbowToKnee1RepsLelbowStart:5,"
+               "grabHighR:4,sneak2StepsLStart:3,throwBasketball:3",
+         63, {"seed": 63, "palette": "c"}),
+        ("synth", "long-a", dict(motions=["jumping-jacks", "squats", "side-bends", "run", "arm-circles", "knee-raises",
+                                          "toe-touch", "box"], cycles=[8, 5, 4, 10, 6, 5, 4, 8], transition=1.0,
+                                 jitter=1.5, seed=171)),
+        ("synth", "long-b-15fps", dict(motions=["walk", "twist", "squats", "jumping-jacks", "reach-up", "knee-raises",
+                                                "arm-circles", "side-bends", "run"], cycles=[8, 5, 5, 8, 4, 5, 6, 4, 10],
+                                       rest=0.5, fps=15, build=1.1, seed=172)),
+    ],
 }
 
 
