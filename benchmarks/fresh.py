@@ -211,8 +211,9 @@ def _take(source):
         return devsuite.synth_take("fresh", *rest)
     if kind == "cmu":
         take, turning = rest
-        kind = "turns" if "turns" in turning else "turn"
-        return devsuite.cmu_turning_take(take, turning, "fresh", f"{take}-{kind}-{turning[kind]:g}")
+        how = "turns" if "turns" in turning else "turn"
+        rate = f"{turning[how]:g}".replace("-", "m")          # 13_29-turn-m4: 4 degrees a second the other way
+        return devsuite.cmu_turning_take(take, turning, "fresh", f"{take}-{how}-{rate}")
     return devsuite.hdm_take(*source, group="fresh")
 
 

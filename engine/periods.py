@@ -68,7 +68,7 @@ import numpy as np
 
 from .atoms import lag_profile
 
-__all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO", "LONGEST"]
+__all__ = ["cluster_period", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
 
 #: A lag whose mirrored frames are at most this fraction as far as the frames themselves is
 #: half a cycle of a left-then-right exercise. Measured (theta histograms): 0.3-0.7 at half
@@ -78,8 +78,9 @@ __all__ = ["cluster_period", "mirror_ratio", "MIRROR_RATIO", "LONGEST"]
 #: periods.
 MIRROR_RATIO = 0.8
 
-#: Longest period a stretch of frames can show, as a share of its length: the lag profile
-#: runs to this share of it, for the period and for the half-period test's 2L and 3L.
+#: Share of a stretch's length that its lag profile runs to (:func:`longest_lag`): the
+#: longest period its valleys can show directly. Only the mirror test's doubling (2L for a
+#: half period L) reads a longer one.
 LONGEST = 0.8
 
 #: Fractions of the chosen lag tried by the sub-multiple test, most parts first.
@@ -188,6 +189,15 @@ def _submultiple(chosen, cand, lags, prof, level, ratio):
     return chosen
 
 
+def longest_lag(length):
+    """The longest lag, in frames, whose valley a stretch of ``length`` frames can show.
+
+    >>> longest_lag(30), longest_lag(35)
+    (24, 28)
+    """
+    return int(length * LONGEST)
+
+
 def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     """Period of the cluster [cs, ce] (frames) from its lag profile, and how clear it is.
 
@@ -221,12 +231,12 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     """
     length = ce - cs + 1
     lo = max(2, int(round(p.min_texton * fps)))
-    hi = min(int(round(p.max_period * fps)), int(length * LONGEST))
+    hi = min(int(round(p.max_period * fps)), longest_lag(length))
     if hi <= lo + 1:
         return None, 0.0
-    # The profile runs on to LONGEST of the cluster (past ``max_period``) so that the half-period
+    # The profile runs on to the longest lag (past ``max_period``) so that the half-period
     # test below can look at 2L and 3L.
-    top = max(hi, int(length * LONGEST))
+    top = longest_lag(length)
     seg = v[cs: ce + 1]
     # The subject drifts away from the fixed origin, which makes every histogram change
     # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which

@@ -19,17 +19,21 @@ no evidence: the period step's known failure is a multiple of the true period (a
 raises with long pauses between them read 3.15 s on one side and 1.05 s on the other, one
 motion). Peaks are taken strongest first, each in the cluster it lies in by then.
 
-**A side too short to tell** (step 26). The period step reads no period longer than
-:data:`engine.periods.LONGEST` (0.8) of the frames it is given, so a side shorter than that
-share of the other side's period could not have shown it: its shorter period is no evidence
-that the tempo changed, only of what fits in it (often a half period). Such a peak splits
-nothing. On the development suite, CMU 13_29 turning 6 degrees a second had a weak peak 2.5 s
+**A side too short to tell** (step 26). The period step's lag profile runs to
+:data:`engine.periods.LONGEST` (0.8) of the frames it is given
+(:func:`engine.periods.longest_lag`; only its mirror test's doubling reads further), so on a
+side shorter than the other side's period over 0.8 it could not have found that period: the
+shorter period it reads is no evidence that the tempo changed, only of what fits in it
+(often a half period). Such a peak splits nothing. The cost: a true change of tempo that
+close to a cluster's end (within 1.25 times the longer period) is no longer found by this
+step. On the development suite, CMU 13_29 turning 6 degrees a second had a weak peak 2.5 s
 into a block of one-hand toe touches (period 2.8 s): the 2.4 s before it read 1.3 s, the
 block after it 2.9 s, and the split it made was kept while the true boundary 3 s earlier
 was merged away as the weaker; with the rule, that boundary is found and the false one goes
 (that take finds 4 of its 5 changes, not 3, with one false boundary, not 2; every other
-suite take is unchanged). On eleven fresh batches (52 takes, ``benchmarks/fresh.py``), one
-of them (``steady-turns``) made for this step before it was tried, nothing changes.
+suite take is unchanged). On the eleven fresh batches there were then (52 takes,
+``benchmarks/fresh.py``), one of them (``steady-turns``) made for this step before it was
+tried, nothing changes.
 
 The periods are the period step's as it reads them, not the true tempos: at the five
 boundaries it reads 1.5 / 3.3 s (true 1.32 / 1.64 s: the kicks read at two repetitions),
@@ -61,7 +65,7 @@ motion*).
 import numpy as np
 
 from .boundaries import local_maxima, turn_test
-from .periods import LONGEST, cluster_period
+from .periods import cluster_period, longest_lag
 
 __all__ = ["rhythm_splits", "FLOOR", "WHOLE", "LOCAL"]
 
@@ -143,10 +147,10 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror
         after = cluster_period(v, b, last, fps, w, p, theta, mirror=mirror)[0]
         if not before or not after:
             continue
-        # The side that read the shorter period must be long enough to have shown the longer
-        # one: else it only showed what fits in it (*A side too short to tell*).
+        # The side that read the shorter period must be long enough for its lag profile to
+        # reach the longer one: else it only showed what fits in it (*A side too short to tell*).
         short = b - first if before < after else last + 1 - b
-        if LONGEST * short < max(before, after):
+        if max(before, after) > longest_lag(short):
             continue
         ratio = max(before, after) / min(before, after)
         if ratio >= p.rhythm_ratio and abs(ratio - round(ratio)) > WHOLE * ratio:

@@ -313,24 +313,28 @@ def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
 
 
 def test_a_side_too_short_to_show_the_other_sides_period_splits_nothing():
-    # engine.rhythm, step 26: the period step reads no period longer than 0.8 of its frames
-    # (engine.periods.LONGEST), so a side that read the shorter period but is shorter than
-    # the other side's period over 0.8 is no evidence that the tempo changed (CMU 13_29
-    # turning: 2.4 s of toe touches read at 1.3 s beside 2.9 s, and the split was kept while
-    # the true boundary was merged away).
-    from engine.periods import LONGEST, cluster_period
+    # engine.rhythm, step 26: the period step's lag profile reaches 0.8 of its frames
+    # (engine.periods.longest_lag), so a side that read the shorter period but is shorter
+    # than the other side's period over 0.8 is taken as no evidence that the tempo changed
+    # (CMU 13_29 turning: 2.4 s of toe touches read at 1.3 s beside 2.9 s, and the split was
+    # kept while the true boundary was merged away). The cost, asserted too: a true change of
+    # tempo that near a cluster's end is not split here.
+    from engine.periods import cluster_period, longest_lag
     from engine.rhythm import rhythm_splits
     p, w, t = StructureParams(), atom_window(10), np.arange(120)
 
-    def split(at):
-        # ``at`` frames cycling at 1 s, then the rest at 2.5 s (10 fps), a weak peak between
-        phase = np.where(t < at, 2 * np.pi * t / 10, 2 * np.pi * (t - at) / 25)
+    def split(at, second=25):
+        # ``at`` frames cycling at 1 s, then the rest at ``second`` frames (10 fps), a weak
+        # peak between
+        phase = np.where(t < at, 2 * np.pi * t / 10, 2 * np.pi * (t - at) / second)
         v = np.stack([np.sin(phase), np.cos(phase), 0.3 * np.sin(2 * phase)], axis=1)
-        assert [cluster_period(v, a, b, 10, w, p)[0] for a, b in ((0, at - 1), (at, 119))] == [10, 25]
+        assert [cluster_period(v, a, b, 10, w, p)[0] for a, b in ((0, at - 1), (at, 119))] == [10, second]
         n = np.zeros(120)
         n[at] = 0.8 * p.novelty_threshold
         return rhythm_splits(v, 10, p, w, None, [(0, 119)], n, 1)
 
-    assert LONGEST * 30 < 25 <= LONGEST * 40
+    assert longest_lag(30) < 25 <= longest_lag(40)
     assert split(30) == [(0, 119)]                  # 3 s could not have shown 2.5 s
     assert split(40) == [(0, 39), (40, 119)]        # 4 s could: the tempo changed
+    assert longest_lag(35) == 28
+    assert split(35, second=28) == [(0, 34), (35, 119)]   # 3.5 s reaches 2.8 s, just
