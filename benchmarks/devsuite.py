@@ -290,16 +290,14 @@ def _turned_features(folder, frames, heading):
     if path.exists():
         return _cached(path)
     sequence = open_sequence(str(folder))
-
-    def positions(k):
-        return read_frame(sequence.paths[int(frames[k])], sequence.orientation, "geometry").positions
-
-    centres = np.array([positions(k).mean(axis=0)[:2] for k in range(len(frames))])
+    # Each frame read once: the spots, the body frame, the origin and the histograms all need it.
+    positions = [read_frame(sequence.paths[int(i)], sequence.orientation, "geometry").positions for i in frames]
+    centres = np.array([p.mean(axis=0)[:2] for p in positions])
     half = min(len(frames) // 2, 20)                       # 2 s either side at 10 fps
     spots = np.array([centres[max(0, k - half): k + half + 1].mean(axis=0) for k in range(len(frames))])
 
     def frame_at(k):
-        return synth.turned_about(positions(k), heading[k], spots[k])
+        return synth.turned_about(positions[k], heading[k], spots[k])
 
     body = _body(len(frames), frame_at)
     acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
