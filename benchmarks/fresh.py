@@ -182,6 +182,25 @@ BATCHES = {
         ("bk", "kickLFront1Reps:5,grabHighR:3,jogLeftCircle4StepsRstart:3,depositFloorR:3,hopBothLegs1hops:6",
          54, {"seed": 54, "build": 0.9}),
     ],
+    # Everyday movement with few repetitions and no lying down, nearer the held-out CMU takes
+    # (walk, jump, punch, kick; walk, look around, clap) than "everyday", whose lying down
+    # hides the other changes: HDM05's people throwing, sneaking, jogging in a circle, kicking,
+    # grabbing, hopping, 2-4 repetitions a block; the synthetic actor walking, boxing, reaching,
+    # twisting (looking around) and jumping while it wanders, 3-5 cycles a block, slow and
+    # uneven transitions. Made before anything was tried on it.
+    "few-reps": [
+        ("bd", "throwBasketball:3,hopBothLegs1hops:4,sneak2StepsLStart:3,grabHighR:3,kickLFront1Reps:3",
+         71, {"seed": 71, "palette": "b"}),
+        ("bk", "sneak2StepsLStart:2,kickLFront1Reps:3,jogLeftCircle4StepsRstart:2,throwBasketball:3,depositFloorR:3",
+         72, {"seed": 72, "build": 1.1}),
+        ("dg", "jogLeftCircle4StepsRstart:2,grabHighR:3,throwBasketball:3,hopBothLegs1hops:4,sneak2StepsLStart:3",
+         73, {"seed": 73, "palette": "c"}),
+        ("synth", "walk-box-reach", dict(motions=["walk", "box", "reach-up", "walk", "jumping-jacks"],
+                                         cycles=[4, 5, 3, 4, 5], transition=1.5, jitter=1.5, wander=1.0, seed=181)),
+        ("synth", "walk-twist-15fps", dict(motions=["walk", "twist", "pick-up", "run", "box"], cycles=[4, 3, 3, 5, 4],
+                                           transition=2.0, still=0.5, jitter=2.0, wander=1.5, fps=15, build=0.9,
+                                           seed=182)),
+    ],
     # Long takes, as a real session runs on: eight or nine exercises, 60-90 s (every take of
     # the development suite lasts 30-45 s). Made to see whether a boundary's strength depends
     # on what else the take holds far from it, before anything was tried on them.
