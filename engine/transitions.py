@@ -24,7 +24,11 @@ peaks give:
   1.4 s (the end of getting up from the floor) stayed a cluster of its own, the lying down
   before it showing no period (one false boundary and one wrong texton length fewer).
   few-reps 0.82 / 0.70 / 0.77 -> 0.88 / 0.75 / 0.77; everyday 0.77 / 0.62 / 0.62 -> 0.83 /
-  0.62 / 0.67.
+  0.62 / 0.67. In tvmedit's axes the same two takes move: the everyday one gains as here; the
+  twisting one finds that change but takes its next one (picking up, then running) 1.8 s late
+  instead: the standing still, now inside the picking up, is among the old poses the onset
+  step (:func:`engine.onsets.onset`) compares with, and the start of the transition into
+  running looks like it. Its count of errors is the same.
 * **A weak boundary between two stretches that do not repeat is dropped**
   (:func:`merge_weak`). Between cyclic exercises novelty compares whole cycles, and a small
   peak still marks a change. An exercise whose repetitions are one-off movements (putting
