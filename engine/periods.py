@@ -62,13 +62,20 @@ and the cluster got no textons. When a cluster's textons are made and that finds
 valley, the reach is a quarter of each lag (``BROAD_REACH``). Transitions are still told
 with the 0.3 s reach: with the broad one, short pieces of transition found a period and
 stopped joining their neighbours (CMU and HDM05 precision fell).
+
+**One reader for the parser's steps** (:class:`PeriodReader`). The steps that read periods
+(the rhythm splits, the transitions, the textons) read them all on the same rows, rate, atom
+window, parameters, azimuth columns and mirror rows; a :class:`PeriodReader` holds those and
+reads the period of any stretch.
 """
+
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .atoms import lag_profile
 
-__all__ = ["cluster_period", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
+__all__ = ["cluster_period", "PeriodReader", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
 
 #: A lag whose mirrored frames are at most this fraction as far as the frames themselves is
 #: half a cycle of a left-then-right exercise. Measured (theta histograms): 0.3-0.7 at half
@@ -316,3 +323,50 @@ def _dips_at(prof, lags, target, level):
     return bool(near.any() and prof[near].min() < level)
 
 
+
+
+@dataclass(frozen=True)
+class PeriodReader:
+    """The period of any stretch of one take, as the parser reads it: :func:`cluster_period`
+    with everything but the stretch given once.
+
+    Attributes
+    ----------
+    rows : (T, D) array
+        The parser's feature rows (:func:`engine.structure.parser_view`).
+    fps : float
+    window : (2K + 1,) array
+        Atom window (eq. (5)).
+    params : engine.structure.StructureParams
+    theta : slice, optional
+        The azimuth histogram's columns (the half-period tests).
+    mirror : ((T, D') array, slice), optional
+        Other rows of the same frames whose halves the mirror test also tries (the features
+        about each frame's own centre).
+
+    Examples
+    --------
+    >>> from engine.structure import StructureParams, atom_window
+    >>> t = np.arange(100)
+    >>> v = np.stack([np.sin(2 * np.pi * t / 10), np.cos(2 * np.pi * t / 10)], axis=1)
+    >>> period = PeriodReader(v, 10, atom_window(10), StructureParams())
+    >>> period(0, 99), period.on(np.arange(0, 100, 2))(0, 49)
+    (10, 5)
+    """
+
+    rows: np.ndarray
+    fps: float
+    window: np.ndarray
+    params: object
+    theta: slice | None = None
+    mirror: tuple | None = None
+
+    def __call__(self, cs, ce, broad=False):
+        """The period of frames [cs, ce] in frames, or None (:func:`cluster_period`)."""
+        return cluster_period(self.rows, cs, ce, self.fps, self.window, self.params, self.theta, broad,
+                              self.mirror)[0]
+
+    def on(self, frames):
+        """The same reader on the given frames only (a cluster's moving frames: :mod:`engine.pauses`)."""
+        mirror = None if self.mirror is None else (self.mirror[0][frames], self.mirror[1])
+        return replace(self, rows=self.rows[frames], mirror=mirror)

@@ -65,7 +65,7 @@ motion*).
 import numpy as np
 
 from .boundaries import local_maxima, turn_test
-from .periods import cluster_period, longest_lag
+from .periods import longest_lag
 
 __all__ = ["rhythm_splits", "FLOOR", "WHOLE", "LOCAL"]
 
@@ -77,21 +77,14 @@ WHOLE = 0.05
 LOCAL = 3.0
 
 
-def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror=None):
+def rhythm_splits(period, clusters, n, step, turn_free=None):
     """Clusters split where a weak novelty peak and a change of period coincide.
 
     Parameters
     ----------
-    v : (T, D) array
-        The parser's feature rows (:func:`engine.structure.parser_view`).
-    fps : float
-    p : engine.structure.StructureParams
-        ``rhythm_ratio`` (0: no split), ``novelty_threshold``, ``min_cluster``,
-        ``turn_ratio`` and the period step's parameters are used.
-    w : (2K + 1,) array
-        Atom window (eq. (5)).
-    theta : slice or None
-        The azimuth histogram's columns (the period step's half-period tests).
+    period : engine.periods.PeriodReader
+        The take's periods; of its parameters ``rhythm_ratio`` (0: no split),
+        ``novelty_threshold``, ``min_cluster``, ``turn_ratio`` and the period step's are used.
     clusters : list of (start, end)
         Inclusive frame ranges covering the sequence (step 1's).
     n, step
@@ -99,8 +92,6 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror
     turn_free : array like ``n``, optional
         The heading-free novelty of step 1's turn veto: a peak under which it stays below
         ``turn_ratio`` of the peak within 0.5 s is a turn and splits nothing.
-    mirror : ((T, D') array, slice), optional
-        Other rows for the periods' mirror test (:func:`engine.periods.cluster_period`).
 
     Returns
     -------
@@ -115,10 +106,12 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror
     >>> phase = np.where(t < 60, 2 * np.pi * t / 10, 2 * np.pi * (t - 60) / 15)
     >>> v = np.stack([np.sin(phase), np.cos(phase)], axis=1)
     >>> n = np.zeros(120); n[60] = 0.8
+    >>> from engine.periods import PeriodReader
     >>> from engine.structure import StructureParams, atom_window
-    >>> rhythm_splits(v, 10, StructureParams(), atom_window(10), None, [(0, 119)], n, 1)
+    >>> rhythm_splits(PeriodReader(v, 10, atom_window(10), StructureParams()), [(0, 119)], n, 1)
     [(0, 59), (60, 119)]
     """
+    p, fps = period.params, period.fps
     if p.rhythm_ratio <= 0:
         return list(clusters)
     f = fps / step
@@ -143,8 +136,7 @@ def rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free=None, mirror
         # Each side's period on at most LOCAL times max_period next to the peak: the
         # tempo there is what changes, and a long cluster costs no more.
         first, last = max(cs, b - local), min(ce, b + local - 1)
-        before = cluster_period(v, first, b - 1, fps, w, p, theta, mirror=mirror)[0]
-        after = cluster_period(v, b, last, fps, w, p, theta, mirror=mirror)[0]
+        before, after = period(first, b - 1), period(b, last)
         if not before or not after:
             continue
         # The side that read the shorter period must be long enough for its lag profile to

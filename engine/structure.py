@@ -139,7 +139,7 @@ from .heading import heading_track, turned
 from .onsets import onset, settle, turned_away
 from .parseparams import StructureParams
 from .pauses import moving_frames, with_pauses
-from .periods import cluster_period
+from .periods import PeriodReader
 from .rhythm import rhythm_splits
 from .transitions import absorb_transitions, merge_weak
 
@@ -277,31 +277,32 @@ def _textons_by_period(v, cs, ce, P, w, ci):
     return out
 
 
-def _cluster_textons(v, cs, ce, fps, p, w, theta, P, ci, mirror=None):
-    # Step 2 for one cluster: whole periods of P (from its lag profile where None). Where its
-    # repetitions pause (engine.pauses), the period and textons come from its moving frames
-    # and each texton keeps the pause after it. ``mirror``: other rows for the mirror test.
-    moving = moving_frames(v, cs, ce, fps, p.pause_share)
+def _cluster_textons(period, cs, ce, P, ci):
+    # Step 2 for one cluster: whole periods of P (read by ``period``, a PeriodReader, where
+    # None). Where its repetitions pause (engine.pauses), the period and textons come from its
+    # moving frames and each texton keeps the pause after it.
+    v, w = period.rows, period.window
+    moving = moving_frames(v, cs, ce, period.fps, period.params.pause_share)
     if moving is not None:
-        sub = v[moving]
-        period = cluster_period(sub, 0, len(sub) - 1, fps, w, p, theta, broad=True,
-                                mirror=None if mirror is None else (mirror[0][moving], mirror[1]))[0]
-        found = _textons_by_period(sub, 0, len(sub) - 1, period, w, ci)
+        sub = period.on(moving)
+        P_moving = sub(0, len(moving) - 1, broad=True)
+        found = _textons_by_period(sub.rows, 0, len(moving) - 1, P_moving, w, ci)
         if found:
-            for t in with_pauses(found, moving, ce, period):
+            for t in with_pauses(found, moving, ce, P_moving):
                 t.distance = atom_distance(v, t.end, t.start, w)
             return found
     if P is None:
-        P = cluster_period(v, cs, ce, fps, w, p, theta, broad=True, mirror=mirror)[0]
+        P = period(cs, ce, broad=True)
     return _textons_by_period(v, cs, ce, P, w, ci)
 
 
-def _textons_of_clusters(v, clusters, fps, p, w, theta=None, periods=None, mirror=None):
-    # Step 2: each cluster's period (given, or from its lag profile), then its textons.
+def _textons_of_clusters(period, clusters, periods=None):
+    # Step 2: each cluster's period (given, or read by ``period``), then its textons.
+    v, w = period.rows, period.window
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
         P = periods[ci] if periods is not None else None
-        textons.extend(_cluster_textons(v, cs, ce, fps, p, w, theta, P, ci, mirror))
+        textons.extend(_cluster_textons(period, cs, ce, P, ci))
     for t in textons:
         t.confidence = texton_confidence(v, t.start, t.end, w)
     return textons
@@ -331,6 +332,13 @@ def _centred_rows(centred, frames):
     return azimuth_smoothed(centred.vectors, centred.theta_columns), centred.theta_columns
 
 
+def _period_reader(v, fps, p, w, theta, centred_rows=None):
+    # How every step reads a period: on the parser's rows, the mirror test also on the rows
+    # about each frame's own centre where the azimuth columns are known (engine.periods, *About
+    # the body's own centre*).
+    return PeriodReader(v, fps, w, p, theta, centred_rows if theta is not None else None)
+
+
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     # The rows about each frame's own centre, smoothed once for the turn veto, the mirror test
     # and step 24.
@@ -340,13 +348,11 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
     # the others the turn itself is the greatest change about them (engine.boundaries).
     near_turn = lambda b: any(abs(b - t) <= p.novelty_window * fps for t in turns)  # noqa: E731
-    # The mirror test of every period also reads the rows about each frame's own centre
-    # (engine.periods, *About the body's own centre*).
-    mirror = centred_rows if theta is not None else None
+    period = _period_reader(v, fps, p, w, theta, centred_rows)
     # Step 1b: weak peaks where the period changes (engine.rhythm).
-    clusters = rhythm_splits(v, fps, p, w, theta, clusters, n, step, turn_free, mirror)
+    clusters = rhythm_splits(period, clusters, n, step, turn_free)
     periods = None
-    count = lambda cs, ce, P: len(_cluster_textons(v, cs, ce, fps, p, w, theta, P, 0, mirror))  # noqa: E731
+    count = lambda cs, ce, P: len(_cluster_textons(period, cs, ce, P, 0))  # noqa: E731
     # Frames a boundary would move back over that are only the old poses turned (step 24),
     # read about each frame's own centre where given (a turn about the body's own axis only
     # shifts their azimuth histograms), else on the parser's view.
@@ -354,11 +360,11 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     turned_back = lambda i, to, cs: (to < cs and turn_rows is not None  # noqa: E731
                                      and turned_away(*turn_rows, clusters[i - 1][0], to, cs, fps))
     if p.max_transition > 0:
-        clusters, periods = absorb_transitions(v, fps, p, w, theta, clusters, count, mirror)
+        clusters, periods = absorb_transitions(period, clusters, count)
     if p.refine_reach > 0 and len(clusters) > 1:
         # Step 4: each boundary between whole periods of its two clusters (engine.onsets); on
         # the heading-free rows near a turn, vetoed or one it would move back onto.
-        periods = periods or [cluster_period(v, cs, ce, fps, w, p, theta, mirror=mirror)[0] for cs, ce in clusters]
+        periods = periods or [period(cs, ce) for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
                         other=free, use_other=near)
@@ -387,10 +393,9 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
     if p.weak_boundary > 0:
-        clusters, periods = merge_weak(v, fps, p, w, theta, clusters, count,
-                                       boundary_confidences(n, step, clusters, p.novelty_threshold), periods,
-                                       mirror)
-    return clusters, _textons_of_clusters(v, clusters, fps, p, w, theta, periods, mirror)
+        clusters, periods = merge_weak(period, clusters, count,
+                                       boundary_confidences(n, step, clusters, p.novelty_threshold), periods)
+    return clusters, _textons_of_clusters(period, clusters, periods)
 
 
 def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None = None, theta=None,
@@ -416,9 +421,9 @@ def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None
     """
     p = params or StructureParams()
     v = parser_view(vectors, p, theta, fps)
-    mirror = _centred_rows(centred, len(v)) if p.method == "energy" and theta is not None else None
-    return _textons_of_clusters(v, clusters, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta,
-                                mirror=mirror)
+    centred_rows = _centred_rows(centred, len(v)) if p.method == "energy" and theta is not None else None
+    return _textons_of_clusters(_period_reader(v, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta,
+                                               centred_rows), clusters)
 
 
 def texton_curve(vectors, clusters, textons, fps=PAPER_FPS, params: StructureParams | None = None, theta=None):

@@ -49,7 +49,6 @@ parser's texton step, which measures a cluster whose repetitions pause on its mo
 
 import numpy as np
 
-from .periods import cluster_period
 
 __all__ = ["STILL_RATIO", "absorb_transitions", "merge_weak", "activity"]
 
@@ -72,51 +71,55 @@ def activity(v, cluster, fps):
     return float(np.sqrt(np.einsum("nd,nd->n", d, d)).mean())
 
 
-def _join(v, fps, p, w, theta, clusters, periods, a, b, mirror=None):
+def _join(period, clusters, periods, a, b):
     # Clusters a..b become one; its period is found again.
     merged = (clusters[a][0], clusters[b][1])
     clusters[a: b + 1] = [merged]
-    periods[a: b + 1] = [cluster_period(v, merged[0], merged[1], fps, w, p, theta, mirror=mirror)[0]]
+    periods[a: b + 1] = [period(*merged)]
 
 
-def absorb_transitions(v, fps, p, w, theta, clusters, count, mirror=None):
+def absorb_transitions(period, clusters, count):
     """Clusters with transitions joined (see the module docstring), and each one's period.
 
-    ``mirror``: other rows for the mirror test (:func:`engine.periods.cluster_period`).
+    ``period`` reads the take's periods (:class:`engine.periods.PeriodReader`); its rows,
+    rate and ``max_transition`` are used too.
 
     Returns
     -------
     clusters : list of (start, end)
     periods : list of int or None
     """
+    v, fps, p = period.rows, period.fps, period.params
     clusters = list(clusters)
-    periods = [cluster_period(v, cs, ce, fps, w, p, theta, mirror=mirror)[0] for cs, ce in clusters]
+    periods = [period(cs, ce) for cs, ce in clusters]
     cyclic = lambda k: periods[k] is not None and count(*clusters[k], periods[k]) >= 1  # noqa: E731
     limit = p.max_transition * fps
+    # A cluster a transition may join: one that repeats, or one too long to be a transition.
+    lead = lambda k: cyclic(k) or clusters[k][1] - clusters[k][0] + 1 > limit  # noqa: E731
     i = 0
     while i < len(clusters) and len(clusters) > 1:
         cs, ce = clusters[i]
-        lead = lambda k: cyclic(k) or clusters[k][1] - clusters[k][0] + 1 > limit  # noqa: E731
         j = i + 1 if i + 1 < len(clusters) and lead(i + 1) else i - 1 if i > 0 and lead(i - 1) else None
         still = j is not None and activity(v, clusters[i], fps) < STILL_RATIO * activity(v, clusters[j], fps)
         if ce - cs + 1 > limit or j is None or (cyclic(i) and not still):
             i += 1
             continue
-        _join(v, fps, p, w, theta, clusters, periods, min(i, j), max(i, j), mirror)
+        _join(period, clusters, periods, min(i, j), max(i, j))
         i = min(i, j)
     return clusters, periods
 
 
-def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None, mirror=None):
+def merge_weak(period, clusters, count, confidence, periods=None):
     """Clusters with weak boundaries between non-repeating stretches dropped, and their periods.
 
     ``confidence`` holds each cluster's boundary confidence (:mod:`engine.confidence`); a
-    boundary under ``p.weak_boundary`` between two clusters of at most one texton each, one of
-    them at least showing no period, goes. ``mirror`` as for :func:`absorb_transitions`.
+    boundary under ``weak_boundary`` (of ``period.params``) between two clusters of at most one
+    texton each, one of them at least showing no period, goes. ``period`` as for
+    :func:`absorb_transitions`; ``periods``: the clusters' periods where already read.
     """
+    p = period.params
     clusters, confidence = list(clusters), list(confidence)
-    periods = list(periods) if periods is not None else [
-        cluster_period(v, cs, ce, fps, w, p, theta, mirror=mirror)[0] for cs, ce in clusters]
+    periods = list(periods) if periods is not None else [period(cs, ce) for cs, ce in clusters]
     few = lambda k: periods[k] is None or count(*clusters[k], periods[k]) <= 1  # noqa: E731
     i = 1
     while i < len(clusters):
@@ -124,7 +127,7 @@ def merge_weak(v, fps, p, w, theta, clusters, count, confidence, periods=None, m
         # exercises, however alike (CMU 13_30 at 1.4x, two of two periods each).
         aperiodic = periods[i - 1] is None or periods[i] is None
         if confidence[i] < p.weak_boundary and aperiodic and few(i - 1) and few(i):
-            _join(v, fps, p, w, theta, clusters, periods, i - 1, i, mirror)
+            _join(period, clusters, periods, i - 1, i)
             del confidence[i]
             continue
         i += 1

@@ -263,14 +263,15 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
     # between two clusters of at most one texton each goes when one side shows no period, and
     # stays between two short stretches that both repeat (two alike exercises), as it stays
     # wherever the boundary is not weak.
+    from engine.periods import PeriodReader
     from engine.transitions import merge_weak
     v, _ = cyclic_sequence([(30, 12), (30, 12)])
-    p, w = StructureParams(), atom_window(10)
+    period = PeriodReader(v, 10, atom_window(10), StructureParams())
     one = lambda cs, ce, period: 1  # noqa: E731  (one whole texton in each)
     clusters = [(0, 29), (30, 59)]
-    kept, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.1], periods=[12, 12])
-    joined, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.1], periods=[None, 12])
-    strong, _ = merge_weak(v, 10, p, w, None, clusters, one, [1.0, 0.5], periods=[None, 12])
+    kept, _ = merge_weak(period, clusters, one, [1.0, 0.1], periods=[12, 12])
+    joined, _ = merge_weak(period, clusters, one, [1.0, 0.1], periods=[None, 12])
+    strong, _ = merge_weak(period, clusters, one, [1.0, 0.5], periods=[None, 12])
     assert kept == clusters and strong == clusters
     assert joined == [(0, 59)]
 
@@ -281,7 +282,7 @@ def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
     # 1.5 times the shorter or more; not under 1.5, not at a whole multiple (the period
     # step's known failure), not for a peak under 3/4 of the threshold, not for a turn, not
     # within min_cluster of the cluster's ends, and not with the step off.
-    from engine.periods import cluster_period
+    from engine.periods import PeriodReader, cluster_period
     from engine.rhythm import FLOOR, rhythm_splits
     p, w, t = StructureParams(), atom_window(10), np.arange(120)
     weak = 0.8 * p.novelty_threshold
@@ -294,7 +295,7 @@ def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
     def split(second, height=weak, at=60, params=p, turn_free=None, step=1):
         n = np.zeros(120 // step)
         n[at // step] = height
-        return rhythm_splits(take(second), 10, params, w, None, [(0, 119)], n, step, turn_free)
+        return rhythm_splits(PeriodReader(take(second), 10, w, params), [(0, 119)], n, step, turn_free)
 
     for second in (13, 15, 20):   # what the period step reads on either side is what is compared
         assert [cluster_period(take(second), a, b, 10, w, p)[0] for a, b in ((0, 59), (60, 119))] == [10, second]
@@ -319,7 +320,7 @@ def test_a_side_too_short_to_show_the_other_sides_period_splits_nothing():
     # (CMU 13_29 turning: 2.4 s of toe touches read at 1.3 s beside 2.9 s, and the split was
     # kept while the true boundary was merged away). The cost, asserted too: a true change of
     # tempo that near a cluster's end is not split here.
-    from engine.periods import cluster_period, longest_lag
+    from engine.periods import PeriodReader, cluster_period, longest_lag
     from engine.rhythm import rhythm_splits
     p, w, t = StructureParams(), atom_window(10), np.arange(120)
 
@@ -331,7 +332,7 @@ def test_a_side_too_short_to_show_the_other_sides_period_splits_nothing():
         assert [cluster_period(v, a, b, 10, w, p)[0] for a, b in ((0, at - 1), (at, 119))] == [10, second]
         n = np.zeros(120)
         n[at] = 0.8 * p.novelty_threshold
-        return rhythm_splits(v, 10, p, w, None, [(0, 119)], n, 1)
+        return rhythm_splits(PeriodReader(v, 10, w, p), [(0, 119)], n, 1)
 
     assert longest_lag(30) < 25 <= longest_lag(40)
     assert split(30) == [(0, 119)]                  # 3 s could not have shown 2.5 s
