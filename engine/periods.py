@@ -330,19 +330,9 @@ class PeriodReader:
     """The period of any stretch of one take, as the parser reads it: :func:`cluster_period`
     with everything but the stretch given once.
 
-    Attributes
-    ----------
-    rows : (T, D) array
-        The parser's feature rows (:func:`engine.structure.parser_view`).
-    fps : float
-    window : (2K + 1,) array
-        Atom window (eq. (5)).
-    params : engine.structure.StructureParams
-    theta : slice, optional
-        The azimuth histogram's columns (the half-period tests).
-    mirror : ((T, D') array, slice), optional
-        Other rows of the same frames whose halves the mirror test also tries (the features
-        about each frame's own centre).
+    Its fields are :func:`cluster_period`'s arguments of the same meaning: ``rows`` (``v``, the
+    parser's rows: :func:`engine.structure.parser_view`), ``fps``, ``window`` (``w``),
+    ``params`` (``p``), ``theta`` and ``mirror``.
 
     Examples
     --------
