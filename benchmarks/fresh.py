@@ -185,9 +185,10 @@ BATCHES = {
     # Everyday movement with few repetitions and no lying down, nearer the held-out CMU takes
     # (walk, jump, punch, kick; walk, look around, clap) than "everyday", whose lying down
     # hides the other changes: HDM05's people throwing, sneaking, jogging in a circle, kicking,
-    # grabbing, hopping, 2-4 repetitions a block; the synthetic actor walking, boxing, reaching,
-    # twisting (looking around) and jumping while it wanders, 3-5 cycles a block, slow and
-    # uneven transitions. Made before anything was tried on it.
+    # grabbing, hopping, putting things on the floor, 2-4 repetitions a block; the synthetic
+    # actor walking, boxing, reaching up, twisting (looking around), picking things up, running
+    # and jumping while it wanders, 3-5 cycles a block, slow and uneven transitions. Made
+    # before anything was tried on it.
     "few-reps": [
         ("bd", "throwBasketball:3,hopBothLegs1hops:4,sneak2StepsLStart:3,grabHighR:3,kickLFront1Reps:3",
          71, {"seed": 71, "palette": "b"}),

@@ -70,10 +70,14 @@ reads the period of any stretch.
 """
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .atoms import lag_profile
+
+if TYPE_CHECKING:
+    from .parseparams import StructureParams
 
 __all__ = ["cluster_period", "PeriodReader", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
 
@@ -323,9 +327,7 @@ def _dips_at(prof, lags, target, level):
     return bool(near.any() and prof[near].min() < level)
 
 
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class PeriodReader:
     """The period of any stretch of one take, as the parser reads it: :func:`cluster_period`
     with everything but the stretch given once.
@@ -347,7 +349,7 @@ class PeriodReader:
     rows: np.ndarray
     fps: float
     window: np.ndarray
-    params: object
+    params: "StructureParams"
     theta: slice | None = None
     mirror: tuple | None = None
 

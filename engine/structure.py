@@ -285,10 +285,10 @@ def _cluster_textons(period, cs, ce, P, ci):
     moving = moving_frames(v, cs, ce, period.fps, period.params.pause_share)
     if moving is not None:
         sub = period.on(moving)
-        P_moving = sub(0, len(moving) - 1, broad=True)
-        found = _textons_by_period(sub.rows, 0, len(moving) - 1, P_moving, w, ci)
+        moving_period = sub(0, len(moving) - 1, broad=True)
+        found = _textons_by_period(sub.rows, 0, len(moving) - 1, moving_period, w, ci)
         if found:
-            for t in with_pauses(found, moving, ce, P_moving):
+            for t in with_pauses(found, moving, ce, moving_period):
                 t.distance = atom_distance(v, t.end, t.start, w)
             return found
     if P is None:
@@ -421,6 +421,7 @@ def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None
     """
     p = params or StructureParams()
     v = parser_view(vectors, p, theta, fps)
+    # Smoothed only where _period_reader passes them on to the mirror test (theta known).
     centred_rows = _centred_rows(centred, len(v)) if p.method == "energy" and theta is not None else None
     return _textons_of_clusters(_period_reader(v, fps, p, atom_window(fps, p.window_taps, p.window_fps), theta,
                                                centred_rows), clusters)

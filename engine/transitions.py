@@ -9,8 +9,9 @@ peaks give:
   of its own (precision 0.50 on the development suite's take with 2 s of standing still). A
   cluster of at most ``max_transition`` seconds that shows no period, or changes pose at
   under :data:`STILL_RATIO` of the pace of its neighbour (standing still can show a period of
-  noise), joins the next cluster that repeats or is too long to be a transition itself (the
-  previous such one at the end of the take).
+  noise), joins the next cluster when that one repeats or is too long to be a transition
+  itself, else the previous such one (at the end of the take, or where the next cluster is
+  itself short and shows no period).
 * **A transition into one-off movements joins them** (step 27 of ``docs/parsing.md``). An
   exercise of one-off movements (picking things up, reaching up, lying down and getting up:
   each repetition goes elsewhere or lasts another time) shows no period, and a transition
@@ -18,7 +19,8 @@ peaks give:
   pose with 0.5 s of standing still, then picking things up, had its boundary 2.7 s late, at
   the first pick-up (a fresh batch, ``benchmarks/fresh.py --batch few-reps``). A neighbour
   longer than ``max_transition`` is an exercise whether or not it repeats, so the transition
-  now joins the next cluster when that one repeats or is that long. No take of the
+  now joins the next cluster when that one repeats or is that long (else, as before, the
+  previous such one, which may now be a long stretch of one-offs too). No take of the
   development suite moves (held out 0.945 / 0.934 / 0.906 as before); of the 14 fresh
   batches (66 takes) two takes gain, none loses: that one, and an everyday take whose last
   1.4 s (the end of getting up from the floor) stayed a cluster of its own, the lying down
@@ -48,7 +50,6 @@ parser's texton step, which measures a cluster whose repetitions pause on its mo
 """
 
 import numpy as np
-
 
 __all__ = ["STILL_RATIO", "absorb_transitions", "merge_weak", "activity"]
 
@@ -94,8 +95,8 @@ def absorb_transitions(period, clusters, count):
     periods = [period(cs, ce) for cs, ce in clusters]
     cyclic = lambda k: periods[k] is not None and count(*clusters[k], periods[k]) >= 1  # noqa: E731
     limit = p.max_transition * fps
-    # A cluster a transition may join: one that repeats, or one too long to be a transition.
-    lead = lambda k: cyclic(k) or clusters[k][1] - clusters[k][0] + 1 > limit  # noqa: E731
+    # A cluster a transition may join: one too long to be a transition, or one that repeats.
+    lead = lambda k: clusters[k][1] - clusters[k][0] + 1 > limit or cyclic(k)  # noqa: E731
     i = 0
     while i < len(clusters) and len(clusters) > 1:
         cs, ce = clusters[i]

@@ -75,13 +75,14 @@ def test_standing_still_between_exercises_joins_the_next_one():
 
 def test_a_transition_into_one_off_movements_joins_them_not_the_exercise_before():
     # Twisting, then 2 s of changing pose with 0.5 s standing still, then picking things up
-    # (one-offs: no period). The transition had joined the twists: boundary 2.1 s late.
+    # (one-offs: no period): the few-reps batch's take, at 10 fps and on its spot. The
+    # transition had joined the twists: boundary 2.1 s late.
     vectors, theta, truth, _ = _take(motions=["walk", "twist", "pick-up", "run"], cycles=[4, 3, 3, 5],
                                      transition=2.0, still=0.5, jitter=2.0, seed=182)
     s = parse(vectors, truth["fps"], theta=theta)
     pick_up = truth["segments"][2]["start"]
     nearest = min(abs(start - pick_up) for start, _ in s.clusters)
-    assert nearest <= 10, (s.clusters, truth["segments"])       # within 1 s, as the scorer counts
+    assert nearest <= truth["fps"], (s.clusters, truth["segments"])     # within 1 s, as the scorer counts
 
 
 def test_every_boundary_and_texton_has_a_confidence_that_survives_json(drifting):

@@ -267,7 +267,7 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
     from engine.transitions import merge_weak
     v, _ = cyclic_sequence([(30, 12), (30, 12)])
     period = PeriodReader(v, 10, atom_window(10), StructureParams())
-    one = lambda cs, ce, period: 1  # noqa: E731  (one whole texton in each)
+    one = lambda cs, ce, P: 1  # noqa: E731  (one whole texton in each)
     clusters = [(0, 29), (30, 59)]
     kept, _ = merge_weak(period, clusters, one, [1.0, 0.1], periods=[12, 12])
     joined, _ = merge_weak(period, clusters, one, [1.0, 0.1], periods=[None, 12])
