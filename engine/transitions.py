@@ -10,8 +10,8 @@ peaks give:
   cluster of at most ``max_transition`` seconds that shows no period, or changes pose at
   under :data:`STILL_RATIO` of the pace of its neighbour (standing still can show a period of
   noise), joins the next cluster when that one repeats or is too long to be a transition
-  itself, else the previous such one (at the end of the take, or where the next cluster is
-  itself short and shows no period).
+  itself, else the previous one where that one repeats (at the end of the take, or where
+  the next cluster is itself short and shows no period).
 * **A transition into one-off movements joins them** (step 27 of ``docs/parsing.md``). An
   exercise of one-off movements (picking things up, reaching up, lying down and getting up:
   each repetition goes elsewhere or lasts another time) shows no period, and a transition
@@ -19,18 +19,18 @@ peaks give:
   pose with 0.5 s of standing still, then picking things up, had its boundary 2.7 s late, at
   the first pick-up (a fresh batch, ``benchmarks/fresh.py --batch few-reps``). A neighbour
   longer than ``max_transition`` is an exercise whether or not it repeats, so the transition
-  now joins the next cluster when that one repeats or is that long (else, as before, the
-  previous such one, which may now be a long stretch of one-offs too). No take of the
-  development suite moves (held out 0.945 / 0.934 / 0.906 as before); of the 14 fresh
-  batches (66 takes) two takes gain, none loses: that one, and an everyday take whose last
-  1.4 s (the end of getting up from the floor) stayed a cluster of its own, the lying down
-  before it showing no period (one false boundary and one wrong texton length fewer).
-  few-reps 0.82 / 0.70 / 0.77 -> 0.88 / 0.75 / 0.77; everyday 0.77 / 0.62 / 0.62 -> 0.83 /
-  0.62 / 0.67. In tvmedit's axes the same two takes move: the everyday one gains as here; the
-  twisting one finds that change but takes its next one (picking up, then running) 1.8 s late
+  now joins the next cluster when that one repeats or is that long. The previous cluster
+  is joined, as before, only where it repeats: a short piece at the end of the take, after a
+  long stretch that shows no period, is no transition into it, and may be a motion of its
+  own (the real capture ``shared/data/scvv-card``, 6.4 s, has its one change 5 s in, at the
+  novelty peak, with the last 1.4 s after it; joining that piece to the stretch before left
+  the capture one motion, and no edit). No take of the development suite moves (held out
+  0.945 / 0.934 / 0.906 as before); of the 14 fresh batches (66 takes) one take gains and
+  none loses: few-reps 0.82 / 0.70 / 0.77 -> 0.88 / 0.75 / 0.77. In tvmedit's axes that take
+  finds its change into the picking up but takes its next one (into running) 1.8 s late
   instead: the standing still, now inside the picking up, is among the old poses the onset
   step (:func:`engine.onsets.onset`) compares with, and the start of the transition into
-  running looks like it. Its count of errors is the same.
+  running looks like it. Its count of errors is the same there.
 * **A weak boundary between two stretches that do not repeat is dropped**
   (:func:`merge_weak`). Between cyclic exercises novelty compares whole cycles, and a small
   peak still marks a change. An exercise whose repetitions are one-off movements (putting
@@ -95,12 +95,13 @@ def absorb_transitions(period, clusters, count):
     periods = [period(cs, ce) for cs, ce in clusters]
     cyclic = lambda k: periods[k] is not None and count(*clusters[k], periods[k]) >= 1  # noqa: E731
     limit = p.max_transition * fps
-    # A cluster a transition may join: one too long to be a transition, or one that repeats.
+    # What a transition leads into: the next cluster, where it repeats or is too long to be a
+    # transition itself; else the previous one, where it repeats (step 27).
     lead = lambda k: clusters[k][1] - clusters[k][0] + 1 > limit or cyclic(k)  # noqa: E731
     i = 0
     while i < len(clusters) and len(clusters) > 1:
         cs, ce = clusters[i]
-        j = i + 1 if i + 1 < len(clusters) and lead(i + 1) else i - 1 if i > 0 and lead(i - 1) else None
+        j = i + 1 if i + 1 < len(clusters) and lead(i + 1) else i - 1 if i > 0 and cyclic(i - 1) else None
         still = j is not None and activity(v, clusters[i], fps) < STILL_RATIO * activity(v, clusters[j], fps)
         if ce - cs + 1 > limit or j is None or (cyclic(i) and not still):
             i += 1

@@ -276,6 +276,22 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
     assert joined == [(0, 59)]
 
 
+def test_a_transition_joins_what_it_leads_into_and_a_piece_at_the_end_stays():
+    # engine.transitions.absorb_transitions (steps 3 and 27 of the energy parser), on stretches
+    # that show no period (one-off movements): a short one joins the long one after it (it
+    # leads into it); a short one at the take's end, after a long one, leads into nothing and
+    # stays (the real capture scvv-card lost its only change when it joined the one before).
+    from engine.periods import PeriodReader
+    from engine.transitions import absorb_transitions
+    v = np.random.default_rng(0).random((200, 3))
+    period = PeriodReader(v, 10, atom_window(10), StructureParams(min_periodicity=1.0))   # no period anywhere
+    none = lambda cs, ce, P: 0  # noqa: E731
+    into, periods = absorb_transitions(period, [(0, 79), (80, 99), (100, 199)], none)
+    assert into == [(0, 79), (80, 199)] and periods == [None, None]
+    end, _ = absorb_transitions(period, [(0, 179), (180, 199)], none)
+    assert end == [(0, 179), (180, 199)]
+
+
 def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
     # engine.rhythm (step 1b of the energy parser): a novelty peak under the threshold but at
     # least 3/4 of it is a boundary where the longer of the periods before and after it is
