@@ -85,8 +85,9 @@ Two methods are provided.
        Standing still or a slow change of pose between two exercises made a cluster of its
        own (precision 0.50 on the suite's take with 2 s of standing still). A cluster of at
        most ``max_transition`` seconds that shows no period, or changes pose at under half
-       the pace of its neighbour, joins the next cluster that repeats or is longer than
-       ``max_transition`` (an exercise of one-off movements, which shows no period).
+       the pace of its neighbour, joins the next cluster when that one repeats or is longer
+       than ``max_transition`` (an exercise of one-off movements shows no period), else the
+       previous one where that one repeats.
     4. **Boundaries between whole periods** (:func:`engine.onsets.settle`). Novelty blocks
        cut cycles at any phase, so its peak wanders with the tempo; each boundary moves, by
        up to ``refine_reach`` s, to where whole periods of its two clusters differ most.
