@@ -202,6 +202,25 @@ BATCHES = {
                                            transition=2.0, still=0.5, jitter=2.0, wander=1.5, fps=15, build=0.9,
                                            seed=182)),
     ],
+    # People who turn slowly or sway as they exercise (CMU 13_29 and 13_30 at 2-5 degrees a
+    # second, two of them swaying too; the synthetic actor turning 4-6 degrees a second or
+    # swaying, one wandering): rates the heading tracker follows in whole bins, leaving a
+    # residual of a bin or a few. Made before step 28 (the least turn step 24 tests for) was
+    # tried on them.
+    "slow-turns": [
+        ("cmu", "13_29", {"turn": 3.0}),
+        ("cmu", "13_29", {"turn": -5.0}),
+        ("cmu", "13_29", {"turn": 2.0, "sway": 45.0, "seed": 191}),
+        ("cmu", "13_30", {"turn": 5.0}),
+        ("cmu", "13_30", {"turn": -3.0}),
+        ("cmu", "13_30", {"turn": -2.0, "sway": 60.0, "seed": 192}),
+        ("synth", "slow-a", dict(motions=["knee-raises", "squats", "toe-touch", "jumping-jacks"], cycles=[5, 5, 3, 8],
+                                 turn=4.0, seed=193)),
+        ("synth", "slow-b-15fps", dict(motions=["arm-circles", "side-bends", "run", "twist"], cycles=[6, 4, 10, 5],
+                                       turn=-6.0, wander=0.8, fps=15, jitter=1.5, seed=194)),
+        ("synth", "slow-c-20fps", dict(motions=["box", "squats", "reach-up", "walk"], cycles=[8, 5, 4, 8], sway=60.0,
+                                       transition=1.5, fps=20, seed=195)),
+    ],
     # Long takes, as a real session runs on: eight or nine exercises, 60-90 s (every take of
     # the development suite lasts 30-45 s). Made to see whether a boundary's strength depends
     # on what else the take holds far from it, before anything was tried on them.
