@@ -98,8 +98,8 @@ Two methods are provided.
        frames it would leave behind are the old poses turned
        (:func:`engine.onsets.turned_away`), the onset is also read on the heading-free rows
        and the later of the two taken (a person who turned 1-2.5 s before changing exercise
-       had the boundary taken back to the turn; also a slow turn of 10 degrees or more, which
-       the heading tracker follows only in whole bins: CMU 13_29 turning 6 degrees a second);
+       had the boundary taken back to the turn; since step 28 also frames turned only 10
+       degrees or more from the old poses: CMU 13_29 turning 6 degrees a second);
        step 4 reads the heading-free rows where it would move a boundary back over such frames.
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty

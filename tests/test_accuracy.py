@@ -308,10 +308,11 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     # (engine.heading, StructureParams.heading_window) there are as many boundaries as changes
     # and every texton is right. One of its five changes (16.0 s) was taken 1.1 s early at its
     # onset once the take turned on the person's feet (synth VERSION 3; README, *The turning
-    # takes' feet*), over frames that are the old toe touches turned 25 degrees, a residual of
-    # the tracker's whole-bin steps that step 24 took for no turn until step 28 (engine.onsets,
-    # *A slow turn the tracker leaves*). A second one (22.5 s) was merged away in favour of a
-    # split 2.5 s into the toe touches, until step 26 (engine.rhythm, *A side too short to tell*).
+    # takes' feet*), over frames that are the old toe touches turned 25 degrees, read about
+    # each frame's own centre (which the tracker does not turn back): step 24 took turns under
+    # 30 degrees for none until step 28 (engine.onsets, *A slow turn counts too*). A second one
+    # (22.5 s) was merged away in favour of a split 2.5 s into the toe touches, until step 26
+    # (engine.rhythm, *A side too short to tell*).
     from engine import onsets
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
@@ -326,8 +327,10 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     assert followed.detected == changes and followed.texton_accuracy == 1.0, (followed.matches, followed.texton_rows)
     assert unfollowed.detected > changes and unfollowed.texton_accuracy < 1.0    # the turn read as changes of pose
     assert (followed.precision, followed.recall) == (1.0, 1.0), followed.matches
-    # Step 24 told only turns of 30 degrees or more (the most the tracker follows in a second)
-    # from a change: the 16.0 s change then starts 1.1 s early.
+    default = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth, take.fps)
+    assert (default.precision, default.recall) == (1.0, 1.0), default.matches
+    # Step 24 told only turns of 30 degrees or more from a change: the 16.0 s change then
+    # starts 1.1 s early.
     monkeypatch.setattr(onsets, "TURN_DEGREES", 30.0)
     before = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     assert any(abs(cs / take.fps - 14.9) < 0.2 for cs, _ in before.clusters), before.clusters
