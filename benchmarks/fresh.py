@@ -204,9 +204,9 @@ BATCHES = {
     ],
     # People who turn slowly or sway as they exercise (CMU 13_29 and 13_30 at 2-5 degrees a
     # second, two of them swaying too; the synthetic actor turning 4-6 degrees a second or
-    # swaying, one wandering): rates the heading tracker follows in whole bins, leaving a
-    # residual of a bin or a few. Made before step 28 (the least turn step 24 tests for) was
-    # tried on them.
+    # swaying, one wandering): turns under the 30 degrees a second the heading tracker follows,
+    # which step 24's test, reading the rows about each frame's own centre, still sees in full.
+    # Made before step 28 (the least turn step 24 tests for) was tried on them.
     "slow-turns": [
         ("cmu", "13_29", {"turn": 3.0}),
         ("cmu", "13_29", {"turn": -5.0}),
