@@ -241,6 +241,27 @@ BATCHES = {
                                                 "arm-circles", "side-bends", "run"], cycles=[8, 5, 5, 8, 4, 5, 6, 4, 10],
                                        rest=0.5, fps=15, build=1.1, seed=172)),
     ],
+    # A generalisation check, not a step's: exercise sets of the three HDM05 people in orders,
+    # repetition counts, palettes and builds no batch had (as the review's takes of people from
+    # another lab are), and the synthetic actor with rests, drift, noise and 25 fps, or slow
+    # transitions and a slow turn at 12 fps. Made after step 28, committed and scored once
+    # before anything was tried on it.
+    "review": [
+        ("bd", "elbowToKnee1RepsLelbowStart:6,squat1Reps:5,rotateArmsBothBackward1Reps:3,kickLFront1Reps:5,"
+               "hopBothLegs1hops:7", 81, {"seed": 81, "palette": "a"}),
+        ("bk", "hopBothLegs1hops:5,depositFloorR:3,squat1Reps:7,grabHighR:4,elbowToKnee1RepsLelbowStart:4", 82,
+         {"seed": 82, "palette": "b", "build": 1.15}),
+        ("dg", "rotateArmsBothBackward1Reps:2,kickLFront1Reps:5,hopBothLegs1hops:8,squat1Reps:4,"
+               "elbowToKnee1RepsLelbowStart:6", 83, {"seed": 83, "palette": "c", "build": 0.85}),
+        ("bk", "throwBasketball:3,squat1Reps:5,kickLFront1Reps:4,rotateArmsBothBackward1Reps:3,hopBothLegs1hops:6", 84,
+         {"seed": 84}),
+        ("synth", "review-a-25fps", dict(motions=["side-bends", "jumping-jacks", "box", "squats", "knee-raises"],
+                                         cycles=[4, 8, 8, 5, 5], rest=0.4, jitter=2.0, drift=(0.02, 0.01),
+                                         noise=0.005, fps=25, build=1.2, seed=201)),
+        ("synth", "review-b-12fps", dict(motions=["toe-touch", "run", "arm-circles", "twist", "walk"],
+                                         cycles=[4, 10, 6, 5, 8], transition=2.5, turn=3.0, fps=12, height=0.93,
+                                         seed=202)),
+    ],
 }
 
 
