@@ -262,6 +262,25 @@ BATCHES = {
                                          cycles=[4, 10, 6, 5, 8], transition=2.5, turn=3.0, fps=12, height=0.93,
                                          seed=202)),
     ],
+    # A second generalisation check, made and committed while a heavier pace weight in the
+    # novelty rows (``novelty_pace`` 2 instead of 1) was being measured on "review" and the
+    # other batches, before either weight was run on it: four more HDM05 exercise sets and
+    # two synthetic takes (wandering at 20 fps; rests, turns, noise and holes).
+    "review-2": [
+        ("dg", "squat1Reps:6,hopBothLegs1hops:5,kickLFront1Reps:4,elbowToKnee1RepsLelbowStart:5,grabHighR:3", 85,
+         {"seed": 85, "palette": "a"}),
+        ("bd", "rotateArmsBothBackward1Reps:4,hopBothLegs1hops:6,depositFloorR:4,squat1Reps:5,sneak2StepsLStart:3", 86,
+         {"seed": 86, "palette": "b", "build": 0.9}),
+        ("bk", "elbowToKnee1RepsLelbowStart:6,kickLFront1Reps:5,hopBothLegs1hops:7,throwBasketball:3,squat1Reps:5", 87,
+         {"seed": 87, "palette": "c", "build": 1.05}),
+        ("dg", "hopBothLegs1hops:6,rotateArmsBothBackward1Reps:2,squat1Reps:5,kickLFront1Reps:5,"
+               "jogLeftCircle4StepsRstart:2", 88, {"seed": 88, "build": 1.15}),
+        ("synth", "review2-a-20fps", dict(motions=["squats", "box", "side-bends", "run", "toe-touch"],
+                                          cycles=[5, 8, 4, 10, 4], jitter=1.5, transition=1.0, wander=0.5, fps=20,
+                                          build=0.85, seed=203)),
+        ("synth", "review2-b", dict(motions=["knee-raises", "jumping-jacks", "twist", "walk", "arm-circles"],
+                                    cycles=[5, 8, 5, 8, 6], rest=0.8, turns=90.0, noise=0.004, holes=0.2, seed=204)),
+    ],
 }
 
 
