@@ -109,7 +109,8 @@ class StructureParams:
         "energy": weight of each histogram bin's pace of change (its absolute change over
         0.1 s, whatever the frame rate) beside the bin itself in the novelty's frame rows
         (engine.boundaries), so that exercises of alike poses done at another pace are told
-        apart; 0 compares poses only.
+        apart; 0 compares poses only. 2 since step 29 of docs/parsing.md (1 before): on the
+        whitened rows the weight decides how many of the kept principal axes describe pace.
     heading_window : float
         "energy": the parser reads each frame's azimuth histogram turned back by the person's
         slow heading, tracked by matching the mean histograms of windows of this many
@@ -165,7 +166,7 @@ class StructureParams:
     submultiple: float = _param(0.7, at_least=0, at_most=1)
     novelty_window: float = _param(4.0, above=0, at_most=3600)
     novelty_threshold: float | None = _param(None, at_least=0)
-    novelty_pace: float = _param(1.0, at_least=0, at_most=100)
+    novelty_pace: float = _param(2.0, at_least=0, at_most=100)
     novelty_components: int = _param(10, count=True, at_least=0, at_most=1000)
     turn_ratio: float = _param(0.4, at_least=0, at_most=1)
     heading_window: float = _param(4.0, at_least=0, at_most=600)

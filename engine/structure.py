@@ -44,10 +44,12 @@ Two methods are provided.
        within-block diagonals left out. It is near zero inside an exercise whatever its phase (both blocks hold
        whole cycles of the same poses) and peaks where the pose distribution changes. Each
        row holds the block mean's histograms and, weighted by ``novelty_pace``, how fast
-       each bin changes (exercises of alike poses at another pace were missed), and the
-       rows are compared on the take's ``novelty_components`` principal axes of change,
-       each scaled to its spread (exercises that differ along a direction of little
-       variance were missed; ``novelty_threshold`` is then in units of that spread).
+       each bin changes (exercises of alike poses at another pace were missed; weight 2
+       since step 29 of docs/parsing.md, so that pace takes a third of the axes below, not a
+       tenth: HDM05 changes of tempo between alike poses), and the rows are compared on the
+       take's ``novelty_components`` principal axes of change, each scaled to its spread
+       (exercises that differ along a direction of little variance were missed;
+       ``novelty_threshold`` is then in units of that spread).
        Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
        are boundaries (of two close peaks of nearly equal height, the earlier one; not the
        ``shoulder`` of a stronger peak, a bump on its slowly falling flank), except

@@ -93,9 +93,12 @@ def test_a_weak_peak_where_the_period_changes_is_a_boundary(devsuite):
     near = lambda s: [cs for cs, _ in s.clusters if abs(cs - hops) <= truth["fps"]]  # noqa: E731
     precision, _, _, s = scores(folder)
     assert precision == 1.0 and near(s), s.clusters
-    # without step 1b the boundary is missed
-    precision, _, _, s = scores(folder, StructureParams(rhythm_ratio=0))
+    # without step 1b, at the pace weight of before step 29 (1), the boundary is missed
+    precision, _, _, s = scores(folder, StructureParams(rhythm_ratio=0, novelty_pace=1.0))
     assert precision == 1.0 and not near(s), s.clusters
+    # at the pace weight of step 29 (2) the pace alone lifts its peak over the threshold
+    precision, _, _, s = scores(folder, StructureParams(rhythm_ratio=0))
+    assert precision == 1.0 and near(s), s.clusters
 
 
 def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
@@ -157,11 +160,14 @@ def test_a_person_turning_while_exercising_is_not_split_at_the_turn(devsuite):
     # stand (heading_window=0), compared whichever way the body faces
     # (engine.azimuth.azimuth_spectrum) that peak vanishes and is vetoed
     # (StructureParams.turn_ratio), while every true boundary stays; read turned back by the
-    # tracked heading (engine.heading, the default) there is no such peak to veto.
+    # tracked heading (engine.heading, the default) there is no such peak to veto. (Without
+    # the heading followed, at the pace weight of before step 29: at weight 2 the rows read as
+    # they stand make one false boundary more.)
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
     take = devsuite.synth_take("synth-drift", "turn-sway", dict(devsuite.SYNTH["synth-drift"])["turn-sway"])
-    found = {ratio: score(parse(take.vectors, take.fps, StructureParams(turn_ratio=ratio, heading_window=0),
+    found = {ratio: score(parse(take.vectors, take.fps, StructureParams(turn_ratio=ratio, heading_window=0,
+                                                                        novelty_pace=1.0),
                                 theta=take.theta, centred=take.centred), take.truth, take.fps) for ratio in (0.4, 0.0)}
     assert (found[0.4].precision, found[0.4].recall) == (1.0, 1.0), found[0.4].matches
     assert found[0.0].precision < 1.0   # without the veto the turn is a boundary
@@ -273,13 +279,14 @@ def test_marching_jogging_and_high_knees_in_place_are_told_apart(devsuite):
     # tempo. With the defaults all are found. On novelty rows not whitened
     # (StructureParams.novelty_components 0) the change from jogging to high knees looked
     # like a turn on the heading-free rows about the first frame's centre and was vetoed;
-    # on those about each frame's own centre (Features.centred, step 23) it is found.
+    # on those about each frame's own centre (Features.centred, step 23) it is found. (At the
+    # pace weight of before step 29, 1: at 2 the pace tells that change from a turn either way.)
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
     take = devsuite.synth_take("synth", "warm-up", dict(devsuite.SYNTH["synth"])["warm-up"])
     found = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth, take.fps)
     assert (found.precision, found.recall, found.texton_accuracy) == (1.0, 1.0, 1.0), found.matches
-    plain = StructureParams(novelty_components=0, novelty_threshold=0.05)
+    plain = StructureParams(novelty_components=0, novelty_threshold=0.05, novelty_pace=1.0)
     about = {centred is not None: score(parse(take.vectors, take.fps, plain, theta=take.theta, centred=centred),
                                         take.truth, take.fps).recall for centred in (None, take.centred)}
     assert about == {False: 2 / 3, True: 1.0}, about
@@ -358,14 +365,24 @@ def test_a_shoulder_of_a_strong_novelty_peak_is_no_boundary(devsuite):
     # The same pausing take: the novelty of the change into knee raises falls away slowly,
     # and a bump on its flank 2 s later (from the pauses) made a false boundary inside the
     # knee raises; it is that peak's shoulder (StructureParams.shoulder) and no boundary now.
+    # (At the pace weight of before step 29, 1; at 2 that bump stays under the threshold.)
     from engine.evaluate import score
     from engine.structure import StructureParams, parse
     take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
-    found = {share: score(parse(take.vectors, take.fps, StructureParams(shoulder=share), theta=take.theta,
-                                 centred=take.centred),
+    found = {share: score(parse(take.vectors, take.fps, StructureParams(shoulder=share, novelty_pace=1.0),
+                                theta=take.theta, centred=take.centred),
                           take.truth, take.fps) for share in (0.2, 0.0)}
     assert (found[0.2].precision, found[0.2].recall) == (1.0, 1.0), found[0.2].matches
     assert found[0.0].precision < 1.0
+    # With the defaults: the suite's take of one-off movements at 15 fps, whose change from
+    # picking things up into side bends (37.7 s) peaks at 38.4 s with a shoulder 2.9 s before it
+    # (0.91 against the threshold 0.9); taken for a boundary, it was placed 1.5 s early.
+    name = "one-offs-irregular-15fps"
+    take = devsuite.synth_take("synth", name, dict(devsuite.SYNTH["synth"])[name])
+    found = {share: score(parse(take.vectors, take.fps, StructureParams(shoulder=share), theta=take.theta,
+                                centred=take.centred), take.truth, take.fps) for share in (0.2, 0.0)}
+    assert (found[0.2].precision, found[0.2].recall) == (1.0, 1.0), found[0.2].matches
+    assert found[0.0].recall < 1.0, found[0.0].matches
 
 
 def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite):
