@@ -38,7 +38,7 @@ METHODS = {"energy": {}, "paper": {"method": "paper"}}
 #: novelty window at 4 s (steps 4-17), transitions joined (step 18's, both frames), and,
 #: from step 20 on, pauses left out of periods, the heading followed, boundaries between
 #: whole periods and at the onset (step 19's, 768 settings, in the body's axes: on step 19
-#: the 48 of step 20, this grid without ``rhythm_ratio``, give the same held-out figures,
+#: the 48 of step 20, this grid without ``rhythm_ratio`` and ``novelty_pace``, give the same held-out figures,
 #: and on the 46 takes of step 20 too). Step 21
 #: (weak peaks where the rhythm changes) came in among them: 96 settings. In tvmedit's axes
 #: (``TVMEDIT_DEV_FRAME=stored``) the synthetic folds choose neither the heading nor

@@ -20,7 +20,7 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   scored a little less (0.96 / 0.95 / 0.91), and a time-delay embedding of the poses
   (frames t - k, t, t + k side by side) separated true from false peaks no better than the
   poses alone. (Figures on the rows as they were, before whitening.) Since the rows are
-  whitened (below) the weight no longer scales a distance: it decides how much of the kept
+  whitened (below) the weight no longer scales a distance: it decides how many of the kept
   principal axes describe pace. At weight 1 pace made a tenth of them (4-18 % on the suite's
   takes), and HDM05 changes between alike poses at another tempo still peaked under the
   threshold; the weight is 2 since step 29 of ``docs/parsing.md`` (a third of the axes,
@@ -28,8 +28,9 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   fourth scores its training groups alike with 1 and 2). On the 87 fresh takes (17
   batches) five boundaries more are found and three false ones fewer; on the 14 batches not
   looked at to choose it, one more and two fewer, all on the batch made to check it: on the
-  13 older ones it trades four changes for four, HDM05 takes gaining, takes that turn losing
-  (a change placed 1.1-1.5 s off; so does the turning take of ``tests/test_report.py``).
+  13 older ones it trades four changes for four (two HDM05 changes and two of CMU takes that
+  turn found; one HDM05 change and three of takes that turn lost, placed 1.1-1.5 s off, as is
+  one of the turning take of ``tests/test_report.py``).
 * **Rows whitened** (:func:`whiten`, ``novelty_components``). On the rows as they are, the
   frame distance is ruled by the few directions in which the body changes most (arms swung
   wide, the trunk's sway) and blurred by the hundreds of bins that only carry noise; two
