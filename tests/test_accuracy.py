@@ -24,6 +24,18 @@ def scores(folder, params=None, frame="body"):
     return result.precision, result.recall, result.texton_accuracy, result.structure
 
 
+_OWN = object()
+
+
+def take_score(take, params=None, centred=_OWN):
+    """A development-suite take (benchmarks/devsuite.Take) parsed and scored against its truth;
+    ``centred``: other rows about each frame's own centre than the take's (None: none)."""
+    from engine.evaluate import score
+    from engine.structure import parse
+    rows = take.centred if centred is _OWN else centred
+    return score(parse(take.vectors, take.fps, params, theta=take.theta, centred=rows), take.truth, take.fps)
+
+
 # The whole takes, a 30 fps capture of each (time-like parameters are in seconds), and a
 # slimmer body: in 13_29 at build 0.8 the toe-touch cluster ends 9 frames early and holds a
 # single 41-frame left-right cycle, whose half period must not be taken for the period.
@@ -108,13 +120,10 @@ def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
     # and the mirror test does not flag 12 as half a left-right cycle. A period repeats, so
     # the profile must dip near 36 too; it does not, and the texton is two halves long.
     from conftest import SHARED
-    from engine.evaluate import score
-    from engine.structure import parse
     if not (SHARED / "tools" / "mocap2tvm.py").exists():
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
-    rows = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth,
-                 take.fps).texton_rows
+    rows = take_score(take).texton_rows
     first = [r for r in rows if r[1] == 1][0]   # (cluster, true segment, median, period, right)
     assert first[4] and first[2] > 0.85 * first[3], rows
 
@@ -138,19 +147,16 @@ def test_exercises_of_alike_poses_are_told_apart_by_their_pace(devsuite):
     # and a miss). With each bin's pace of change beside it (engine.boundaries.pace) every
     # boundary is found within 1 s and none is false.
     from conftest import SHARED
-    from engine.evaluate import score
-    from engine.structure import StructureParams, parse
+    from engine.structure import StructureParams
     if not (SHARED / "tools" / "mocap2tvm.py").exists():
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_29@0.7x")
     # On the rows as they are (not whitened, engine.boundaries.whiten), as when the pace came in.
     raw = dict(novelty_components=0)   # threshold 0.05 then
-    found = {pace: score(parse(take.vectors, take.fps, StructureParams(novelty_pace=pace, **raw), theta=take.theta,
-                               centred=take.centred),
-                         take.truth, take.fps) for pace in (1.0, 0.0)}
+    found = {pace: take_score(take, StructureParams(novelty_pace=pace, **raw)) for pace in (1.0, 0.0)}
     assert (found[1.0].precision, found[1.0].recall) == (1.0, 1.0), found[1.0].matches
     assert found[0.0].recall < 1.0   # the poses alone miss it
-    result = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth, take.fps)
+    result = take_score(take)
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches   # and the defaults find it
 
 
@@ -164,20 +170,16 @@ def test_a_person_turning_while_exercising_is_not_split_at_the_turn(devsuite):
     # tracked heading (engine.heading, the default) there is no such peak to veto. (Without
     # the heading followed, at the pace weight of before step 29: at weight 2 the rows read as
     # they stand make one false boundary more.)
-    from engine.evaluate import score
-    from engine.structure import StructureParams, parse
+    from engine.structure import StructureParams
     take = devsuite.synth_take("synth-drift", "turn-sway", dict(devsuite.SYNTH["synth-drift"])["turn-sway"])
-    found = {ratio: score(parse(take.vectors, take.fps, StructureParams(turn_ratio=ratio, heading_window=0,
-                                                                        novelty_pace=1.0),
-                                theta=take.theta, centred=take.centred), take.truth, take.fps) for ratio in (0.4, 0.0)}
+    found = {ratio: take_score(take, StructureParams(turn_ratio=ratio, heading_window=0, novelty_pace=1.0))
+             for ratio in (0.4, 0.0)}
     assert (found[0.4].precision, found[0.4].recall) == (1.0, 1.0), found[0.4].matches
     assert found[0.0].precision < 1.0   # without the veto the turn is a boundary
-    followed = score(parse(take.vectors, take.fps, StructureParams(turn_ratio=0.0), theta=take.theta,
-                           centred=take.centred),
-                     take.truth, take.fps)
+    followed = take_score(take, StructureParams(turn_ratio=0.0))
     assert (followed.precision, followed.recall) == (1.0, 1.0), followed.matches
     # and, turned back, its side bends get textons of a whole period (left and right)
-    default = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth, take.fps)
+    default = take_score(take)
     assert default.texton_accuracy == 1.0, default.texton_rows
 
 
@@ -282,14 +284,12 @@ def test_marching_jogging_and_high_knees_in_place_are_told_apart(devsuite):
     # like a turn on the heading-free rows about the first frame's centre and was vetoed;
     # on those about each frame's own centre (Features.centred, step 23) it is found. (At the
     # pace weight of before step 29, 1: at 2 the pace tells that change from a turn either way.)
-    from engine.evaluate import score
-    from engine.structure import StructureParams, parse
+    from engine.structure import StructureParams
     take = devsuite.synth_take("synth", "warm-up", dict(devsuite.SYNTH["synth"])["warm-up"])
-    found = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth, take.fps)
+    found = take_score(take)
     assert (found.precision, found.recall, found.texton_accuracy) == (1.0, 1.0, 1.0), found.matches
     plain = StructureParams(novelty_components=0, novelty_threshold=0.05, novelty_pace=1.0)
-    about = {centred is not None: score(parse(take.vectors, take.fps, plain, theta=take.theta, centred=centred),
-                                        take.truth, take.fps).recall for centred in (None, take.centred)}
+    about = {centred is not None: take_score(take, plain, centred).recall for centred in (None, take.centred)}
     assert about == {False: 2 / 3, True: 1.0}, about
 
 
@@ -322,20 +322,17 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     # (22.5 s) was merged away in favour of a split 2.5 s into the toe touches, until step 26
     # (engine.rhythm, *A side too short to tell*).
     from engine import onsets
-    from engine.evaluate import score
     from engine.structure import StructureParams, parse
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_29-turn")
     # Without the heading (and without step 19's shoulders, which also drop a false boundary
     # that is a bump on the flank of a stronger peak) the turn is read as changes of pose.
-    found = {window: score(parse(take.vectors, take.fps, StructureParams(heading_window=window, shoulder=0.0),
-                                 theta=take.theta, centred=take.centred), take.truth, take.fps)
-             for window in (4.0, 0.0)}
+    found = {window: take_score(take, StructureParams(heading_window=window, shoulder=0.0)) for window in (4.0, 0.0)}
     followed, unfollowed = found[4.0], found[0.0]
     changes = len(take.truth["segments"]) - 1
     assert followed.detected == changes and followed.texton_accuracy == 1.0, (followed.matches, followed.texton_rows)
     assert unfollowed.detected > changes and unfollowed.texton_accuracy < 1.0    # the turn read as changes of pose
     assert (followed.precision, followed.recall) == (1.0, 1.0), followed.matches
-    default = score(parse(take.vectors, take.fps, theta=take.theta, centred=take.centred), take.truth, take.fps)
+    default = take_score(take)
     assert (default.precision, default.recall) == (1.0, 1.0), default.matches
     # Step 24 told only turns of 30 degrees or more from a change: the 16.0 s change then
     # starts 1.1 s early.
@@ -350,12 +347,9 @@ def test_repetitions_with_pauses_get_textons_of_a_whole_repetition(devsuite):
     # was the movement alone (squats: textons of 2.2 s where a repetition and its pause last
     # 3.0 s) and knee raises got half periods; measured on the frames that move
     # (engine.pauses, StructureParams.pause_share), each texton is a repetition with its pause.
-    from engine.evaluate import score
-    from engine.structure import StructureParams, parse
+    from engine.structure import StructureParams
     take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
-    found = {share: score(parse(take.vectors, take.fps, StructureParams(pause_share=share), theta=take.theta,
-                                 centred=take.centred),
-                          take.truth, take.fps) for share in (0.1, 0.0)}
+    found = {share: take_score(take, StructureParams(pause_share=share)) for share in (0.1, 0.0)}
     right = {share: sum(ok for *_, ok in found[share].texton_rows) for share in found}
     assert right[0.1] >= right[0.0] + 2, found[0.1].texton_rows
     squats = [row for row in found[0.1].texton_rows if abs(row[3] / take.fps - 3.01) < 0.05]   # frames
@@ -367,12 +361,9 @@ def test_a_shoulder_of_a_strong_novelty_peak_is_no_boundary(devsuite):
     # and a bump on its flank 2 s later (from the pauses) made a false boundary inside the
     # knee raises; it is that peak's shoulder (StructureParams.shoulder) and no boundary now.
     # (At the pace weight of before step 29, 1; at 2 that bump stays under the threshold.)
-    from engine.evaluate import score
-    from engine.structure import StructureParams, parse
+    from engine.structure import StructureParams
     take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
-    found = {share: score(parse(take.vectors, take.fps, StructureParams(shoulder=share, novelty_pace=1.0),
-                                theta=take.theta, centred=take.centred),
-                          take.truth, take.fps) for share in (0.2, 0.0)}
+    found = {share: take_score(take, StructureParams(shoulder=share, novelty_pace=1.0)) for share in (0.2, 0.0)}
     assert (found[0.2].precision, found[0.2].recall) == (1.0, 1.0), found[0.2].matches
     assert found[0.0].precision < 1.0
     # With the defaults: the suite's take of one-off movements at 15 fps, whose change from
@@ -381,8 +372,7 @@ def test_a_shoulder_of_a_strong_novelty_peak_is_no_boundary(devsuite):
     # and taken back to its onset at 36.2 s: 1.5 s early.
     name = "one-offs-irregular-15fps"
     take = devsuite.synth_take("synth", name, dict(devsuite.SYNTH["synth"])[name])
-    found = {share: score(parse(take.vectors, take.fps, StructureParams(shoulder=share), theta=take.theta,
-                                centred=take.centred), take.truth, take.fps) for share in (0.2, 0.0)}
+    found = {share: take_score(take, StructureParams(shoulder=share)) for share in (0.2, 0.0)}
     assert (found[0.2].precision, found[0.2].recall) == (1.0, 1.0), found[0.2].matches
     assert found[0.0].recall < 1.0, found[0.0].matches
 
