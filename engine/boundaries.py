@@ -30,7 +30,7 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   looked at to choose it, one more and two fewer, all on the batch made to check it: on the
   13 older ones it trades four changes for four (two HDM05 changes and two of CMU takes that
   turn found; one HDM05 change and three of takes that turn lost, placed 1.1-1.5 s off, as is
-  one of the turning take of ``tests/test_report.py``).
+  one change of the turning take of ``tests/test_report.py``).
 * **Rows whitened** (:func:`whiten`, ``novelty_components``). On the rows as they are, the
   frame distance is ruled by the few directions in which the body changes most (arms swung
   wide, the trunk's sway) and blurred by the hundreds of bins that only carry noise; two
