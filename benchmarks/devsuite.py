@@ -46,6 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from engine import synth
+from engine.atomic import exclusive, replacing_file, swap_in, temporary
 from engine.featcache import code_version
 from engine.features import follow_picks
 from engine.orientation import feature_frame, sample_indices
@@ -112,8 +113,30 @@ def _store(path, f):
     path.parent.mkdir(parents=True, exist_ok=True)
     c = f.centred
     extra = {} if c is None else {"centred": c.vectors, "centred_theta": [c.theta_columns.start, c.theta_columns.stop]}
-    np.savez(path, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop], **extra)
+    with replacing_file(path) as tmp:
+        np.savez(tmp, vectors=f.vectors, theta=[f.theta_columns.start, f.theta_columns.stop], **extra)
     return _cached(path)
+
+
+def _features_once(path, compute):
+    """``(vectors, theta, centred)`` cached at ``path``, computed (``compute()``, features)
+    and stored the first time; one process computes them while any other that needs them
+    waits (the tests run in several)."""
+    found = _cached(path)
+    if found is None:
+        with exclusive(path):
+            found = _cached(path) or _store(path, compute())
+    return found
+
+
+def _made(out, make):
+    """Folder ``out``, made by ``make()`` unless its ``truth.json`` exists (written last); one
+    process makes it while any other that needs it waits."""
+    if not (out / "truth.json").exists():
+        with exclusive(out):
+            if not (out / "truth.json").exists():
+                make()
+    return out
 
 
 def _cached(path):
@@ -136,30 +159,29 @@ def _run(cmd):
 def cmu_source(take, fps=20, **options):
     """Folder of CMU take ``take`` turned into meshes at ``fps`` (``mocap2tvm.py`` options)."""
     out = CACHE / f"cmu-{take}-{_key(take, fps, options)}"
-    if not (out / "truth.json").exists():
-        cmd = [MOCAP2TVM, SHARED / "data" / "mocap6" / f"{take}.amc", "--out", out, "--fps", fps,
-               "--workers", 1, "--overwrite", "--quiet"]
-        for name, value in options.items():
-            cmd += ["--" + name.replace("_", "-"), value]
-        _run(cmd)
-    return out
+    cmd = [MOCAP2TVM, SHARED / "data" / "mocap6" / f"{take}.amc", "--out", out, "--fps", fps,
+           "--workers", 1, "--overwrite", "--quiet"]
+    for name, value in options.items():
+        cmd += ["--" + name.replace("_", "-"), value]
+    return _made(out, lambda: _run(cmd))
 
 
 def hdm_source(actor, plan, order_seed=None, **options):
     """Folder of an HDM05 stitched take: ``plan`` as ``"squat1Reps:6,hopBothLegs1hops:8"``."""
     out = CACHE / f"hdm-{actor}-{_key(actor, plan, order_seed, options)}"
-    if not (out / "truth.json").exists():
-        CACHE.mkdir(parents=True, exist_ok=True)
-        stem = CACHE / f"stitch-{out.name}"
+
+    def make():   # in a temporary folder, so that no truth.json is seen before it is fixed
+        stem, tmp = CACHE / f"stitch-{out.name}", temporary(out, keep_suffix=False)
         data = SHARED / "data" / "hdm05"
         _run([STITCH, data, actor, plan, stem] + ([] if order_seed is None else ["--seed", order_seed]))
         cmd = [MOCAP2TVM, f"{stem}.amc", "--asf", data / f"HDM_{actor}.asf", "--labels", f"{stem}.txt",
-               "--out", out, "--fps", 10, "--workers", 1, "--overwrite", "--quiet"]
+               "--out", tmp, "--fps", 10, "--workers", 1, "--overwrite", "--quiet"]
         for name, value in options.items():
             cmd += ["--" + name.replace("_", "-"), value]
         _run(cmd)
-        _run([STITCH, "--fix-truth", out, f"{stem}.periods.json"])
-    return out
+        _run([STITCH, "--fix-truth", tmp, f"{stem}.periods.json"])
+        swap_in(tmp, out)
+    return _made(out, make)
 
 
 #: The real takes' sources: CMU at 20 fps (so 0.7x and 1.4x can be sampled at 10 fps), and
@@ -261,19 +283,20 @@ def _frames_features(folder, start=0, stop=None):
     sequence = open_sequence(str(folder))
     stop = len(sequence.paths) if stop is None else stop
     path = CACHE / "features" / f"{_prefix()}{folder.name}-{start}-{stop}.npz"
-    if path.exists():
-        return _cached(path)
-    from engine.builder import origin_follows
 
-    paths = sequence.paths[start:stop]
-    body = _body(len(paths), lambda k: read_frame(paths[k], sequence.orientation, "geometry").positions)
-    body = tuple(map(tuple, body.tolist()))
-    orientation = replace(sequence.orientation, features=body).for_features()
-    follows = origin_follows(paths, orientation)
-    acc = _accumulator([[0, 0, 0], [1, 0, 0]] if follows else [])
-    for _, frame in iter_frames(paths, orientation=orientation, detail="geometry"):
-        acc.add(frame.positions)
-    return _store(path, acc.result())
+    def compute():
+        from engine.builder import origin_follows
+
+        paths = sequence.paths[start:stop]
+        body = _body(len(paths), lambda k: read_frame(paths[k], sequence.orientation, "geometry").positions)
+        body = tuple(map(tuple, body.tolist()))
+        orientation = replace(sequence.orientation, features=body).for_features()
+        follows = origin_follows(paths, orientation)
+        acc = _accumulator([[0, 0, 0], [1, 0, 0]] if follows else [])
+        for _, frame in iter_frames(paths, orientation=orientation, detail="geometry"):
+            acc.add(frame.positions)
+        return acc.result()
+    return _features_once(path, compute)
 
 
 def _turned_features(folder, frames, heading):
@@ -287,23 +310,24 @@ def _turned_features(folder, frames, heading):
     heading = np.asarray(heading, dtype=np.float64)
     key = _key([int(i) for i in frames], np.round(heading, 6).tolist(), "on the feet")
     path = CACHE / "features" / f"{_prefix()}{folder.name}-turned-{key}.npz"
-    if path.exists():
-        return _cached(path)
-    sequence = open_sequence(str(folder))
-    # Each frame read once: the spots, the body frame, the origin and the histograms all need it.
-    positions = [read_frame(sequence.paths[int(i)], sequence.orientation, "geometry").positions for i in frames]
-    centres = np.array([p.mean(axis=0)[:2] for p in positions])
-    half = min(len(frames) // 2, 20)                       # 2 s either side at 10 fps
-    spots = np.array([centres[max(0, k - half): k + half + 1].mean(axis=0) for k in range(len(frames))])
 
-    def frame_at(k):
-        return synth.turned_about(positions[k], heading[k], spots[k])
+    def compute():
+        sequence = open_sequence(str(folder))
+        # Each frame read once: the spots, the body frame, the origin and the histograms all need it.
+        positions = [read_frame(sequence.paths[int(i)], sequence.orientation, "geometry").positions for i in frames]
+        centres = np.array([p.mean(axis=0)[:2] for p in positions])
+        half = min(len(frames) // 2, 20)                       # 2 s either side at 10 fps
+        spots = np.array([centres[max(0, k - half): k + half + 1].mean(axis=0) for k in range(len(frames))])
 
-    body = _body(len(frames), frame_at)
-    acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
-    for k in range(len(frames)):
-        acc.add(frame_at(k) @ body.T)
-    return _store(path, acc.result())
+        def frame_at(k):
+            return synth.turned_about(positions[k], heading[k], spots[k])
+
+        body = _body(len(frames), frame_at)
+        acc = _accumulator([frame_at(k).mean(axis=0) @ body.T for k in follow_picks(len(frames))])
+        for k in range(len(frames)):
+            acc.add(frame_at(k) @ body.T)
+        return acc.result()
+    return _features_once(path, compute)
 
 
 def truth_of(labels, periods_s, fps):
@@ -524,30 +548,32 @@ def synth_take(group, name, options, vertices=6000):
     poses, labels, motions, periods = synth.plan(**opts)
     per = {m: float(np.mean(p)) for m, p in zip(motions, periods)}
     truth = truth_of(labels, np.array([per[m] for m in labels]), fps)
-    found = _cached(path)
-    if found is not None:
-        return Take(group, name, *found[:2], fps, truth, found[2])
-    rng = np.random.default_rng(opts.get("seed", 0))
-    shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
-    heading = _headings(len(poses), fps, extra.get("turn"), extra.get("sway"), opts.get("seed", 0), extra.get("turns"))
-    voxel = float(synth.voxel_size(vertices))
-    frames = []
-    for k, pose in enumerate(poses):
-        verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0), extra.get("noise", synth.NOISE_M))
-        if heading[k]:
-            verts = synth.turned_about(verts, heading[k])      # on the spot the actor stands on
-        verts = verts * extra.get("height", 1.0) + shift[k]
-        if rng.random() < extra.get("holes", 0.0):
-            centre = verts[rng.integers(len(verts))]
-            verts = verts[np.linalg.norm(verts - centre, axis=1) > 0.15]
-        frames.append(verts)
-    body = _body(len(frames), frames.__getitem__)
-    frames = [verts @ body.T for verts in frames]
-    picks = follow_picks(len(frames))
-    acc = _accumulator([frames[k].mean(axis=0) for k in picks])
-    for verts in frames:
-        acc.add(verts)
-    vectors, theta, centred = _store(path, acc.result())
+
+    def compute():
+        rng = np.random.default_rng(opts.get("seed", 0))
+        shift = _offsets(len(poses), fps, extra.get("drift"), extra.get("wander"), opts.get("seed", 0))
+        heading = _headings(len(poses), fps, extra.get("turn"), extra.get("sway"), opts.get("seed", 0),
+                            extra.get("turns"))
+        voxel = float(synth.voxel_size(vertices))
+        frames = []
+        for k, pose in enumerate(poses):
+            verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0),
+                                           extra.get("noise", synth.NOISE_M))
+            if heading[k]:
+                verts = synth.turned_about(verts, heading[k])      # on the spot the actor stands on
+            verts = verts * extra.get("height", 1.0) + shift[k]
+            if rng.random() < extra.get("holes", 0.0):
+                centre = verts[rng.integers(len(verts))]
+                verts = verts[np.linalg.norm(verts - centre, axis=1) > 0.15]
+            frames.append(verts)
+        body = _body(len(frames), frames.__getitem__)
+        frames = [verts @ body.T for verts in frames]
+        picks = follow_picks(len(frames))
+        acc = _accumulator([frames[k].mean(axis=0) for k in picks])
+        for verts in frames:
+            acc.add(verts)
+        return acc.result()
+    vectors, theta, centred = _features_once(path, compute)
     return Take(group, name, vectors, theta, fps, truth, centred)
 
 

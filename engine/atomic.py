@@ -33,7 +33,7 @@ from pathlib import Path
 
 from .errors import OutputError, summarise
 
-__all__ = ["MARKER", "temporary", "replacing_file", "write_text", "write_bytes", "replacing_folder",
+__all__ = ["MARKER", "temporary", "exclusive", "replacing_file", "write_text", "write_bytes", "replacing_folder",
            "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target",
            "refuse_inside", "mark", "marked_files", "note_written"]
 
@@ -55,6 +55,29 @@ def temporary(path, tag="tmp", keep_suffix=None):
     if keep:
         return path.with_name(f".{path.stem}.{tag}-{os.getpid()}{path.suffix}")
     return path.with_name(f".{path.name}.{tag}-{os.getpid()}")
+
+
+@contextlib.contextmanager
+def exclusive(path):
+    """Hold the lock of ``path`` for the block (a file ``.NAME.lock`` beside it, locked with
+    ``flock``): another process asking for it waits until the block ends, so that processes
+    that would make the same output, such as the test processes of ``make test``, make it once.
+    The lock goes with the process, however it ends.
+
+    >>> import tempfile
+    >>> out = Path(tempfile.mkdtemp()) / "out"
+    >>> with exclusive(out):
+    ...     write_text(out, "made once")
+    >>> sorted(p.name for p in out.parent.iterdir())
+    ['.out.lock', 'out']
+    """
+    import fcntl  # POSIX only; imported here so that the module loads everywhere
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path.with_name(f".{path.name}.lock"), "a") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        yield
 
 
 def _remove(path):

@@ -4,7 +4,9 @@ Real motion comes from ``../shared`` (CMU takes turned into TVM by ``mocap2tvm.p
 that folder is absent, as on a user's machine, the tests that need it skip with a reason.
 The cache lives in ``.cache/testdata`` (git-ignored), keyed by everything that shapes the
 data, and a folder counts as complete only once its ``truth.json`` exists (both generators
-write it last and atomically).
+write it last and atomically). ``make test`` runs the tests in several processes
+(pytest-xdist): the first that needs a folder makes it while the others wait for it
+(:func:`made`).
 """
 
 import hashlib
@@ -27,6 +29,18 @@ def _key(*parts):
     return hashlib.sha1(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()[:12]
 
 
+def made(out, done, make):
+    """``out``, made by ``make()`` unless its file ``done`` exists; one test process makes it
+    while any other that needs it waits (:func:`engine.atomic.exclusive`)."""
+    from engine.atomic import exclusive
+
+    if not (out / done).exists():
+        with exclusive(out):
+            if not (out / done).exists():
+                make()
+    return out
+
+
 def mocap_take(take, **options):
     """Folder of a CMU take turned into TVM (``mocap2tvm.py`` options as keyword arguments).
 
@@ -37,14 +51,12 @@ def mocap_take(take, **options):
     options = {"fps": 10, "seed": 0, **options}
     tool_hash = hashlib.sha1(MOCAP2TVM.read_bytes()).hexdigest()[:8]
     out = CACHE / f"mocap-{take}-{_key(take, options, tool_hash)}"
-    if not (out / "truth.json").exists():
-        cmd = [sys.executable, str(MOCAP2TVM), str(MOCAP_DATA / f"{take}.amc"), "--out", str(out),
-               "--workers", "2", "--overwrite"]
-        for name, value in options.items():
-            flag = "--" + name.replace("_", "-")
-            cmd += [flag] if value is True else [flag, str(value)]
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    return out
+    cmd = [sys.executable, str(MOCAP2TVM), str(MOCAP_DATA / f"{take}.amc"), "--out", str(out),
+           "--workers", "2", "--overwrite"]
+    for name, value in options.items():
+        flag = "--" + name.replace("_", "-")
+        cmd += [flag] if value is True else [flag, str(value)]
+    return made(out, "truth.json", lambda: subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL))
 
 
 @pytest.fixture(scope="session")
@@ -86,9 +98,8 @@ def synth_take(preset, **options):
 
     options = {"fps": 10, "vertices": 16000, "seed": 0, **options}
     out = CACHE / f"synth-{preset}-{_key(preset, options, synth.VERSION)}"
-    if not (out / "truth.json").exists():
-        synth.generate(out, preset=preset, workers=2, progress=False, overwrite=True, **options)
-    return out
+    return made(out, "truth.json",
+                lambda: synth.generate(out, preset=preset, workers=2, progress=False, overwrite=True, **options))
 
 
 @pytest.fixture(scope="session")
@@ -116,9 +127,7 @@ def built_library(name, take, **options):
     import engine
 
     out = CACHE / f"library-{name}-{take.name}-{_key(options)}-{_engine_hash()}"
-    if not (out / "manifest.json").exists():
-        engine.build([(name, take)], out, workers=2, force=True, **options)
-    return out
+    return made(out, "manifest.json", lambda: engine.build([(name, take)], out, workers=2, force=True, **options))
 
 
 @pytest.fixture(scope="session")
@@ -132,9 +141,7 @@ def small_library():
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"gym-library-{take.name}-{_engine_hash()}"
-    if not (out / "manifest.json").exists():
-        engine.build([("gym", take)], out, workers=2, cache=False, force=True)
-    return out
+    return made(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, cache=False, force=True))
 
 
 @pytest.fixture(scope="session")
@@ -144,6 +151,4 @@ def paper_library(small_library):
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"{small_library.name}-paper"
-    if not (out / "manifest.json").exists():
-        engine.build([("gym", take)], out, workers=2, force=True, connect="off")
-    return out
+    return made(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, force=True, connect="off"))

@@ -1,17 +1,17 @@
 """The realtime player: its logic on a fake clock, then a real window under Xvfb pressed with xdotool.
 
-The window tests start their own ``Xvfb`` on a free display number and drive
+The window tests start their own ``Xvfb`` on a display number it chooses and drive
 ``python -m tvmedit play`` with real key presses; what the player showed is read back from
 its ``--log``. They skip where Xvfb or xdotool is missing (``.ci/run`` installs both).
 """
 
 import json
 import os
+import select
 import shutil
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import networkx as nx
 import numpy as np
@@ -194,24 +194,29 @@ def xdisplay():
     missing = [tool for tool in ("Xvfb", "xdotool") if shutil.which(tool) is None]
     if missing:
         pytest.skip(f"{' and '.join(missing)} not installed (apt-get install xvfb xdotool)")
-    for n in range(90, 140):
-        if Path(f"/tmp/.X{n}-lock").exists() or Path(f"/tmp/.X11-unix/X{n}").exists():
-            continue
-        server = subprocess.Popen(["Xvfb", f":{n}", "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        deadline = time.monotonic() + 10
-        while time.monotonic() < deadline and server.poll() is None:
-            if Path(f"/tmp/.X11-unix/X{n}").exists():
+    # Xvfb chooses a free display number itself and writes it to -displayfd once it is ready,
+    # so that test processes starting servers at the same moment never pick the same one.
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
+                              pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    number = b""
+    deadline = time.monotonic() + 30
+    while not number.endswith(b"\n") and time.monotonic() < deadline:
+        ready, _, _ = select.select([read], [], [], 0.1)
+        if ready:
+            chunk = os.read(read, 16)
+            if not chunk:
                 break
-            time.sleep(0.05)
-        if server.poll() is None and Path(f"/tmp/.X11-unix/X{n}").exists():
-            yield f":{n}"
-            server.terminate()
-            server.wait(timeout=10)
-            return
+            number += chunk
+    os.close(read)
+    if not number.strip().isdigit():
         server.kill()
         server.wait()
-    pytest.fail("no free X display number between :90 and :139 for Xvfb")
+        pytest.fail("Xvfb did not start (no display number on -displayfd within 30 s)")
+    yield f":{number.strip().decode()}"
+    server.terminate()
+    server.wait(timeout=10)
 
 
 def _rows(log_path):
