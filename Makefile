@@ -23,10 +23,10 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/python -m tvmedit.demo
 
-# The tests run in one process a core (at most 8; pytest-xdist), each test file in one of
-# them; the test data they share is made once (tests/conftest.py).
+# The tests run in one process a core (at most 8; pytest-xdist, an idle process taking
+# tests from a busy one); the test data they share is made once (tests/conftest.py).
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n auto --maxprocesses 8 --dist loadfile
+	$(BIN)/python -m pytest -q -n auto --maxprocesses 8 --dist worksteal
 
 # Benchmarks also install the peers they measure against (pyrender).
 bench: $(STAMP)
