@@ -281,6 +281,27 @@ BATCHES = {
         ("synth", "review2-b", dict(motions=["knee-raises", "jumping-jacks", "twist", "walk", "arm-circles"],
                                     cycles=[5, 8, 5, 8, 6], rest=0.8, turns=90.0, noise=0.004, holes=0.2, seed=204)),
     ],
+    # A third check, made and committed before the earlier-twin-peak rule of
+    # engine.boundaries (``twin_peak``) was run on it either way, once that rule had been seen
+    # to place changes early on older batches: four more HDM05 exercise sets, the synthetic
+    # actor turning with rests at 15 fps and swaying through slow transitions at 30 fps, and
+    # the CMU takes turning (13_30 to face other ways, 13_29 steadily the other way, swaying).
+    "review-3": [
+        ("bk", "sneak2StepsLStart:2,hopBothLegs1hops:7,grabHighR:5,squat1Reps:6,kickLFront1Reps:4", 89,
+         {"seed": 89, "palette": "a", "build": 0.95}),
+        ("dg", "throwBasketball:3,elbowToKnee1RepsLelbowStart:5,depositFloorR:4,hopBothLegs1hops:6,squat1Reps:5", 90,
+         {"seed": 90, "palette": "b"}),
+        ("bd", "kickLFront1Reps:5,throwBasketball:3,squat1Reps:6,elbowToKnee1RepsLelbowStart:5,grabHighR:4", 91,
+         {"seed": 91, "palette": "c", "build": 1.1}),
+        ("dg", "sneak2StepsLStart:3,squat1Reps:6,rotateArmsBothBackward1Reps:2,grabHighR:4,kickLFront1Reps:4", 92,
+         {"seed": 92, "build": 0.9}),
+        ("synth", "review3-a-turns", dict(motions=["jumping-jacks", "knee-raises", "squats", "box", "side-bends"],
+                                          cycles=[8, 5, 5, 8, 4], turns=130.0, rest=0.5, fps=15, seed=205)),
+        ("synth", "review3-b-30fps", dict(motions=["twist", "toe-touch", "arm-circles", "run"], cycles=[5, 3, 6, 10],
+                                          transition=2.0, jitter=1.5, sway=60.0, fps=30, build=1.1, seed=206)),
+        ("cmu", "13_30", {"turns": 130.0, "seed": 207}),
+        ("cmu", "13_29", {"turn": -6.0, "sway": 30.0, "seed": 208}),
+    ],
 }
 
 
