@@ -125,7 +125,10 @@ class StructureParams:
         is the stronger peak's shoulder, not a boundary; 0 keeps it.
     twin_peak : float
         "energy": an earlier novelty peak within ``min_cluster`` of a stronger one and at
-        least this fraction of its height is the boundary instead.
+        least this fraction of its height is the boundary instead; 1 (the default since step
+        30 of docs/parsing.md, 0.9 before) leaves the rule out: the later steps that place a
+        boundary (between whole periods, at the onset) already take it back where the motion
+        changes, and with the rule too they took changes 1-2 s early.
     analysis_fps : float
         "energy": rate to which the sequence is reduced for cluster detection.
     max_transition : float
@@ -171,7 +174,7 @@ class StructureParams:
     turn_ratio: float = _param(0.4, at_least=0, at_most=1)
     heading_window: float = _param(4.0, at_least=0, at_most=600)
     min_cluster: float = _param(2.0, above=0, at_most=3600)
-    twin_peak: float = _param(0.9, at_least=0, at_most=1)
+    twin_peak: float = _param(1.0, at_least=0, at_most=1)
     shoulder: float = _param(0.2, at_least=0, at_most=1)
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
     max_transition: float = _param(4.0, at_least=0, at_most=3600)
