@@ -36,6 +36,14 @@ def take_score(take, params=None, centred=_OWN):
     return score(parse(take.vectors, take.fps, params, theta=take.theta, centred=rows), take.truth, take.fps)
 
 
+def starts_of(take, **params):
+    """Where a development-suite take's clusters after the first start, in seconds, parsed with
+    ``params`` over the defaults."""
+    from engine.structure import parse
+    s = parse(take.vectors, take.fps, StructureParams(**params), theta=take.theta, centred=take.centred)
+    return [cs / take.fps for cs, _ in s.clusters[1:]]
+
+
 # The whole takes, a 30 fps capture of each (time-like parameters are in seconds), and a
 # slimmer body: in 13_29 at build 0.8 the toe-touch cluster ends 9 frames early and holds a
 # single 41-frame left-right cycle, whose half period must not be taken for the period.
@@ -196,19 +204,14 @@ def test_a_change_of_exercise_just_after_a_turn_is_found_and_placed_where_it_is(
     # the old poses turned (engine.onsets.turned_away), so it is settled on the heading-free
     # rows (step 24). Without the turn veto there are no heading-free rows to read.
     from engine.evaluate import score
-    from engine.structure import StructureParams, parse
+    from engine.structure import parse
     take = devsuite.synth_take("synth-drift", "turns", dict(devsuite.SYNTH["synth-drift"])["turns"])
     change = take.truth["segments"][1]["start"] / take.fps
     assert abs(change - 8.1) < 0.05
-
-    def starts(**params):
-        s = parse(take.vectors, take.fps, StructureParams(**params), theta=take.theta, centred=take.centred)
-        return [cs / take.fps for cs, _ in s.clusters[1:]]
-
-    found = starts()
+    found = starts_of(take)
     assert any(abs(b - change) <= 1.0 for b in found), found
     assert not any(5.0 <= b <= 7.0 for b in found), found          # nothing at the turn
-    vetoless = starts(turn_ratio=0)
+    vetoless = starts_of(take, turn_ratio=0)
     assert any(5.0 <= b <= 7.0 for b in vetoless) and not any(abs(b - change) <= 1.0 for b in vetoless), vetoless
     # The other take that turns so (15 fps, turns of 60-120 degrees) is parsed right too (with
     # the turn veto; step 22 changes nothing there).
@@ -239,23 +242,17 @@ def test_a_change_of_exercise_after_a_turn_is_not_taken_back_to_the_turn(devsuit
 
 def test_a_change_whose_novelty_peaks_twice_is_not_taken_early(devsuite):
     # CMU 13_29 turning steadily 4 degrees a second the other way (fresh batch "steady-turns"):
-    # the change from quick jumps to slow toe touches (16.0 s) peaks twice, at 15.4 and 15.7 s,
+    # the change from arm circles to slow one-hand toe touches (16.0 s) peaks twice, at 15.4 and 15.7 s,
     # the later top a little higher. The earlier-twin rule (twin_peak 0.9 until step 30 of
     # docs/parsing.md) took 15.4 s, and the later steps that place a boundary, searching about
     # it, took it back to 14.5 s: 1.5 s early, a miss and a false start. From the higher
     # peak they place it at 15.2 s.
-    from engine.structure import StructureParams, parse
     take = devsuite.cmu_turning_take("13_29", {"turn": -4.0}, "fresh", "13_29-turn-m4")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
-
-    def starts(**params):
-        s = parse(take.vectors, take.fps, StructureParams(**params), theta=take.theta, centred=take.centred)
-        return [cs / take.fps for cs, _ in s.clusters[1:]]
-
-    found = starts()
+    found = starts_of(take)
     assert any(abs(b - change) <= 1.0 for b in found), found
-    twin = starts(twin_peak=0.9)
+    twin = starts_of(take, twin_peak=0.9)
     assert not any(abs(b - change) <= 1.0 for b in twin) and any(14.0 <= b < change - 1.0 for b in twin), twin
 
 
