@@ -11,8 +11,8 @@ summed over a group's takes. Then leave-one-group-out cross-validation: for each
 setting of :data:`GRID` with the best mean score on the *other* groups is chosen and its
 figures on the held-out group are printed; "held-out pooled" sums those. Then the same
 leaving one person out: each of the three HDM05 people is held out in turn while the other
-two are among the rest (the other groups are one person each, and held out as before);
-"held out by person" sums those. The first stands for people of a lab the parser never saw,
+two are among the rest (the other groups are held out as before, but each HDM05 person
+counts as a group in the training score); "held out by person" sums those. The first stands for people of a lab the parser never saw,
 the second for a new person of a kind of capture it was tuned on. ``--takes`` also
 prints each take's line; ``--errors`` each take's errors (missed and false cluster starts, in
 seconds, a false one with its confidence; clusters whose texton length is wrong, median
@@ -119,8 +119,9 @@ def table(takes, params, per_take=False, show_errors=False):
 
 
 def person(take):
-    """Who a take shows: each of the hdm05 group's three people, and each other group as one
-    (the synthetic actor, CMU subject 13)."""
+    """The fold a take is held out in when leaving one person out: each of the hdm05 group's
+    three people, and each other group as a whole (CMU subject 13; the synthetic actor, whose
+    two groups stay apart as in leaving one group out)."""
     return f"{take.group} {take.name.split('-')[0]}" if take.group == "hdm05" else take.group
 
 

@@ -46,7 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from engine import synth
-from engine.atomic import exclusive, replacing_file, swap_in, temporary
+from engine.atomic import clean_stale, exclusive, replacing_file, swap_in, temporary
 from engine.featcache import code_version
 from engine.features import follow_picks
 from engine.orientation import feature_frame, sample_indices
@@ -171,6 +171,7 @@ def hdm_source(actor, plan, order_seed=None, **options):
     out = CACHE / f"hdm-{actor}-{_key(actor, plan, order_seed, options)}"
 
     def make():   # in a temporary folder, so that no truth.json is seen before it is fixed
+        clean_stale(out)                            # what a killed run left
         stem, tmp = CACHE / f"stitch-{out.name}", temporary(out, keep_suffix=False)
         data = SHARED / "data" / "hdm05"
         _run([STITCH, data, actor, plan, stem] + ([] if order_seed is None else ["--seed", order_seed]))

@@ -62,7 +62,8 @@ def exclusive(path):
     """Hold the lock of ``path`` for the block (a file ``.NAME.lock`` beside it, locked with
     ``flock``): another process asking for it waits until the block ends, so that processes
     that would make the same output, such as the test processes of ``make test``, make it once.
-    The lock goes with the process, however it ends.
+    The lock goes when the block ends or the process does, however it ends (and any child it
+    forked meanwhile). Where there is no ``flock`` (Windows) the block runs unlocked.
 
     >>> import tempfile
     >>> out = Path(tempfile.mkdtemp()) / "out"
@@ -71,8 +72,11 @@ def exclusive(path):
     >>> sorted(p.name for p in out.parent.iterdir())
     ['.out.lock', 'out']
     """
-    import fcntl  # POSIX only; imported here so that the module loads everywhere
-
+    try:
+        import fcntl  # POSIX only
+    except ImportError:
+        yield
+        return
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path.with_name(f".{path.name}.lock"), "a") as handle:

@@ -57,7 +57,7 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   at least ``twin_peak`` as high was taken instead (0.9, from the parser's first version).
   The steps that came later and place each boundary (between whole periods, then at the
   onset of the change: engine.onsets) search about the boundary they are given, and from the
-  earlier top they took changes 1-2 s early: a split peak at a change into slow toe touches
+  earlier top they took changes 1-2 s off, mostly early: a split peak at a change into slow toe touches
   (CMU 13_29 turning), two close peaks where a turn and a change meet. Left out, the fresh
   batches find six more changes and place six fewer boundaries falsely, none lost (the 17
   older batches 312 -> 316 of 349 changes; ``review-3``, made for it, 0.87 / 0.84 / 0.74 ->

@@ -128,7 +128,7 @@ class StructureParams:
         least this fraction of its height is the boundary instead; 1 (the default since step
         30 of docs/parsing.md, 0.9 before) leaves the rule out: the later steps that place a
         boundary (between whole periods, at the onset) already take it back where the motion
-        changes, and with the rule too they took changes 1-2 s early.
+        changes, and with the rule too they took changes 1-2 s off, mostly early.
     analysis_fps : float
         "energy": rate to which the sequence is reduced for cluster detection.
     max_transition : float
