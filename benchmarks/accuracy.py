@@ -12,8 +12,9 @@ setting of :data:`GRID` with the best mean score on the *other* groups is chosen
 figures on the held-out group are printed; "held-out pooled" sums those. Then the same
 leaving one person out: each of the three HDM05 people is held out in turn while the other
 two are among the rest (the other groups are held out as before, but each HDM05 person
-counts as a group in the training score); "held out by person" sums those. The first stands for people of a lab the parser never saw,
-the second for a new person of a kind of capture it was tuned on. ``--takes`` also
+counts as a group in the training score); "held out by person" sums those. The first
+stands for people of a lab the parser never saw, the second for a new person of a kind of
+capture it was tuned on. ``--takes`` also
 prints each take's line; ``--errors`` each take's errors (missed and false cluster starts, in
 seconds, a false one with its confidence; clusters whose texton length is wrong, median
 against true period), with the defaults and, per held-out group, with the setting chosen.
@@ -125,33 +126,40 @@ def person(take):
     return f"{take.group} {take.name.split('-')[0]}" if take.group == "hdm05" else take.group
 
 
+def held_out(takes, by_setting, labels, show_errors=False):
+    """For each fold of ``labels`` (one a take), the setting of ``by_setting`` ((setting, each
+    take's result) pairs) with the best :func:`merit` on the other folds, its figures on the
+    fold printed; returns the held-out results."""
+    held = []
+    for fold in dict.fromkeys(labels):
+        def rest(results):
+            out = {}
+            for lab, result in zip(labels, results):
+                if lab != fold:
+                    out.setdefault(lab, []).append(result)
+            return out
+        setting, results = max(by_setting, key=lambda sr: merit(rest(sr[1])))
+        mine = [(t, r) for t, lab, r in zip(takes, labels, results) if lab == fold]
+        held += [r for _, r in mine]
+        chosen = ", ".join(f"{k}={v:g}" for k, v in setting.items())
+        print(line(f"held out: {fold}", *pool([r for _, r in mine]), f"chosen on the rest: {chosen}"))
+        for take, result in mine:
+            if show_errors and errors(take, result):
+                print(errors(take, result))
+    return held
+
+
 def cross_validate(takes, base, show_errors=False):
     """Leave one group out: choose a :data:`GRID` setting on the rest, report on the group.
     Then the same leaving one person out (:func:`person`): each HDM05 person is held out while
     the other two are among the rest, as a new person of a lab the parser was tuned on."""
     by_setting = [(setting, run(takes, StructureParams(**{**base, **setting}))) for setting in GRID]
-    for label, of, title in ((None, lambda t: t.group, "held-out pooled"), ("by person", person, "held out by person")):
-        held = []
-        labels = [of(t) for t in takes]
-        if label:
-            print(f"leaving one person out ({len(set(labels))} folds):")
-        for fold in dict.fromkeys(labels):
-            def grouped(results, skip):
-                out = {}
-                for lab, result in zip(labels, results):
-                    if lab != skip:
-                        out.setdefault(lab, []).append(result)
-                return out
-            setting, results = max(by_setting, key=lambda sr: merit(grouped(sr[1], fold)))
-            mine = [(t, r) for t, lab, r in zip(takes, labels, results) if lab == fold]
-            held += [r for _, r in mine]
-            chosen = ", ".join(f"{k}={v:g}" for k, v in setting.items())
-            print(line(f"held out: {fold}", *pool([r for _, r in mine]), f"chosen on the rest: {chosen}"))
-            for take, result in mine:
-                if show_errors and not label and errors(take, result):
-                    print(errors(take, result))
-        p, r, a = pool(held)
-        print(line(title, p, r, a, f"({p:.3f} / {r:.3f} / {a:.3f})"))
+    p, r, a = pool(held_out(takes, by_setting, [t.group for t in takes], show_errors))
+    print(line("held-out pooled", p, r, a, f"({p:.3f} / {r:.3f} / {a:.3f})"))
+    labels = [person(t) for t in takes]
+    print(f"leaving one person out ({len(set(labels))} folds):")
+    p, r, a = pool(held_out(takes, by_setting, labels))
+    print(line("held out by person", p, r, a, f"({p:.3f} / {r:.3f} / {a:.3f})"))
 
 
 def main(argv=None):

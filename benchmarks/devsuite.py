@@ -46,7 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from engine import synth
-from engine.atomic import clean_stale, exclusive, replacing_file, swap_in, temporary
+from engine.atomic import clean_stale, exclusive, made_once, replacing_file, swap_in, temporary
 from engine.featcache import code_version
 from engine.features import follow_picks
 from engine.orientation import feature_frame, sample_indices
@@ -129,16 +129,6 @@ def _features_once(path, compute):
     return found
 
 
-def _made(out, make):
-    """Folder ``out``, made by ``make()`` unless its ``truth.json`` exists (written last); one
-    process makes it while any other that needs it waits."""
-    if not (out / "truth.json").exists():
-        with exclusive(out):
-            if not (out / "truth.json").exists():
-                make()
-    return out
-
-
 def _cached(path):
     """``(vectors, theta, centred Rows or None)`` cached at ``path``, or None."""
     if not path.exists():
@@ -163,7 +153,7 @@ def cmu_source(take, fps=20, **options):
            "--workers", 1, "--overwrite", "--quiet"]
     for name, value in options.items():
         cmd += ["--" + name.replace("_", "-"), value]
-    return _made(out, lambda: _run(cmd))
+    return made_once(out, "truth.json", lambda: _run(cmd))
 
 
 def hdm_source(actor, plan, order_seed=None, **options):
@@ -182,7 +172,7 @@ def hdm_source(actor, plan, order_seed=None, **options):
         _run(cmd)
         _run([STITCH, "--fix-truth", tmp, f"{stem}.periods.json"])
         swap_in(tmp, out)
-    return _made(out, make)
+    return made_once(out, "truth.json", make)
 
 
 #: The real takes' sources: CMU at 20 fps (so 0.7x and 1.4x can be sampled at 10 fps), and

@@ -33,7 +33,7 @@ from pathlib import Path
 
 from .errors import OutputError, summarise
 
-__all__ = ["MARKER", "temporary", "exclusive", "replacing_file", "write_text", "write_bytes", "replacing_folder",
+__all__ = ["MARKER", "temporary", "exclusive", "made_once", "replacing_file", "write_text", "write_bytes", "replacing_folder",
            "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target",
            "refuse_inside", "mark", "marked_files", "note_written"]
 
@@ -82,6 +82,24 @@ def exclusive(path):
     with open(path.with_name(f".{path.name}.lock"), "a") as handle:
         fcntl.flock(handle, fcntl.LOCK_EX)
         yield
+
+
+def made_once(out, done, make):
+    """``out``, made by ``make()`` unless its file ``done`` (written last) exists; one process
+    makes it while any other that needs it waits (:func:`exclusive`), then finds it made.
+
+    >>> import tempfile
+    >>> out, runs = Path(tempfile.mkdtemp()) / "take", []
+    >>> make = lambda: (runs.append(1), out.mkdir(), write_text(out / "truth.json", "{}"))
+    >>> made_once(out, "truth.json", make) == made_once(out, "truth.json", make) == out, len(runs)
+    (True, 1)
+    """
+    out = Path(out)
+    if not (out / done).exists():
+        with exclusive(out):
+            if not (out / done).exists():
+                make()
+    return out
 
 
 def _remove(path):

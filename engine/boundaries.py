@@ -408,8 +408,8 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
             turns.append(t)
             continue
         early = [u for u in range(max(edge, t - sep + 1), t)
-                 if p.twin_peak < 1 and is_peak[u] and n[u] >= p.twin_peak * n[t] and not turned(u)
-                 and all(abs(u - q) >= sep for q in claimed)]
+                 if is_peak[u] and n[u] >= p.twin_peak * n[t] and not turned(u)
+                 and all(abs(u - q) >= sep for q in claimed)] if p.twin_peak < 1 else []
         bounds.append(early[0] if early else t)
         # Both the peak and the boundary chosen for it keep others ``sep`` away.
         claimed += [t, bounds[-1]]

@@ -51,8 +51,8 @@ Two methods are provided.
        (exercises that differ along a direction of little variance were missed;
        ``novelty_threshold`` is then in units of that spread).
        Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
-       are boundaries (of two close peaks of nearly equal height, the earlier one; not the
-       ``shoulder`` of a stronger peak, a bump on its slowly falling flank), except
+       are boundaries (of two close peaks, the higher since step 30 of docs/parsing.md, the
+       earlier of nearly equal ones before; not the ``shoulder`` of a stronger peak, a bump on its slowly falling flank), except
        where the person only turned: a peak under which the novelty of the same rows taken
        whichever way the body faces (:func:`engine.azimuth.azimuth_spectrum`) stays below
        ``turn_ratio`` of it is vetoed (false boundaries in exercises done while turning).

@@ -6,7 +6,7 @@ The cache lives in ``.cache/testdata`` (git-ignored), keyed by everything that s
 data, and a folder counts as complete only once its ``truth.json`` exists (both generators
 write it last and atomically). ``make test`` runs the tests in several processes
 (pytest-xdist): the first that needs a folder makes it while the others wait for it
-(:func:`made`).
+(:func:`engine.atomic.made_once`).
 """
 
 import hashlib
@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from engine.atomic import made_once
+
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
 MOCAP2TVM = SHARED / "tools" / "mocap2tvm.py"
@@ -27,18 +29,6 @@ CACHE = Path(os.environ.get("TVMEDIT_TEST_CACHE", ROOT / ".cache" / "testdata"))
 
 def _key(*parts):
     return hashlib.sha1(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()[:12]
-
-
-def made(out, done, make):
-    """``out``, made by ``make()`` unless its file ``done`` exists; one test process makes it
-    while any other that needs it waits (:func:`engine.atomic.exclusive`)."""
-    from engine.atomic import exclusive
-
-    if not (out / done).exists():
-        with exclusive(out):
-            if not (out / done).exists():
-                make()
-    return out
 
 
 def mocap_take(take, **options):
@@ -56,7 +46,7 @@ def mocap_take(take, **options):
     for name, value in options.items():
         flag = "--" + name.replace("_", "-")
         cmd += [flag] if value is True else [flag, str(value)]
-    return made(out, "truth.json", lambda: subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL))
+    return made_once(out, "truth.json", lambda: subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL))
 
 
 @pytest.fixture(scope="session")
@@ -98,7 +88,7 @@ def synth_take(preset, **options):
 
     options = {"fps": 10, "vertices": 16000, "seed": 0, **options}
     out = CACHE / f"synth-{preset}-{_key(preset, options, synth.VERSION)}"
-    return made(out, "truth.json",
+    return made_once(out, "truth.json",
                 lambda: synth.generate(out, preset=preset, workers=2, progress=False, overwrite=True, **options))
 
 
@@ -127,7 +117,7 @@ def built_library(name, take, **options):
     import engine
 
     out = CACHE / f"library-{name}-{take.name}-{_key(options)}-{_engine_hash()}"
-    return made(out, "manifest.json", lambda: engine.build([(name, take)], out, workers=2, force=True, **options))
+    return made_once(out, "manifest.json", lambda: engine.build([(name, take)], out, workers=2, force=True, **options))
 
 
 @pytest.fixture(scope="session")
@@ -141,7 +131,7 @@ def small_library():
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"gym-library-{take.name}-{_engine_hash()}"
-    return made(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, cache=False, force=True))
+    return made_once(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, cache=False, force=True))
 
 
 @pytest.fixture(scope="session")
@@ -151,4 +141,4 @@ def paper_library(small_library):
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"{small_library.name}-paper"
-    return made(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, force=True, connect="off"))
+    return made_once(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, force=True, connect="off"))
