@@ -302,6 +302,22 @@ BATCHES = {
         ("cmu", "13_30", {"turns": 130.0, "seed": 207}),
         ("cmu", "13_29", {"turn": -6.0, "sway": 30.0, "seed": 208}),
     ],
+    "review-4": [
+        ("bd", "hopBothLegs1hops:7,rotateArmsBothBackward1Reps:4,kickLFront1Reps:5,depositFloorR:4,squat1Reps:5", 93,
+         {"seed": 93, "palette": "b", "build": 0.9}),
+        ("bk", "squat1Reps:6,elbowToKnee1RepsLelbowStart:5,jogLeftCircle4StepsRstart:2,kickLFront1Reps:4,grabHighR:4",
+         94, {"seed": 94, "palette": "c"}),
+        ("dg", "grabHighR:4,hopBothLegs1hops:7,squat1Reps:5,throwBasketball:3,elbowToKnee1RepsLelbowStart:5", 95,
+         {"seed": 95, "palette": "a", "build": 1.05}),
+        ("bk", "kickLFront1Reps:5,depositFloorR:3,rotateArmsBothBackward1Reps:3,hopBothLegs1hops:6,sneak2StepsLStart:2",
+         96, {"seed": 96, "build": 1.1}),
+        ("bd", "throwBasketball:3,squat1Reps:6,grabHighR:4,hopBothLegs1hops:6,elbowToKnee1RepsLelbowStart:5", 97,
+         {"seed": 97}),
+        ("synth", "review4-a-25fps", dict(motions=["squats", "arm-circles", "knee-raises", "jumping-jacks"],
+                                          cycles=[6, 6, 5, 8], transition=1.0, jitter=2.0, fps=25, build=0.9,
+                                          seed=209)),
+        ("cmu", "13_29", {"turns": 90.0, "seed": 210}),
+    ],
 }
 
 
