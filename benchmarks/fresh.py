@@ -318,6 +318,20 @@ BATCHES = {
                                           seed=209)),
         ("cmu", "13_29", {"turns": 90.0, "seed": 210}),
     ],
+    # For step 31 (textons two repetitions long), made and committed before it was run on
+    # them: HDM05 blocks of kicks and hops, whose consecutive clips differ, among other exercises.
+    "review-5": [
+        ("dg", "kickLFront1Reps:5,squat1Reps:5,hopBothLegs1hops:7,grabHighR:4,elbowToKnee1RepsLelbowStart:5", 98,
+         {"seed": 98, "palette": "c"}),
+        ("bk", "hopBothLegs1hops:7,throwBasketball:3,kickLFront1Reps:5,squat1Reps:6,rotateArmsBothBackward1Reps:3",
+         99, {"seed": 99, "build": 0.95}),
+        ("bd", "elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:6,depositFloorR:4,hopBothLegs1hops:8,squat1Reps:5",
+         100, {"seed": 100, "palette": "a"}),
+        ("dg", "squat1Reps:6,kickLFront1Reps:5,rotateArmsBothBackward1Reps:2,hopBothLegs1hops:8,depositFloorR:4", 101,
+         {"seed": 101, "build": 1.1}),
+        ("bk", "grabHighR:4,hopBothLegs1hops:8,elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:6,sneak2StepsLStart:2",
+         102, {"seed": 102, "palette": "b"}),
+    ],
 }
 
 
