@@ -20,7 +20,7 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
 BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0,
-          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0}
+          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0, "comb": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -154,6 +154,11 @@ class StructureParams:
         "energy": where at least this share of a cluster's frames hold still (pauses between
         repetitions), its period and textons are measured on the frames that move and each
         texton keeps the pause after it (engine.pauses); 0 measures every frame.
+    comb : float
+        "energy": a cluster's textons are cut at half the period P read for it where the lag
+        profile also dips near P/2 and 3P/2, P/2's dip at least this share of P's (two
+        repetitions that differ read as one period: engine.periods, *Two repetitions in one
+        texton*); 0 never.
     """
 
     method: str = "energy"
@@ -183,6 +188,7 @@ class StructureParams:
     weak_boundary: float = _param(0.25, at_least=0, at_most=1)
     rhythm_ratio: float = _param(1.5, at_least=0, at_most=100)
     pause_share: float = _param(0.1, at_least=0, at_most=1)
+    comb: float = _param(0.5, at_least=0, at_most=1)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):

@@ -56,6 +56,31 @@ one group out): stored 0.918/0.947/0.896 -> 0.918/0.947/0.904, body
 HDM05 kicks whose clearest valley lies at two kicks while the one-kick valley is a third as
 deep (consecutive clips differ), and clusters holding two exercises (a missed boundary).
 
+**Two repetitions in one texton** (step 31 of ``docs/parsing.md``, :func:`one_repetition`,
+``comb``). The sub-multiple test above asks the one-repetition valley to dip 0.7 as deep as
+the two-repetition one; HDM05 kicks and hops whose consecutive clips differ often dip only
+0.45-0.66 as deep there, and their textons were two clips long (the fresh batches' texton
+lengths: 18 of 80 wrong clusters about double). A period repeats at its multiples and at
+nothing between them: where the period read, P, spans two repetitions, the profile dips
+below its level near P/2 and near 3P/2 as well, and a true period P would show no valley at
+3P/2 (half a cycle off). So the textons are cut at the valley near P/2 where both dip below
+the profile's median, P/2's dip is at least ``comb`` (0.5) of P's, and the mirror test does
+not find P/2 half a cycle of a left-then-right exercise. Applied to the textons only: applied
+to every period read, it also changed the periods the boundary steps read (the rhythm splits,
+the transitions, step 4), and the development suite lost an HDM05 change (elbow to knee then
+kicks) and a fresh batch another. Measured with the textons only (body axes): no boundary
+moves on the suite or the fresh batches; the suite's texton length 0.93 both (hdm05 0.80 ->
+0.81: a block of kicks, 3.25 s textons for 1.64 s kicks, right); the 19 fresh batches made
+before it 0.839 -> 0.847 (five clusters right: three blocks of kicks, one of hops, one of
+squats; one wrong: a cluster holding grabbing high and throwing, a missed change, scored
+against the throws' 3.82 s and now cut at 1.70 s); ``review-5``, made for it and
+committed before it was run there, 0.89 / 0.80 / 0.64 either way. 0.3, tried first, scores the
+fresh batches alike, loses a cluster of the hdm05 fold's setting, and halves the period of a
+motion whose second harmonic is as strong as its first (``tests/test_structure.py``'s
+synthetic parts: there P/2 dips 0.375 as deep as P, and 3P/2 too); 0.5 was chosen looking at
+the suite and those batches. A motion with a stronger second harmonic would be halved at 0.5
+as well: the threshold is the only thing telling its half cycle from a repetition.
+
 **Broad valleys of slow exercises** (``broad``). A valley's prominence is measured within
 0.3 s of it; a slow exercise's valley (a 3.9 s toe touch) is broader, so it looked shallow
 and the cluster got no textons. When a cluster's textons are made and that finds no clear
@@ -79,7 +104,7 @@ from .atoms import lag_profile
 if TYPE_CHECKING:
     from .parseparams import StructureParams
 
-__all__ = ["cluster_period", "PeriodReader", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
+__all__ = ["cluster_period", "one_repetition", "PeriodReader", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
 
 #: A lag whose mirrored frames are at most this fraction as far as the frames themselves is
 #: half a cycle of a left-then-right exercise. Measured (theta histograms): 0.3-0.7 at half
@@ -248,13 +273,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     # The profile runs on to the longest lag (past ``max_period``) so that the half-period
     # test below can look at 2L and 3L.
     top = longest_lag(length)
-    seg = v[cs: ce + 1]
-    # The subject drifts away from the fixed origin, which makes every histogram change
-    # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which
-    # otherwise makes long lags look like better periods than the true one.
-    seg = seg - _moving_average(seg, max(3, int(round(2.0 * fps)) | 1))
-    lags = np.arange(lo, top + 1)
-    prof = lag_profile(seg, lags, w)
+    lags, prof = _profile(v, cs, ce, fps, w, lo, top)
     # Candidate periods are interior local minima; a valley's prominence is measured against
     # the highest profile values within +/- h lags on each side (0.3 s). A slow exercise's
     # valley is broader than that, and a 0.3 s reach sees only its floor: where that finds
@@ -313,6 +332,59 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     return L, depth
 
 
+def _profile(v, cs, ce, fps, w, lo, top):
+    # Lags lo..top and the mean atom distance at each over frames [cs, ce].
+    seg = v[cs: ce + 1]
+    # The subject drifts away from the fixed origin, which makes every histogram change
+    # slowly; removing a 2 s running mean keeps the cycles and drops that trend, which
+    # otherwise makes long lags look like better periods than the true one.
+    seg = seg - _moving_average(seg, max(3, int(round(2.0 * fps)) | 1))
+    lags = np.arange(lo, top + 1)
+    return lags, lag_profile(seg, lags, w)
+
+
+def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None):
+    """The texton length of cluster [cs, ce] whose period was read as ``P``: P, or about P/2
+    where P spans two repetitions (see the module docstring, *Two repetitions in one texton*).
+
+    P/2 is taken where the lag profile dips below its level (median) both near P/2 and near
+    3P/2 (within :data:`JITTER`), the dip near P/2 is at least ``p.comb`` of the dip at P, and
+    P/2 is not half a cycle of a left-then-right exercise (:func:`mirror_ratio` at least
+    :data:`MIRROR_RATIO`).
+
+    >>> from engine.structure import StructureParams, atom_window
+    >>> t = np.arange(120)
+    >>> v = np.stack([np.sin(2 * np.pi * t / 10), np.cos(2 * np.pi * t / 10)], axis=1)
+    >>> v[::20] += 0.3                          # every second repetition a little different
+    >>> w, p = atom_window(10), StructureParams()
+    >>> one_repetition(v, 0, 119, 20, 10, w, p), one_repetition(v, 0, 119, 20, 10, w, StructureParams(comb=0))
+    (10, 20)
+    """
+    if not p.comb or P is None or P < 2:
+        return P
+    top = longest_lag(ce - cs + 1)
+    lo = max(2, int(round(p.min_texton * fps)))
+    if 1.5 * P * (1 + JITTER) > top or P / 2 * (1 - JITTER) < lo:
+        return P
+    lags, prof = _profile(v, cs, ce, fps, w, lo, top)
+    level = float(np.median(prof))
+    cand, _ = _valleys(prof, lags, max(2, int(round(0.3 * fps))), 0.0)
+
+    def lowest_near(target):
+        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, JITTER * target)]
+        return min(near, key=lambda i: prof[i]) if near else None
+
+    half, odd = lowest_near(P / 2), lowest_near(1.5 * P)
+    whole = float(prof[min(max(int(P) - lo, 0), len(prof) - 1)])
+    if half is None or odd is None or not (prof[half] < level and prof[odd] < level):
+        return P
+    if level - prof[half] < p.comb * (level - whole):
+        return P
+    if theta is not None and _mirrored(v, cs, ce, int(lags[half]), theta, mirror) < MIRROR_RATIO:
+        return P
+    return int(lags[half])
+
+
 def _mirrored(v, cs, ce, L, theta, mirror=None):
     # The mirror test's ratio on the rows, or on the other rows where they show it clearer.
     ratio = mirror_ratio(v[cs: ce + 1], L, theta)
@@ -357,6 +429,10 @@ class PeriodReader:
         """The period of frames [cs, ce] in frames, or None (:func:`cluster_period`)."""
         return cluster_period(self.rows, cs, ce, self.fps, self.window, self.params, self.theta, broad,
                               self.mirror)[0]
+
+    def one_repetition(self, cs, ce, P):
+        """``P`` or about half of it, as the textons of frames [cs, ce] are cut (:func:`one_repetition`)."""
+        return one_repetition(self.rows, cs, ce, P, self.fps, self.window, self.params, self.theta, self.mirror)
 
     def on(self, frames):
         """The same reader on the given frames only (a cluster's moving frames: :mod:`engine.pauses`)."""

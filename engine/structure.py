@@ -75,7 +75,12 @@ Two methods are provided.
        little, as HDM05's stitched clips do). A cluster whose valleys are too broad for a
        0.3 s reach (a slow exercise) is measured again with a reach of a quarter of each
        lag before it is left without textons (a 3.9 s toe touch had none); transitions are
-       still told with the 0.3 s reach alone.
+       still told with the 0.3 s reach alone. **Two repetitions in one texton** (step 31,
+       ``comb``): the textons are cut at P/2 where the lag profile also dips below its level
+       near P/2 and near 3P/2 (a period repeats at its multiples, so a dip at one and a half
+       times P says P spans two repetitions: HDM05 kicks and hops whose consecutive clips
+       differ had textons two clips long, their one-clip valley too shallow for
+       ``submultiple``); for the textons only, not for the periods steps 1b, 3 and 4 read.
        Textons start at the most repeatable
        atom of the first period and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
@@ -289,7 +294,7 @@ def _cluster_textons(period, cs, ce, P, ci):
     moving = moving_frames(v, cs, ce, period.fps, period.params.pause_share)
     if moving is not None:
         sub = period.on(moving)
-        moving_period = sub(0, len(moving) - 1, broad=True)
+        moving_period = sub.one_repetition(0, len(moving) - 1, sub(0, len(moving) - 1, broad=True))
         found = _textons_by_period(sub.rows, 0, len(moving) - 1, moving_period, w, ci)
         if found:
             for t in with_pauses(found, moving, ce, moving_period):
@@ -297,7 +302,7 @@ def _cluster_textons(period, cs, ce, P, ci):
             return found
     if P is None:
         P = period(cs, ce, broad=True)
-    return _textons_by_period(v, cs, ce, P, w, ci)
+    return _textons_by_period(v, cs, ce, period.one_repetition(cs, ce, P), w, ci)
 
 
 def _textons_of_clusters(period, clusters, periods=None):

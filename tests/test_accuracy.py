@@ -93,9 +93,33 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     # capture's axes (--no-body-frame; in the body's own the smoothed azimuth shows it too): two hops.
     # With the earlier-twin rule, as when the test came in (left out since step 30, the hop
     # block's novelty boundary falls elsewhere and its one-hop valley shows unaided there too).
-    rows = texton_length_accuracy(scores(folder, StructureParams(submultiple=0, refine_reach=0, twin_peak=0.9),
+    # Step 31 (``comb``), which cuts these textons at one hop as well, left out too.
+    rows = texton_length_accuracy(scores(folder, StructureParams(submultiple=0, comb=0, refine_reach=0, twin_peak=0.9),
                                          "stored")[3], load_truth(folder), details=True)[1]
     assert not [r for r in rows if r[1] == 4][0][4], rows   # without the test: two hops
+
+
+def test_kicks_whose_lag_profile_dips_at_one_and_a_half_periods_get_one_kick_textons(devsuite):
+    # HDM05 actor bd (a take of the development suite): six front kicks from 19.9 s, 1.64 s a
+    # kick on average. Consecutive kicks differ, so the lag profile's clearest valley lies at
+    # two kicks, and the one-kick valley is too shallow for the sub-multiple test; but the
+    # profile dips at one and a half times that lag too, which a period of two kicks would not
+    # show (step 31, engine.periods): the textons are one kick long. No boundary moves.
+    from conftest import SHARED
+    from engine.evaluate import load_truth, texton_length_accuracy
+    if not (SHARED / "data" / "hdm05").is_dir():
+        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+    actor, plan, seed, options = devsuite.HDM_SOURCES[0]
+    assert plan.split(",")[3] == "kickLFront1Reps:6"
+    folder = devsuite.hdm_source(actor, plan, seed, **options)
+    truth = load_truth(folder)
+    with_step, without = scores(folder)[3], scores(folder, StructureParams(comb=0))[3]
+    kicks = lambda s: [r for r in texton_length_accuracy(s, truth, details=True)[1] if r[1] == 3]  # noqa: E731
+    (_, _, median, period, right), = kicks(with_step)
+    assert right and abs(median - period) <= 0.15 * period, kicks(with_step)
+    (_, _, median, period, right), = kicks(without)
+    assert not right and median > 1.8 * period, kicks(without)     # without the step: two kicks
+    assert with_step.clusters == without.clusters
 
 
 def test_a_weak_peak_where_the_period_changes_is_a_boundary(devsuite):
