@@ -65,16 +65,21 @@ nothing between them: where the period read, P, spans two repetitions, the profi
 below its level near P/2 and near 3P/2 as well, and a true period P would show no valley at
 3P/2 (half a cycle off). So the textons are cut at the valley near P/2 where both dip below
 the profile's median, P/2's dip is at least ``comb`` (0.5) of P's, and the mirror test does
-not find P/2 half a cycle of a left-then-right exercise. Applied to the textons only: applied
-to every period read, it also changed the periods the boundary steps read (the rhythm splits,
-the transitions, step 4), and the development suite lost an HDM05 change (elbow to knee then
-kicks) and a fresh batch another. Measured with the textons only (body axes): no boundary
-moves on the suite or the fresh batches; the suite's texton length 0.93 both (hdm05 0.80 ->
-0.81: a block of kicks, 3.25 s textons for 1.64 s kicks, right); the 19 fresh batches made
-before it 0.839 -> 0.847 (five clusters right: three blocks of kicks, one of hops, one of
-squats; one wrong: a cluster holding grabbing high and throwing, a missed change, scored
-against the throws' 3.82 s and now cut at 1.70 s); ``review-5``, made for it and
-committed before it was run there, 0.89 / 0.80 / 0.64 either way. 0.3, tried first, scores the
+not find P/2 half a cycle of a left-then-right exercise. Two repetitions a and b (P = a + b)
+put the one-repetition valleys at a and P + a: as far from 3P/2 as from P/2, so both are
+looked for within ``JITTER`` of P/2. The 3P/2 condition is what an earlier, looser test in the
+texton step lacked (docs/parsing.md, *Short blocks*): it read six HDM05 blocks at one
+repetition but halved CMU 13_29's one-hand toe touches in two turning takes and a synthetic
+block of one-off movements; this one halves none of them. Applied to the textons only, not
+to the periods the boundary steps read (the transitions and the weak splits count a cluster's
+textons, so it reaches them too; no boundary moved on the suite or the fresh batches).
+Applied to every period read, it changed the periods of the rhythm splits, the transitions
+and step 4, and the development suite lost an HDM05 change (elbow to knee then kicks) and a
+fresh batch another. Measured with the textons only (body axes): the suite's texton length
+0.93 both (hdm05 0.80 -> 0.81: a block of kicks, 3.25 s textons for 1.64 s kicks, right); the
+19 fresh batches made before it 0.839 -> 0.849 (five clusters right: three blocks of kicks,
+one of hops, one of squats; none wrong); ``review-5``, made for it and committed before it
+was run there, 0.89 / 0.80 / 0.64 either way. 0.3, tried first, scores the
 fresh batches alike, loses a cluster of the hdm05 fold's setting, and halves the period of a
 motion whose second harmonic is as strong as its first (``tests/test_structure.py``'s
 synthetic parts: there P/2 dips 0.375 as deep as P, and 3P/2 too); 0.5 was chosen looking at
@@ -364,19 +369,23 @@ def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None):
         return P
     top = longest_lag(ce - cs + 1)
     lo = max(2, int(round(p.min_texton * fps)))
-    if 1.5 * P * (1 + JITTER) > top or P / 2 * (1 - JITTER) < lo:
+    # Two repetitions a and b (P = a + b) put the one-repetition valleys at a and a + P (or b,
+    # b + P): each as far from P/2 and 3P/2 as the other, so both are looked for within the
+    # same JITTER of P/2.
+    reach = max(1.0, JITTER * P / 2)
+    if 1.5 * P + reach > top or P / 2 - reach < lo:
         return P
     lags, prof = _profile(v, cs, ce, fps, w, lo, top)
     level = float(np.median(prof))
     cand, _ = _valleys(prof, lags, max(2, int(round(0.3 * fps))), 0.0)
 
     def lowest_near(target):
-        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, JITTER * target)]
+        near = [i for i in cand if abs(lags[i] - target) <= reach]
         return min(near, key=lambda i: prof[i]) if near else None
 
     half, odd = lowest_near(P / 2), lowest_near(1.5 * P)
-    whole = float(prof[min(max(int(P) - lo, 0), len(prof) - 1)])
-    if half is None or odd is None or not (prof[half] < level and prof[odd] < level):
+    whole = float(prof[int(P) - lo])
+    if half is None or odd is None or not (prof[half] < level and prof[odd] < level and whole < level):
         return P
     if level - prof[half] < p.comb * (level - whole):
         return P

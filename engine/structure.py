@@ -80,7 +80,8 @@ Two methods are provided.
        near P/2 and near 3P/2 (a period repeats at its multiples, so a dip at one and a half
        times P says P spans two repetitions: HDM05 kicks and hops whose consecutive clips
        differ had textons two clips long, their one-clip valley too shallow for
-       ``submultiple``); for the textons only, not for the periods steps 1b, 3 and 4 read.
+       ``submultiple``); for the textons only, not for the periods steps 1b, 3 and 4 read
+       (step 3 and the weak splits count textons: no boundary moved on the suite).
        Textons start at the most repeatable
        atom of the first period and each next one at the minimum of d_A(t, t_first) within
        P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.

@@ -6,7 +6,8 @@ for >= 90 % of the detected clusters. A 30 fps variant guards that the defaults,
 seconds, are not fitted to 10 fps. Features are cached next to the generated frames
 (``engine.evaluate.sequence_features``), so a rerun costs seconds. One HDM05 take of the
 development suite guards the sub-multiple step of ``engine.periods``, another step 1b
-(``engine.rhythm``).
+(``engine.rhythm``), a third step 31 (textons cut at one repetition where the period read
+spans two).
 """
 
 import numpy as np
