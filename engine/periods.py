@@ -203,6 +203,13 @@ def _valleys(prof, lags, h, reach):
     return cand, prom
 
 
+def _lowest_valley(cand, lags, prof, target, reach):
+    # The lowest of the candidate valleys (indices into lags) within ``reach`` lags of
+    # ``target``, or None.
+    near = [i for i in cand if abs(lags[i] - target) <= reach]
+    return min(near, key=lambda i: prof[i]) if near else None
+
+
 def _submultiple(chosen, cand, lags, prof, level, ratio):
     """The shortest sub-multiple of the chosen lag whose valley is nearly as low (index into lags).
 
@@ -220,8 +227,7 @@ def _submultiple(chosen, cand, lags, prof, level, ratio):
     while level > prof[chosen]:
         for parts in SUBMULTIPLES:
             target = lags[chosen] / parts
-            near = [i for i in cand if abs(lags[i] - target) <= max(1.0, JITTER * target)]
-            k = min(near, key=lambda i: prof[i]) if near else None
+            k = _lowest_valley(cand, lags, prof, target, max(1.0, JITTER * target))
             if k is not None and level - prof[k] >= ratio * (level - prof[chosen]):
                 chosen = k
                 break
@@ -271,7 +277,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
         far below its usual level the mean atom distance dips at the period.
     """
     length = ce - cs + 1
-    lo = max(2, int(round(p.min_texton * fps)))
+    lo = _first_lag(p, fps)
     hi = min(int(round(p.max_period * fps)), longest_lag(length))
     if hi <= lo + 1:
         return None, 0.0
@@ -285,7 +291,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     # no clear valley, a reach of a quarter of each lag is tried (CMU toe touches played
     # at 0.7x, a 3.9 s period, had no period and no textons).
     level = float(np.median(prof))
-    h = max(2, int(round(0.3 * fps)))
+    h = _valley_lags(fps)
     for reach in ((0.0, BROAD_REACH) if broad else (0.0,)):
         cand, prom = _valleys(prof, lags, h, reach)
         periods = [i for i in cand if lags[i] <= hi]
@@ -309,8 +315,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     # (its relative depth under half the whole vector's) or, without that information, 3L
     # is visible and no valley (a true period's 3L is one).
     def valley_near(target):
-        near = [i for i in cand if abs(lags[i] - target) <= max(1.0, 0.1 * target)]
-        return min(near, key=lambda i: prof[i]) if near else None
+        return _lowest_valley(cand, lags, prof, target, max(1.0, 0.1 * target))
 
     k2 = valley_near(2 * L)
     # In a cluster that holds only one whole cycle of a left-right exercise, 2L lies at the
@@ -335,6 +340,16 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
         # it dips at 2L but not near 3L, L was half a period (see the module docstring).
         L = int(lags[k2])
     return L, depth
+
+
+def _first_lag(p, fps):
+    # The shortest lag a period may have: a texton of ``p.min_texton`` seconds.
+    return max(2, int(round(p.min_texton * fps)))
+
+
+def _valley_lags(fps):
+    # A valley's depth is measured against the profile within 0.3 s (this many lags) of it.
+    return max(2, int(round(0.3 * fps)))
 
 
 def _profile(v, cs, ce, fps, w, lo, top):
@@ -368,7 +383,7 @@ def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None):
     if not p.comb or P is None or P < 2:
         return P
     top = longest_lag(ce - cs + 1)
-    lo = max(2, int(round(p.min_texton * fps)))
+    lo = _first_lag(p, fps)
     # Two repetitions a and b (P = a + b) put the one-repetition valleys at a and a + P (or b,
     # b + P): each as far from P/2 and 3P/2 as the other, so both are looked for within the
     # same JITTER of P/2.
@@ -377,13 +392,9 @@ def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None):
         return P
     lags, prof = _profile(v, cs, ce, fps, w, lo, top)
     level = float(np.median(prof))
-    cand, _ = _valleys(prof, lags, max(2, int(round(0.3 * fps))), 0.0)
+    cand, _ = _valleys(prof, lags, _valley_lags(fps), 0.0)
 
-    def lowest_near(target):
-        near = [i for i in cand if abs(lags[i] - target) <= reach]
-        return min(near, key=lambda i: prof[i]) if near else None
-
-    half, odd = lowest_near(P / 2), lowest_near(1.5 * P)
+    half, odd = (_lowest_valley(cand, lags, prof, target, reach) for target in (P / 2, 1.5 * P))
     whole = float(prof[int(P) - lo])
     if half is None or odd is None or not (prof[half] < level and prof[odd] < level and whole < level):
         return P
