@@ -332,6 +332,24 @@ BATCHES = {
         ("bk", "grabHighR:4,hopBothLegs1hops:8,elbowToKnee1RepsLelbowStart:5,kickLFront1Reps:6,sneak2StepsLStart:2",
          102, {"seed": 102, "palette": "b"}),
     ],
+    # The synthetic actor kicking and hopping (motions added for it, as HDM05's kickLFront and
+    # hopBothLegs clips are done) beside the exercises HDM05's kicks were missed next to:
+    # knee raises (HDM05's elbow to knee), running on the spot (jogging), hops, squats. Most
+    # of the fresh batches' missed HDM05 changes are into or out of kicks: is that the kick, or
+    # HDM05? Made and committed before the parser was run on them, scored once.
+    "kicks": [
+        ("synth", "knees-kick-run", dict(motions=["knee-raises", "kick", "run", "hop", "squats"], cycles=[5, 6, 10, 8, 5],
+                                         rest=0.5, seed=201)),
+        ("synth", "hop-kick-walk-15fps", dict(motions=["jumping-jacks", "hop", "kick", "walk", "knee-raises"],
+                                              cycles=[6, 8, 5, 8, 5], jitter=1.5, fps=15, build=0.9, seed=202)),
+        ("synth", "kick-knees-rests-20fps", dict(motions=["kick", "knee-raises", "hop", "run"], cycles=[6, 5, 8, 10],
+                                                 rest=1.0, transition=0.5, fps=20, build=1.15, noise=0.004,
+                                                 seed=203)),
+        ("synth", "squats-kick-wander", dict(motions=["squats", "kick", "box", "hop"], cycles=[5, 6, 8, 8], jitter=2.0,
+                                             wander=0.8, seed=204)),
+        ("synth", "walk-kick-turns", dict(motions=["walk", "kick", "twist", "hop", "knee-raises"], cycles=[8, 5, 5, 8, 5],
+                                          rest=0.6, turns=60.0, seed=205)),
+    ],
 }
 
 

@@ -11,7 +11,9 @@ moves on the spot (walking and running as on a treadmill), so a histogram of ver
 about the first frame's centroid sees only the motion.
 
 Boxing, toe touches, twists, knee raises and side bends go left then right within a cycle, as
-the CMU mocap6 exercises of those names do.
+the CMU mocap6 exercises of those names do. Kicks (front kicks with the left leg, standing in
+guard between them) and hops on both feet are done as HDM05's single-repetition clips of those
+names are.
 
 Timeline: each motion is repeated for a number of cycles whose period and amplitude jitter a
 little from cycle to cycle (a lot for the one-off movements, putting something on the floor
@@ -23,10 +25,10 @@ starts where the actor starts to change exercise. The random state of the timeli
 only on the seed, and that of a frame (grid offset, vertex and colour noise) only on the seed
 and the frame index, so any number of workers writes byte-identical files.
 
->>> sorted(MOTIONS)[:6]
-['arm-circles', 'box', 'jumping-jacks', 'knee-raises', 'pick-up', 'reach-up']
->>> sorted(MOTIONS)[6:]
-['run', 'side-bends', 'squats', 'toe-touch', 'twist', 'walk']
+>>> sorted(MOTIONS)[:7]
+['arm-circles', 'box', 'hop', 'jumping-jacks', 'kick', 'knee-raises', 'pick-up']
+>>> sorted(MOTIONS)[7:]
+['reach-up', 'run', 'side-bends', 'squats', 'toe-touch', 'twist', 'walk']
 >>> PRESETS["gym"]["motions"][0], PRESETS["walk"]["motions"]
 ('walk', ['walk'])
 """
@@ -59,10 +61,12 @@ SPREAD_AMPLITUDE = 0.5      # largest change of a one-off movement's amplitude
 VOXEL_AT_16K = 0.0122
 
 
-# A pose is a small vector: jump lift (metres) and joint angles (radians), named below.
+# A pose is a small vector: jump lift (metres), joint angles (radians), named below, and
+# "plant": 0 stands the body centred over both feet, 1 over the right foot alone (a kick with
+# the left leg: the foot the actor stands on stays put).
 POSE = ["lift", "pitch", "roll", "yaw",
         "hip_flex_l", "hip_abd_l", "knee_l", "toe_l", "sh_flex_l", "sh_abd_l", "elbow_l",
-        "hip_flex_r", "hip_abd_r", "knee_r", "toe_r", "sh_flex_r", "sh_abd_r", "elbow_r"]
+        "hip_flex_r", "hip_abd_r", "knee_r", "toe_r", "sh_flex_r", "sh_abd_r", "elbow_r", "plant"]
 _IX = {name: i for i, name in enumerate(POSE)}
 
 
@@ -190,6 +194,31 @@ def _twist(phase, a):
                  sh_flex_l=0.15, sh_flex_r=0.2, hip_abd_l=0.16, hip_abd_r=0.16)
 
 
+def _kick(phase, a):
+    # A front kick with the left leg from a guard, as HDM05's kickLFront clips are done: the
+    # knee comes up, the leg snaps out straight and back, the foot comes down, and the actor
+    # stands in guard for the rest of the cycle (0.4 of it) before the next kick.
+    s = min(phase / 0.6, 1.0)
+    lift, snap = np.sin(np.pi * s) ** 2, np.sin(np.pi * s) ** 8
+    return _pose(plant=1.0, hip_flex_l=1.5 * a * lift, knee_l=1.6 * lift - 1.5 * min(a, 1.05) * snap, toe_l=0.4 * snap,
+                 knee_r=0.15 * lift, hip_flex_r=-0.05 * lift, pitch=-0.12 * lift, yaw=0.1 * lift,
+                 sh_flex_l=0.55, sh_flex_r=0.5 + 0.15 * lift, elbow_l=1.9, elbow_r=1.95,
+                 sh_abd_l=0.25, sh_abd_r=0.2 + 0.1 * lift)
+
+
+def _hop(phase, a):
+    # A hop on both feet, as HDM05's hopBothLegs clips are: down into a crouch, up off the floor
+    # with the arms swung forward, down into a crouch again, and up to standing.
+    crouch = (np.sin(np.pi * phase / 0.3) ** 2 if phase < 0.3 else 0.0) + \
+        (np.sin(np.pi * (phase - 0.55) / 0.35) ** 2 if 0.55 <= phase < 0.9 else 0.0)
+    air = np.sin(np.pi * (phase - 0.25) / 0.35) if 0.25 <= phase < 0.6 else 0.0
+    return _pose(knee_l=0.1 + 1.0 * a * crouch, knee_r=0.1 + 0.95 * a * crouch,
+                 hip_flex_l=0.7 * a * crouch, hip_flex_r=0.7 * a * crouch, pitch=0.3 * a * crouch,
+                 lift=0.16 * a * air, toe_l=0.5 * air, toe_r=0.5 * air,
+                 sh_flex_l=0.2 + 1.1 * air - 0.4 * crouch, sh_flex_r=0.2 + 0.95 * air - 0.4 * crouch,
+                 elbow_l=0.3, elbow_r=0.3)
+
+
 def _ease(phase, up, top):
     # 0 -> 1 over [0, up), 1 over [up, top), 1 -> 0 over [top, 1): a one-off movement's course.
     if phase < up:
@@ -250,6 +279,8 @@ MOTIONS = {
     "box": Motion(_box, 1.0, 8),
     "toe-touch": Motion(_toe_touch, 3.0, 4),
     "twist": Motion(_twist, 2.0, 5),
+    "kick": Motion(_kick, 1.4, 6),
+    "hop": Motion(_hop, 0.9, 8),
 }
 
 PRESETS = {
@@ -403,10 +434,13 @@ def primitives(pose, build=1.0):
         tip = ankle + 0.16 * foot - 0.025 * U
         prims.append(("cap", heel, tip, 0.042, 0.036, "foot"))
         feet += [heel, tip, ankle]
-    # Feet rest on the floor, centred under the body, unless the actor jumps.
+    # Feet rest on the floor, centred under the body (or the right foot, as "plant" says),
+    # unless the actor jumps.
     feet = np.array(feet)
     sole = min(feet[0::3, 2].min() - 0.042, feet[1::3, 2].min() - 0.036)
     shift = np.array([-feet[2::3, 0].mean(), -feet[2::3, 1].mean(), p["lift"] - sole])
+    if p["plant"]:
+        shift[:2] = (1 - p["plant"]) * shift[:2] - p["plant"] * feet[5, :2]
     moved = []
     for prim in prims:
         if prim[0] == "cap":
