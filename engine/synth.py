@@ -62,8 +62,10 @@ VOXEL_AT_16K = 0.0122
 
 
 # A pose is a small vector: jump lift (metres), joint angles (radians), named below, and
-# "plant": 0 stands the body centred over both feet, 1 over the right foot alone (a kick with
-# the left leg: the foot the actor stands on stays put).
+# "plant": 0 stands the body centred between its feet, 1 places it by the right foot alone (a
+# kick with the left leg: the foot the actor stands on stays put, whatever the left leg does;
+# with the legs alike, as in a kick's guard, both place the body alike, so nothing slides as
+# the actor moves into or out of kicking).
 POSE = ["lift", "pitch", "roll", "yaw",
         "hip_flex_l", "hip_abd_l", "knee_l", "toe_l", "sh_flex_l", "sh_abd_l", "elbow_l",
         "hip_flex_r", "hip_abd_r", "knee_r", "toe_r", "sh_flex_r", "sh_abd_r", "elbow_r", "plant"]
@@ -440,7 +442,11 @@ def primitives(pose, build=1.0):
     sole = min(feet[0::3, 2].min() - 0.042, feet[1::3, 2].min() - 0.036)
     shift = np.array([-feet[2::3, 0].mean(), -feet[2::3, 1].mean(), p["lift"] - sole])
     if p["plant"]:
-        shift[:2] = (1 - p["plant"]) * shift[:2] - p["plant"] * feet[5, :2]
+        # Where the body's centre would be were the left foot the right one's mirror image:
+        # the right ankle moved onto the pelvis's mid-plane.
+        side = pelvis @ L
+        right = feet[5] - (feet[5] @ side) * side
+        shift[:2] = (1 - p["plant"]) * shift[:2] - p["plant"] * right[:2]
     moved = []
     for prim in prims:
         if prim[0] == "cap":
@@ -630,8 +636,9 @@ def _segments(labels):
 
 def _acf_at(poses, lag):
     """Normalised autocorrelation of a pose sequence (T, len(POSE)) at an integer lag; angles
-    enter as cosine and sine, so a full turn (arm circles) counts as no change."""
-    x = np.hstack([poses[:, :1], np.cos(poses[:, 1:]), np.sin(poses[:, 1:])])
+    enter as cosine and sine, so a full turn (arm circles) counts as no change, and the lift
+    and "plant" (the last column) as they are."""
+    x = np.hstack([poses[:, :1], np.cos(poses[:, 1:-1]), np.sin(poses[:, 1:-1]), poses[:, -1:]])
     x = x - x.mean(axis=0)
     if lag < 1 or lag >= len(x):
         return None

@@ -302,25 +302,32 @@ def test_boxing_toe_touches_and_twists_go_left_then_right():
         assert np.allclose(synth.MOTIONS[name].pose(0.0, 1.0), synth.MOTIONS[name].pose(1 - 1e-9, 1.0), atol=1e-6)
 
 
-def _ankle(pose, side):
-    # The left ("l") or right ("r") foot's tip: the "foot" capsules come left, then right.
+def _toe_tip(pose, side):
+    # The tip of the left ("l") or right ("r") foot: the "foot" capsules come left, then right.
     feet = [p for p in synth.primitives(pose) if p[-1] == "foot"]
     return feet[0 if side == "l" else 1][2]
 
 
 def test_a_kick_is_the_left_leg_out_in_front_and_a_hop_leaves_the_floor():
     # HDM05's kickLFront and hopBothLegs, done as its single-repetition clips are: the left foot
-    # comes up in front (-y) to about hip height while the right stays on the floor, then the
-    # actor stands in guard; a hop takes both feet off the floor, and both land again.
+    # comes up in front (-y) to about hip height while the right stays where it stands, then the
+    # actor stands in guard; a hop takes both feet off the floor, and both land again. No
+    # other motion moves the body by one foot ("plant"), so their frames are as they were.
     kick, hop = synth.MOTIONS["kick"].pose, synth.MOTIONS["hop"].pose
-    standing = _ankle(kick(0.0, 1.0), "l")
-    out = _ankle(kick(0.3, 1.0), "l")
+    standing = _toe_tip(kick(0.0, 1.0), "l")
+    out = _toe_tip(kick(0.3, 1.0), "l")
     assert out[1] < standing[1] - 0.6 and out[2] > 0.6, out
-    support = [_ankle(kick(phase, 1.0), "r") for phase in (0.0, 0.15, 0.3, 0.45)]
+    support = [_toe_tip(kick(phase, 1.0), "r") for phase in (0.0, 0.15, 0.3, 0.45)]
     assert np.allclose(support, support[0], atol=0.01)                # the foot stood on stays put
     assert np.allclose(kick(0.8, 1.0), kick(0.0, 1.0))           # in guard between kicks
-    up = min(_ankle(hop(0.42, 1.0), s)[2] for s in "lr")
-    assert up > min(_ankle(hop(0.0, 1.0), s)[2] for s in "lr") + 0.1, up
+    floor = min(_toe_tip(hop(0.0, 1.0), s)[2] for s in "lr")
+    up = min(_toe_tip(hop(0.42, 1.0), s)[2] for s in "lr")
+    assert up > floor + 0.1, up
+    assert max(_toe_tip(hop(0.72, 1.0), s)[2] for s in "lr") < floor + 0.03      # landed, in a crouch
+    plant = synth.POSE.index("plant")
+    assert not synth.plan("gym")[0][:, plant].any()
+    assert all(m.pose(phase, 1.0)[plant] == 0 for name, m in synth.MOTIONS.items() if name != "kick"
+               for phase in np.linspace(0, 1, 9, endpoint=False))
     for name in ("kick", "hop"):   # a cycle ends where the next one starts
         assert np.allclose(synth.MOTIONS[name].pose(0.0, 1.0), synth.MOTIONS[name].pose(1 - 1e-9, 1.0), atol=1e-6)
 

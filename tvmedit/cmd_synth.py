@@ -18,6 +18,7 @@ example:
   tvmedit synth --motions squats,jumping-jacks --rest 1.5 --out /tmp/pausing
   tvmedit synth --motions pick-up,reach-up,squats --out /tmp/one-offs
   tvmedit synth --motions box,toe-touch,twist --out /tmp/alternating
+  tvmedit synth --motions knee-raises,kick,hop --rest 0.5 --out /tmp/kicks
   tvmedit synth --motions jumping-jacks,side-bends --turns 90 --out /tmp/turning
 """
 
