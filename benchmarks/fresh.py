@@ -350,6 +350,20 @@ BATCHES = {
         ("synth", "walk-kick-turns", dict(motions=["walk", "kick", "twist", "hop", "knee-raises"], cycles=[8, 5, 5, 8, 5],
                                           rest=0.6, turns=60.0, seed=205)),
     ],
+    # The same, mostly standing: pauses of up to 1.5-2.5 s after every repetition of every
+    # exercise, as HDM05's single-repetition clips each hold standing. "kicks" found every
+    # change; is it the standing that hides HDM05's kick changes? Made and committed before
+    # the parser was run on it, scored once.
+    "kicks-standing": [
+        ("synth", "knees-kick-still", dict(motions=["knee-raises", "kick", "squats", "hop"], cycles=[5, 6, 5, 8],
+                                           rest=2.0, seed=211)),
+        ("synth", "hop-kick-still-20fps", dict(motions=["hop", "kick", "walk", "knee-raises"], cycles=[6, 6, 6, 5],
+                                               rest=1.5, fps=20, seed=212)),
+        ("synth", "squats-kick-still", dict(motions=["squats", "kick", "knee-raises", "box"], cycles=[4, 6, 5, 6],
+                                            rest=2.5, jitter=1.5, build=1.1, seed=213)),
+        ("synth", "kick-hop-still-15fps", dict(motions=["kick", "hop", "knee-raises", "run"], cycles=[6, 8, 5, 8],
+                                               rest=1.5, transition=0.5, noise=0.004, fps=15, seed=214)),
+    ],
 }
 
 
