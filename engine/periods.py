@@ -99,7 +99,7 @@ window, parameters, azimuth columns and mirror rows; a :class:`PeriodReader` hol
 reads the period of any stretch.
 """
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -245,7 +245,7 @@ def longest_lag(length):
     return int(length * LONGEST)
 
 
-def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
+def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None, profile=None):
     """Period of the cluster [cs, ce] (frames) from its lag profile, and how clear it is.
 
     Parameters
@@ -267,6 +267,9 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
         Other rows of the same frames and their azimuth columns, whose halves the mirror test
         also tries (the features about each frame's own centre: see the module docstring,
         *About the body's own centre*).
+    profile : callable, optional
+        ``profile(cs, ce, lo, top)``: the lag profile as :func:`_profile` reads it, from a
+        cache (:class:`PeriodReader`); else read here.
 
     Returns
     -------
@@ -284,7 +287,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None):
     # The profile runs on to the longest lag (past ``max_period``) so that the half-period
     # test below can look at 2L and 3L.
     top = longest_lag(length)
-    lags, prof = _profile(v, cs, ce, fps, w, lo, top)
+    lags, prof = profile(cs, ce, lo, top) if profile else _profile(v, cs, ce, fps, w, lo, top)
     # Candidate periods are interior local minima; a valley's prominence is measured against
     # the highest profile values within +/- h lags on each side (0.3 s). A slow exercise's
     # valley is broader than that, and a 0.3 s reach sees only its floor: where that finds
@@ -363,14 +366,15 @@ def _profile(v, cs, ce, fps, w, lo, top):
     return lags, lag_profile(seg, lags, w)
 
 
-def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None):
+def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None, profile=None):
     """The texton length of cluster [cs, ce] whose period was read as ``P``: P, or about P/2
     where P spans two repetitions (see the module docstring, *Two repetitions in one texton*).
 
     P/2 is taken where the lag profile dips below its level (median) both near P/2 and near
     3P/2 (within :data:`JITTER`), the dip near P/2 is at least ``p.comb`` of the dip at P, and
     P/2 is not half a cycle of a left-then-right exercise (:func:`mirror_ratio` at least
-    :data:`MIRROR_RATIO`).
+    :data:`MIRROR_RATIO`). ``profile`` as for :func:`cluster_period`, whose profile of the
+    same frames this is.
 
     >>> from engine.structure import StructureParams, atom_window
     >>> t = np.arange(120)
@@ -390,7 +394,7 @@ def one_repetition(v, cs, ce, P, fps, w, p, theta=None, mirror=None):
     reach = max(1.0, JITTER * P / 2)
     if 1.5 * P + reach > top or P / 2 - reach < lo:
         return P
-    lags, prof = _profile(v, cs, ce, fps, w, lo, top)
+    lags, prof = profile(cs, ce, lo, top) if profile else _profile(v, cs, ce, fps, w, lo, top)
     level = float(np.median(prof))
     cand, _ = _valleys(prof, lags, _valley_lags(fps), 0.0)
 
@@ -444,15 +448,26 @@ class PeriodReader:
     params: "StructureParams"
     theta: slice | None = None
     mirror: tuple | None = None
+    # Lag profiles read so far, by (cs, ce, lo, top): the texton step's one_repetition reads
+    # the profile cluster_period read for the same cluster, and the steps before it read
+    # many clusters' periods more than once. Each reader (and each on()) starts empty.
+    _profiles: dict = field(default_factory=dict, init=False, repr=False)
 
     def __call__(self, cs, ce, broad=False):
         """The period of frames [cs, ce] in frames, or None (:func:`cluster_period`)."""
         return cluster_period(self.rows, cs, ce, self.fps, self.window, self.params, self.theta, broad,
-                              self.mirror)[0]
+                              self.mirror, self._profile)[0]
 
     def one_repetition(self, cs, ce, P):
         """``P`` or about half of it, as the textons of frames [cs, ce] are cut (:func:`one_repetition`)."""
-        return one_repetition(self.rows, cs, ce, P, self.fps, self.window, self.params, self.theta, self.mirror)
+        return one_repetition(self.rows, cs, ce, P, self.fps, self.window, self.params, self.theta, self.mirror,
+                              self._profile)
+
+    def _profile(self, cs, ce, lo, top):
+        key = (cs, ce, lo, top)
+        if key not in self._profiles:
+            self._profiles[key] = _profile(self.rows, cs, ce, self.fps, self.window, lo, top)
+        return self._profiles[key]
 
     def on(self, frames):
         """The same reader on the given frames only (a cluster's moving frames: :mod:`engine.pauses`)."""
