@@ -28,6 +28,17 @@ apart (CMU subject 13). Fresh turning batches' texton lengths 0.886 -> 0.903 (se
 with turns and one made after the synthetic actor turned on its feet, 37 takes); the suite
 does not move.
 
+**A person who turns.** The rows about each frame's own centre turn with the person, and one
+reflection plane fits a whole cluster only if the person kept facing one way. So (step 32 of
+``docs/parsing.md``) they are read turned back by their own slow heading
+(:mod:`engine.heading`), as the parser's rows are, and the plane is chosen anew every
+``WINDOW`` (3) lags, a cycle and a half of a left-then-right exercise: a sudden turn between
+repetitions (over a second) is faster than the slow heading follows. A plane chosen every lag
+is too free (symmetric exercises read as mirrored: half periods doubled on five fresh
+batches); every two lags or more holds. CMU 13_30 swaying up to 90 degrees read half cycles of
+its side bends, and walks, side bends and toe touches across sudden turns a half or a third
+of their cycle (fresh turning batches).
+
 **Double periods of alternating repetitions** (:func:`_submultiple`, ``submultiple``). The
 reverse failure: where consecutive repetitions differ a little (HDM05's single-repetition
 clips stitched back to back change heading or side from one clip to the next), the deepest
@@ -119,6 +130,12 @@ __all__ = ["cluster_period", "one_repetition", "PeriodReader", "mirror_ratio", "
 #: periods.
 MIRROR_RATIO = 0.8
 
+#: The mirror test's reflection plane is chosen anew every this many lags (a person who turns
+#: between repetitions turns the plane). 1 is too free: symmetric exercises read as mirrored
+#: (five fresh batches lose texton lengths); 2, 3, 5 and 8 hold (engine.periods, *A person who
+#: turns*).
+WINDOW = 3
+
 #: Share of a stretch's length that its lag profile runs to (:func:`longest_lag`): the
 #: longest period its valleys can show directly. Only the mirror test's doubling (2L for a
 #: half period L) reads a longer one.
@@ -141,9 +158,11 @@ def mirror_ratio(seg, lag, theta):
     """How much closer frame u + lag comes to frame u when mirrored, over a segment.
 
     mean_u |t_u - R t_(u+lag)| / mean_u |t_u - t_(u+lag)| on the azimuth (theta) histograms
-    t, where R reflects the histogram about one vertical plane, the same for the whole
-    segment (the one that gives the smallest mean): bin j goes to bin (c - j) mod n. The r and
-    phi histograms are left out: a pose and its mirror image share them.
+    t, where R reflects the histogram about a vertical plane: bin j goes to bin (c - j) mod n.
+    The plane is the one that gives the smallest sum over each stretch of :data:`WINDOW`
+    lags (the last stretch takes the remainder), chosen for each stretch on its own: a person
+    who turns between repetitions turns the plane. The r and phi histograms are left out: a
+    pose and its mirror image share them.
 
     Parameters
     ----------
@@ -168,13 +187,18 @@ def mirror_ratio(seg, lag, theta):
     """
     seg = np.asarray(seg, dtype=np.float64)[:, theta]
     a, b = seg[:-lag], seg[lag:]
-    plain = np.sqrt(((a - b) ** 2).sum(axis=1)).mean()
+    plain = np.sqrt(((a - b) ** 2).sum(axis=1)).sum()
     if plain <= 0:
         return 1.0
     n = a.shape[1]
     j = np.arange(n)
     norms = (a ** 2).sum(axis=1) + (b ** 2).sum(axis=1)
-    best = min(np.sqrt(np.maximum(norms - 2 * (a * b[:, (c - j) % n]).sum(axis=1), 0)).mean() for c in range(n))
+    dist = np.stack([np.sqrt(np.maximum(norms - 2 * (a * b[:, (c - j) % n]).sum(axis=1), 0)) for c in range(n)])
+    span = max(1, int(WINDOW * lag))
+    cuts = list(range(0, len(a), span))
+    if len(cuts) > 1 and len(a) - cuts[-1] < span:
+        cuts.pop()
+    best = sum(dist[:, s: e].sum(axis=1).min() for s, e in zip(cuts, cuts[1:] + [len(a)]))
     return float(best / plain)
 
 

@@ -69,7 +69,10 @@ Two methods are provided.
        lag with the deepest mean atom distance mean_u d_A(u, u + L), the shortest lag
        nearly as deep, unless 2L is the true period of a left-then-right exercise: the
        *mirror test* (frame u + L nearer the mirror image of frame u than frame u itself;
-       fixes half-period textons of knee raises, side bends, toe touches, twists) decides.
+       fixes half-period textons of knee raises, side bends, toe touches, twists) decides,
+       about a vertical plane chosen anew every three lags, on rows turned back by the
+       heading (a person who turns turns the plane: half cycles of exercises done swaying or
+       across turns).
        Symmetrically, L gives way to L/3 or L/2 when the profile dips nearly as low there
        (``submultiple``; fixes textons two repetitions long where repetitions alternate a
        little, as HDM05's stitched clips do). A cluster whose valleys are too broad for a
@@ -345,8 +348,15 @@ def _centred_rows(centred, frames):
 def _period_reader(v, fps, p, w, theta, centred_rows=None):
     # How every step reads a period: on the parser's rows, the mirror test also on the rows
     # about each frame's own centre where the azimuth columns are known (engine.periods, *About
-    # the body's own centre*).
-    return PeriodReader(v, fps, w, p, theta, centred_rows if theta is not None else None)
+    # the body's own centre*), turned back by their own slow heading as the parser's rows are
+    # (*A person who turns*).
+    if theta is None:
+        centred_rows = None
+    elif centred_rows is not None:
+        heading = _heading(centred_rows[0], p, centred_rows[1], fps)
+        if heading is not None:
+            centred_rows = (turned(centred_rows[0], centred_rows[1], -heading), centred_rows[1])
+    return PeriodReader(v, fps, w, p, theta, centred_rows)
 
 
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):

@@ -284,6 +284,37 @@ def test_a_change_whose_novelty_peaks_twice_is_not_taken_early(devsuite):
     assert not any(abs(b - change) <= 1.0 for b in twin) and any(14.0 <= b < change - 1.0 for b in twin), twin
 
 
+def test_an_exercise_done_swaying_gets_textons_of_a_whole_cycle(devsuite):
+    # CMU 13_30 with the person swaying up to 90 degrees back and forth (a take of the
+    # development suite): its second exercise (3.16 s a cycle, left then right) once read half
+    # cycles. The mirror test compares the rows about each frame's own centre against one
+    # reflection plane; those rows turn with the person, so they are read turned back by their
+    # own slow heading, as the parser's rows are (engine.periods, *About the body's own centre*).
+    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30-turn")
+    rows = take_score(take).texton_rows
+    second = [r for r in rows if r[1] == 1][0]  # (cluster, true segment, median, period, right)
+    assert abs(second[3] / take.fps - 3.16) < 0.1 and second[4], rows
+
+
+def test_walking_across_sudden_turns_gets_textons_of_a_whole_stride(devsuite):
+    # Fresh batch "step23", take spin-c-rests: the actor walks 13.2-28.5 s (1.45 s a stride,
+    # left then right) and turns 90 degrees at 16 s and 124 degrees at 22-23 s, each over 1 s,
+    # faster than the slow heading follows. One reflection plane for the whole cluster fits
+    # neither heading, and the texton was a third of a stride (0.6 s); the plane is now chosen
+    # anew every three lags (engine.periods.mirror_ratio).
+    import fresh
+
+    from engine.structure import parse
+    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-c-rests"}["spin-c-rests"]
+    take = devsuite.synth_take("fresh", "spin-c-rests", options)
+    assert take.truth["segments"][1]["label"] == "walk"
+    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
+    k, cluster = min(enumerate(structure.clusters), key=lambda c: abs(c[1][0] / take.fps - 13.2))
+    assert abs(cluster[0] / take.fps - 13.2) < 1.0 and abs(cluster[1] / take.fps - 28.5) < 1.0, structure.clusters
+    stride = float(np.median([len(t) for t in structure.textons_of(k)])) / take.fps
+    assert abs(stride - 1.45) < 0.15 * 1.45, stride
+
+
 def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
     # Fresh batch "step23", take spin-c-rests: four toe touches (left then right, 3.3 s a
     # cycle with its rest), in which the actor turns 147 degrees on its feet (10.3-11.3 s),
