@@ -428,7 +428,9 @@ def test_without_keys_the_player_starts_on_the_first_motion_not_forbidden(xdispl
 
     order = [node.id for node in Library.open(small_library).nodes]
     log = tmp_path / "play.jsonl"
-    result = _play_command(small_library, "--forbid", str(order[0]), "--log", log, "--seconds", "2",
+    # --seconds counts from the command's start: on a busy 2-core machine the imports and the
+    # first window took over 2 s, and the player quit before drawing a frame.
+    result = _play_command(small_library, "--forbid", str(order[0]), "--log", log, "--seconds", "6",
                            env={**os.environ, "DISPLAY": xdisplay})
     assert result.returncode == 0, result.stderr
     frames = _frames(_rows(log))
