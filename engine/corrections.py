@@ -486,7 +486,7 @@ def apply_structure(structure, vectors, entry, *, theta=None, centred=None, sour
     clusters = _boundaries(structure, entry, reach, say, where)
     kept = {c: k for k, c in enumerate(structure.clusters)}
     w = atom_window(fps, params.window_taps, params.window_fps)
-    textons = []
+    textons, new = [], []
     for k, (cs, ce) in enumerate(clusters):
         if (cs, ce) in kept:
             textons += [replace(t, cluster=k) for t in structure.textons_of(kept[(cs, ce)])]
@@ -495,7 +495,11 @@ def apply_structure(structure, vectors, entry, *, theta=None, centred=None, sour
             raise CorrectionError(f"{where('boundaries')} make cluster {cs}-{ce} {ce - cs + 1} frame"
                                   f"{'s' * (ce != cs)} long, shorter than the {len(w)}-frame atom window; "
                                   f"keep boundaries at least {len(w)} frames apart and from the last frame.")
-        textons += [replace(t, cluster=k) for t in textons_for(v, [(cs, ce)], fps, params, theta, centred)]
+        new.append(k)
+    # The new clusters' textons in one call: it reads the take's view and headings once.
+    if new:
+        found = textons_for(v, [clusters[k] for k in new], fps, params, theta, centred)
+        textons += [replace(t, cluster=new[t.cluster]) for t in found]
     edited = _Textons(textons, clusters)
     changed = _texton_edits(edited, entry, reach, len(w), say, where)
     old = {(t.start, t.end): t for t in textons}
