@@ -2,20 +2,16 @@
 
 import numpy as np
 
+from engine.heading import turned
 from engine.periods import mirror_ratio
 
 BINS = 72
 
 
-def _turned(rows, bins):
-    # Azimuth histograms of a body turned by ``bins`` bins about the vertical.
-    return rows[:, (np.arange(BINS) - bins) % BINS]
-
-
 def _with_turns(cycle, headings):
-    # Three cycles at each heading, one after another: a person who turns to face another way
-    # now and then, more suddenly than a slow heading can follow.
-    return np.vstack([_turned(np.tile(cycle, (3, 1)), h) for h in headings])
+    # Three cycles at each heading (in bins), one after another: a person who turns to face
+    # another way now and then, more suddenly than a slow heading can follow.
+    return np.vstack([turned(np.tile(cycle, (3, 1)), slice(0, BINS), 2 * np.pi * h / BINS) for h in headings])
 
 
 def test_a_left_then_right_exercise_stays_mirrored_across_turns():
