@@ -15,6 +15,23 @@ peaks gave:
   (the novelty window rounded to whole periods, at least two; the window itself where a
   cluster shows no period). Held-out pooled precision / recall 0.90 / 0.93 -> 0.92 / 0.95
   on the development suite (one more CMU and one more HDM05 boundary; no other change).
+* **Both views** (step 33 of docs/parsing.md). The parser's rows are turned back by the
+  heading :mod:`engine.heading` tracks, which follows a steady turn only in whole bins a
+  second and can be a bin or a few off after a change of exercise (its windows straddle
+  two exercises there), just where this step reads. Such an offset is a difference between
+  the frames before and after any place near the change, so the energy distance lay flat
+  over seconds and its top wandered: CMU 13_29 turning 7 degrees a second had its change
+  at 16.0 s settled to 14.9 s (flat within 10 % over 13.0-16.2 s), while on the heading-free
+  rows (:func:`engine.azimuth.azimuth_spectrum`, which no heading can put off) it tops at
+  16.2 s. Those rows cannot tell a pose from its mirror image, so neither view is read
+  alone (the heading-free rows alone for every boundary: docs/parsing.md, tried after step
+  32, not kept): each view's energy distances over the boundary's reach are scaled to their
+  largest, and the boundary goes where the sum is largest, where the two agree best. The
+  suite does not move (body axes, the defaults and the folds' settings); on the 22 fresh
+  batches six changes found and three lost (416 -> 419 of 459, 28 -> 25 false); in
+  tvmedit's axes the suite's HDM05 group finds two more (0.90 / 0.88 -> 0.94 / 0.91) and
+  the fresh batches ten more for one lost (412 -> 421). The first form tried, kept as it
+  was.
 * **The onset of a slow transition** (:func:`onset`). The novelty peaks where the pose
   distribution changes most, which for a slow transition (a 3 s change of pose from one
   exercise to the next) is its middle or end, 1-2 s after the person stopped the old
@@ -115,8 +132,15 @@ def energy_distance(D, split):
             - y.sum() / ((n - split) * (n - split - 1)))
 
 
-def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, other=None, use_other=()):
+def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, other=None, use_other=(),
+           other_weight=1.0):
     """Cluster starts moved to where whole periods before and after differ most.
+
+    Where ``other`` rows are given, a boundary not in ``use_other`` moves to where the two
+    views agree best: each view's energy distances over the boundary's reach are scaled to
+    their largest, and the boundary goes where their sum is largest, ``other``'s weighed by
+    ``other_weight`` (a view in which no place in reach differs counts for nothing). A
+    boundary in ``use_other`` reads ``other`` alone.
 
     Parameters
     ----------
@@ -137,8 +161,12 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
     other : (T, D') array, optional
         Other rows of the same frames, read instead of ``vectors`` for the boundaries of
         ``use_other`` (the start of ``clusters[i]`` for each i in it): the heading-free rows
-        for boundaries near a turn (engine.boundaries, *Boundaries behind a turn*).
+        for boundaries near a turn (engine.boundaries, *Boundaries behind a turn*); read
+        beside ``vectors`` for every other boundary (*Both views*, above).
     use_other : collection of int
+    other_weight : float
+        Weight of ``other``'s scaled distances beside ``vectors``' own; 0 reads ``vectors``
+        alone for the boundaries not in ``use_other``.
 
     Returns
     -------
@@ -150,12 +178,31 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
     >>> v = np.where((t < 64)[:, None], [[0.0, 1.0]], [[1.0, 0.0]]) * (1 + 0.1 * np.sin(t))[:, None]
     >>> settle(v, [(0, 59), (60, 119)], [None, None], 10)
     [0, 64]
+
+    A view that places the change late (a stand-in for a heading tracked a bin off) is
+    outvoted where the other view's change is the clearer one:
+
+    >>> late = np.where((t < 70)[:, None], [[0.0, 1.0]], [[0.6, 0.4]])
+    >>> settle(late, [(0, 59), (60, 119)], [None, None], 10)
+    [0, 70]
+    >>> settle(late, [(0, 59), (60, 119)], [None, None], 10, other=v)
+    [0, 64]
     """
     v = np.asarray(vectors, dtype=np.float64)
     step = max(1, int(round(fps / 10.0)))      # about 10 fps, as the novelty is computed
     rows = block_means(v, step)
-    alt = block_means(np.asarray(other, dtype=np.float64), step) if other is not None and use_other else rows
+    alt = (block_means(np.asarray(other, dtype=np.float64), step)
+           if other is not None and (use_other or other_weight > 0) else None)
     f, n = fps / step, len(rows)
+
+    def profile(view, a0, a1, lo, hi, before, after):
+        # Energy distance of whole periods before and after each place t in lo..hi.
+        D = distance_matrix(view[a0:a1])
+        out = np.empty(hi - lo + 1)
+        for t in range(lo, hi + 1):
+            i0, i1 = max(a0, t - before) - a0, min(a1, t + after) - a0
+            out[t - lo] = energy_distance(D[i0:i1, i0:i1], t - a0 - i0)
+        return out
 
     def block(P):
         if P is None:
@@ -173,13 +220,19 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
         hi = min(nxt - max(1, min(gap, nxt - b)), b + k)
         before, after = block(periods[i - 1]), block(periods[i])
         a0, a1 = max(0, lo - before), min(n, hi + after)
-        D = distance_matrix((alt if i in use_other else rows)[a0:a1])
-        best, at = -np.inf, b
-        for t in range(lo, hi + 1):
-            i0, i1 = max(a0, t - before) - a0, min(a1, t + after) - a0
-            e = energy_distance(D[i0:i1, i0:i1], t - a0 - i0)
-            if e > best:
-                best, at = e, t
+        if hi < lo:
+            out.append(old[i])
+            continue
+        if alt is not None and i in use_other:
+            score = profile(alt, a0, a1, lo, hi, before, after)
+        else:
+            score = profile(rows, a0, a1, lo, hi, before, after)
+            if alt is not None and other_weight > 0:
+                # Both views (above): each scaled to its largest in reach, then summed.
+                views = [(1.0, score), (other_weight, profile(alt, a0, a1, lo, hi, before, after))]
+                if any(s.max() > 0 for _, s in views):
+                    score = sum(w * s / s.max() for w, s in views if s.max() > 0)
+        at = lo + int(np.argmax(score))
         out.append(old[i] if at == b else min(len(v) - 1, at * step))
     return out
 

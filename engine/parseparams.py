@@ -20,7 +20,7 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
 BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0,
-          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0, "comb": 0.0}
+          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0, "comb": 0.0, "settle_free": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -159,6 +159,12 @@ class StructureParams:
         profile also dips near P/2 and 3P/2, P/2's dip at least this share of P's (two
         repetitions that differ read as one period: engine.periods, *Two repetitions in one
         texton*); 0 never.
+    settle_free : float
+        "energy": weight of the heading-free rows beside the parser's own when a boundary is
+        placed between whole periods (``refine_reach``; engine.onsets, *Both views*): each
+        view's energy distances scaled to their largest, summed with this weight on the
+        heading-free view's; 0 reads the parser's rows alone (near a vetoed turn the
+        heading-free rows are read alone either way).
     """
 
     method: str = "energy"
@@ -189,6 +195,7 @@ class StructureParams:
     rhythm_ratio: float = _param(1.5, at_least=0, at_most=100)
     pause_share: float = _param(0.1, at_least=0, at_most=1)
     comb: float = _param(0.5, at_least=0, at_most=1)
+    settle_free: float = _param(1.0, at_least=0, at_most=100)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):

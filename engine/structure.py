@@ -101,7 +101,10 @@ Two methods are provided.
        previous one where that one repeats.
     4. **Boundaries between whole periods** (:func:`engine.onsets.settle`). Novelty blocks
        cut cycles at any phase, so its peak wanders with the tempo; each boundary moves, by
-       up to ``refine_reach`` s, to where whole periods of its two clusters differ most.
+       up to ``refine_reach`` s, to where whole periods of its two clusters differ most,
+       read on the parser's rows and on the heading-free rows together (``settle_free``;
+       step 33: where the tracked heading is a bin or a few off, as after a change of exercise in a take that
+       turns, the first alone lay flat and its top wandered early).
     5. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
        of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
        suite's takes with 3 s transitions); each boundary moves back, by up to
@@ -383,15 +386,16 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
         clusters, periods = absorb_transitions(period, clusters, count)
     if p.refine_reach > 0 and len(clusters) > 1:
         # Step 4: each boundary between whole periods of its two clusters (engine.onsets); on
-        # the heading-free rows near a turn, vetoed or one it would move back onto.
+        # the heading-free rows near a turn, vetoed or one it would move back onto, elsewhere
+        # where those rows and the parser's agree best (step 33).
         periods = periods or [period(cs, ce) for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
-                        other=free, use_other=near)
+                        other=free, use_other=near, other_weight=p.settle_free)
         back = {i for i, (cs, _) in enumerate(clusters) if i and i not in near and turned_back(i, starts[i], cs)}
         if back:
             starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
-                            other=free, use_other=near | back)
+                            other=free, use_other=near | back, other_weight=p.settle_free)
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
