@@ -364,6 +364,25 @@ BATCHES = {
         ("synth", "kick-hop-still-15fps", dict(motions=["kick", "hop", "knee-raises", "run"], cycles=[6, 8, 5, 8],
                                                rest=1.5, transition=0.5, noise=0.004, fps=15, seed=214)),
     ],
+    # For step 33 (the settling read on both views), made and committed after the step was in
+    # and before it was run on them either way: people who turn steadily at rates no batch had
+    # (CMU 13_29 and 13_30, the synthetic actor) or sway, and two HDM05 exercise sets.
+    "settle-views": [
+        ("cmu", "13_29", {"turn": 8.5}),
+        ("cmu", "13_30", {"turn": -7.0}),
+        ("cmu", "13_29", {"turn": 4.5, "sway": 20.0, "seed": 301}),
+        ("cmu", "13_30", {"turn": 3.5}),
+        ("synth", "sv-a-turn6", dict(motions=["side-bends", "jumping-jacks", "squats", "toe-touch"], cycles=[4, 8, 5, 4],
+                                     turn=6.0, transition=1.0, seed=301)),
+        ("synth", "sv-b-turn-9-20fps", dict(motions=["box", "knee-raises", "twist", "arm-circles"], cycles=[8, 5, 5, 6],
+                                            turn=-9.0, fps=20, jitter=1.5, build=1.1, seed=302)),
+        ("synth", "sv-c-sway", dict(motions=["walk", "squats", "side-bends", "run"], cycles=[8, 5, 4, 10],
+                                    sway=70.0, rest=0.8, seed=303)),
+        ("bd", "squat1Reps:5,rotateArmsBothBackward1Reps:3,grabHighR:4,sneak2StepsLStart:2,hopBothLegs1hops:7", 103,
+         {"seed": 103, "palette": "b"}),
+        ("dg", "elbowToKnee1RepsLelbowStart:5,throwBasketball:3,jogLeftCircle4StepsRstart:2,squat1Reps:6,depositFloorR:4",
+         104, {"seed": 104, "palette": "c", "build": 0.95}),
+    ],
 }
 
 
