@@ -59,8 +59,8 @@ METHODS = {"energy": {}, "paper": {"method": "paper"}}
 #: scoring both alike; by person 0.919 with both, 0.923 with 0.5 alone. Held at its default.
 #: Step 33 (the settling on both views, ``settle_free`` 1; 0 leaves it out) moves no suite
 #: boundary in the body's axes at the defaults or the folds' settings; the grid run with it at
-#: 1 throughout gave the held-out figures of 0 throughout, every fold choosing as before. Held
-#: at its default, not among the settings.
+#: 1 throughout gave the same held-out figures as at 0, every fold choosing as before. Held at
+#: its default, not among the settings.
 GRID = [{"novelty_pace": w, "novelty_components": c, "novelty_threshold": t, "turn_ratio": v, "shoulder": m,
          "weak_boundary": b, "period_tolerance": q, "rhythm_ratio": h}
         for w in (1.0, 2.0)

@@ -163,8 +163,10 @@ class StructureParams:
         "energy": weight of the heading-free rows beside the parser's own when a boundary is
         placed between whole periods (``refine_reach``; engine.onsets, *Both views*): each
         view's energy distances scaled to their largest, summed with this weight on the
-        heading-free view's; 0 reads the parser's rows alone (near a vetoed turn the
-        heading-free rows are read alone either way).
+        heading-free view's; 0 reads the parser's rows alone. Near a vetoed turn, and where
+        the settled boundary would move back over frames that are only the old poses turned
+        (step 24's test, which reads the boundaries this places), the heading-free rows are
+        read alone either way.
     """
 
     method: str = "energy"

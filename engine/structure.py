@@ -387,7 +387,7 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     if p.refine_reach > 0 and len(clusters) > 1:
         # Step 4: each boundary between whole periods of its two clusters (engine.onsets); on
         # the heading-free rows near a turn, vetoed or one it would move back onto, elsewhere
-        # where those rows and the parser's agree best (step 33).
+        # on those rows and the parser's together (step 33).
         periods = periods or [period(cs, ce) for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,

@@ -483,10 +483,12 @@ def test_a_change_in_a_turning_take_is_settled_where_both_views_agree(devsuite):
     # Step 33 of docs/parsing.md (engine.onsets, *Both views*). Step 4 places each boundary
     # between whole periods of its two clusters; on the rows turned back by the tracked
     # heading, which follows a steady turn only in whole bins a second and leaves offsets at a
-    # change of exercise, the energy distance lay flat for 3 s before the change and its top
+    # change of exercise, the energy distance lay broad before the change and its top
     # wandered early. CMU 13_29 turning 7 degrees a second (fresh batch "steady-turns"): the
     # change from arm circles to one-hand toe touches (16.0 s) was settled to 14.9 s, a miss
-    # and a false start; the heading-free rows, which cannot be a bin off, top at 16.2 s.
+    # and a false start; the heading-free rows, which cannot be a bin off, top at 16.3 s.
+    # (Without the step the parser's rows score 14.9 s only 1 % over 16.3 s, so that is not
+    # asserted here; the next test asserts a clearer miss without it.)
     from conftest import SHARED
     if not (SHARED / "tools" / "mocap2tvm.py").exists():
         pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
@@ -496,15 +498,14 @@ def test_a_change_in_a_turning_take_is_settled_where_both_views_agree(devsuite):
     found = starts_of(take)
     assert any(abs(b - change) <= 1.0 for b in found), found
     assert not any(change - 2.0 <= b < change - 1.0 for b in found), found
-    alone = starts_of(take, settle_free=0)                              # the parser's rows alone
-    assert any(change - 2.0 <= b < change - 1.0 for b in alone) and not any(abs(b - change) <= 1.0 for b in alone), alone
 
 
 def test_a_change_after_a_spin_is_settled_where_both_views_agree(devsuite):
     # Fresh batch "step23", take spin-b-15fps: the synthetic actor, turning to face another
     # way every 5-10 s, changes from jumping jacks to knee raises at 7.9 s. On the rows turned
-    # back by the heading the whole periods either side differ most at 6.8-7.1 s, on the
-    # heading-free rows at 8.1 s; the boundary was placed 1.3 s early (6.6 s).
+    # back by the heading the whole periods either side differ most at 6.8 s (within 10 % of
+    # that over 6.5-7.9 s), on the heading-free rows at 8.1 s; the boundary was placed 1.3 s
+    # early (6.6 s).
     import fresh
     options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-b-15fps"}["spin-b-15fps"]
     take = devsuite.synth_take("fresh", "spin-b-15fps", options)
