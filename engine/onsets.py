@@ -36,7 +36,8 @@ peaks gave:
   does not confirm it in the body's axes (1.00 / 0.94 / 0.93 -> 0.97 / 0.91 / 0.90: a change
   out of CMU 13_29's toe touches, which both views place late, is no longer taken back within
   1 s by the onset step). In tvmedit's axes it does (0.94 / 0.91 / 0.90 -> 1.00 / 0.94 /
-  0.93). The first form tried, kept as it was.
+  0.93). The first form tried; after a review, negative distances are taken as none (a view
+  without contrast could outweigh the other), which moved no figure.
 * **The onset of a slow transition** (:func:`onset`). The novelty peaks where the pose
   distribution changes most, which for a slow transition (a 3 s change of pose from one
   exercise to the next) is its middle or end, 1-2 s after the person stopped the old
