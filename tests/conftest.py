@@ -31,13 +31,24 @@ def _key(*parts):
     return hashlib.sha1(json.dumps(parts, sort_keys=True, default=str).encode()).hexdigest()[:12]
 
 
+def needs_mocap():
+    """Skip the calling test when the real-motion data of ``../shared`` is not there."""
+    if not MOCAP2TVM.exists():
+        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+
+
+def needs_hdm05():
+    """Skip the calling test when the HDM05 clips of ``../shared`` are not there."""
+    if not (SHARED / "data" / "hdm05").is_dir():
+        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+
+
 def mocap_take(take, **options):
     """Folder of a CMU take turned into TVM (``mocap2tvm.py`` options as keyword arguments).
 
     Skips the calling test when ``../shared`` is not there.
     """
-    if not MOCAP2TVM.exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     options = {"fps": 10, "seed": 0, **options}
     tool_hash = hashlib.sha1(MOCAP2TVM.read_bytes()).hexdigest()[:8]
     out = CACHE / f"mocap-{take}-{_key(take, options, tool_hash)}"

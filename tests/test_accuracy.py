@@ -13,7 +13,7 @@ spans two).
 import numpy as np
 import pytest
 
-from conftest import CACHE, mocap_take
+from conftest import CACHE, mocap_take, needs_hdm05, needs_mocap
 from engine.evaluate import score_take
 from engine.structure import StructureParams
 
@@ -80,10 +80,8 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     # HDM05 actor bk, five exercises stitched from single-repetition clips (a take of the
     # development suite). Consecutive hops differ a little, so the lag profile's clearest
     # valley lies at two hops (17 frames); the sub-multiple test takes the one-hop valley.
-    from conftest import SHARED
     from engine.evaluate import load_truth, texton_length_accuracy
-    if not (SHARED / "data" / "hdm05").is_dir():
-        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+    needs_hdm05()
     actor, plan, seed, options = devsuite.HDM_SOURCES[3]
     folder = devsuite.hdm_source(actor, plan, seed, **options)
     rows = texton_length_accuracy(scores(folder)[3], load_truth(folder), details=True)[1]
@@ -106,10 +104,8 @@ def test_kicks_whose_lag_profile_dips_at_one_and_a_half_periods_get_one_kick_tex
     # two kicks, and the one-kick valley is too shallow for the sub-multiple test; but the
     # profile dips at one and a half times that lag too, which a period of two kicks would not
     # show (step 31, engine.periods): the textons are one kick long. No boundary moves.
-    from conftest import SHARED
     from engine.evaluate import load_truth, texton_length_accuracy
-    if not (SHARED / "data" / "hdm05").is_dir():
-        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+    needs_hdm05()
     actor, plan, seed, options = devsuite.HDM_SOURCES[0]
     assert plan.split(",")[3] == "kickLFront1Reps:6"
     folder = devsuite.hdm_source(actor, plan, seed, **options)
@@ -129,10 +125,8 @@ def test_a_weak_peak_where_the_period_changes_is_a_boundary(devsuite):
     # novelty's peak there for a turn, and a weaker peak beside it stays under the threshold;
     # the period step reads 1.8 s before it and 0.8 s after (engine.rhythm): the boundary is
     # found, and no false one comes with it. At the weight 2 step 1 finds it by itself.
-    from conftest import SHARED
     from engine.evaluate import load_truth
-    if not (SHARED / "data" / "hdm05").is_dir():
-        pytest.skip(f"HDM05 data not found at {SHARED / 'data' / 'hdm05'} (set TVMEDIT_SHARED to the shared folder)")
+    needs_hdm05()
     actor, plan, seed, options = devsuite.HDM_SOURCES[9]
     assert plan.startswith("squat1Reps:6,grabHighR:4,hopBothLegs1hops:8")
     folder = devsuite.hdm_source(actor, plan, seed, **options)
@@ -154,9 +148,7 @@ def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
     # profile dips at 12 frames and, nearly as deep, at 23 (its true period, 22.6 frames),
     # and the mirror test does not flag 12 as half a left-right cycle. A period repeats, so
     # the profile must dip near 36 too; it does not, and the texton is two halves long.
-    from conftest import SHARED
-    if not (SHARED / "tools" / "mocap2tvm.py").exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
     rows = take_score(take).texton_rows
     first = [r for r in rows if r[1] == 1][0]   # (cluster, true segment, median, period, right)
@@ -167,10 +159,8 @@ def test_a_short_first_exercise_is_found_near_the_take_start(devsuite):
     # CMU 13_30 played 1.4x opens with a 1.3 s exercise: its boundary's novelty peak, twice
     # the threshold, lies within 1.5 s of the start, where weaker peaks are not trusted
     # (engine.boundaries.STRONG_EDGE); it is taken, within 1 s of the labelled start.
-    from conftest import SHARED
     from engine.structure import parse
-    if not (SHARED / "tools" / "mocap2tvm.py").exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
     starts = [cs for cs, _ in parse(take.vectors, take.fps, theta=take.theta, centred=take.centred).clusters]
     assert abs(starts[1] - take.truth["segments"][1]["start"]) <= take.fps, starts
@@ -181,10 +171,8 @@ def test_exercises_of_alike_poses_are_told_apart_by_their_pace(devsuite):
     # boundary from twists to arm circles came 1.4 s early (13.0 s for 14.4 s: a false start
     # and a miss). With each bin's pace of change beside it (engine.boundaries.pace) every
     # boundary is found within 1 s and none is false.
-    from conftest import SHARED
     from engine.structure import StructureParams
-    if not (SHARED / "tools" / "mocap2tvm.py").exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_29@0.7x")
     # On the rows as they are (not whitened, engine.boundaries.whiten), as when the pace came in.
     raw = dict(novelty_components=0)   # threshold 0.05 then
@@ -273,9 +261,7 @@ def test_a_change_whose_novelty_peaks_twice_is_not_taken_early(devsuite):
     # it, took it back to 14.5 s: 1.5 s early, a miss and a false start. From the higher
     # peak they place it at 15.2 s. Since step 33 (settle_free) the settling places it right
     # from the earlier peak too, so the earlier rule is tried without that step.
-    from conftest import SHARED
-    if not (SHARED / "tools" / "mocap2tvm.py").exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     take = devsuite.cmu_turning_take("13_29", {"turn": -4.0}, "fresh", "13_29-turn-m4")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
@@ -464,11 +450,9 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
     # two periods each (1.7 s; 3.5 s and 3.0 s long) meet at 8.5 s under a weak novelty peak
     # (confidence 0.23). Each holds one whole texton, as the stretches of one-off movements
     # whose weak splits step 6 undoes do, but both show a period: the boundary stays.
-    from conftest import SHARED
     from engine.evaluate import score
     from engine.structure import parse
-    if not (SHARED / "tools" / "mocap2tvm.py").exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
     s = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     result = score(s, take.truth, take.fps)
@@ -489,9 +473,7 @@ def test_a_change_in_a_turning_take_is_settled_where_both_views_agree(devsuite):
     # and a false start; the heading-free rows, which cannot be a bin off, top at 16.3 s.
     # (Without the step the parser's rows score 14.9 s only 1 % over 16.3 s, so that is not
     # asserted here; the next test asserts a clearer miss without it.)
-    from conftest import SHARED
-    if not (SHARED / "tools" / "mocap2tvm.py").exists():
-        pytest.skip(f"real-motion data not found at {SHARED} (set TVMEDIT_SHARED to the shared folder)")
+    needs_mocap()
     take = devsuite.cmu_turning_take("13_29", {"turn": 7.0}, "fresh", "13_29-turn-7")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
