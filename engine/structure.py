@@ -103,8 +103,8 @@ Two methods are provided.
        cut cycles at any phase, so its peak wanders with the tempo; each boundary moves, by
        up to ``refine_reach`` s, to where whole periods of its two clusters differ most,
        read on the parser's rows and on the heading-free rows together (``settle_free``;
-       step 33: where the tracked heading is a bin or a few off, as after a change of exercise in a take that
-       turns, the first alone lay flat and its top wandered early).
+       step 33: where the tracked heading is a bin or a few off, as after a change of
+       exercise in a take that turns, the first alone lay broad and its top wandered early).
     5. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
        of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
        suite's takes with 3 s transitions); each boundary moves back, by up to

@@ -463,7 +463,7 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
     assert all(len(s.textons_of(k)) <= 1 for k in (at[0] - 1, at[0])), [s.textons_of(k) for k in (at[0] - 1, at[0])]
 
 
-def test_a_change_in_a_turning_take_is_settled_where_both_views_agree(devsuite):
+def test_a_change_in_a_turning_take_is_settled_on_both_views(devsuite):
     # Step 33 of docs/parsing.md (engine.onsets, *Both views*). Step 4 places each boundary
     # between whole periods of its two clusters; on the rows turned back by the tracked
     # heading, which follows a steady turn only in whole bins a second and leaves offsets at a
@@ -482,7 +482,7 @@ def test_a_change_in_a_turning_take_is_settled_where_both_views_agree(devsuite):
     assert not any(change - 2.0 <= b < change - 1.0 for b in found), found
 
 
-def test_a_change_after_a_spin_is_settled_where_both_views_agree(devsuite):
+def test_a_change_after_a_spin_is_settled_on_both_views(devsuite):
     # Fresh batch "step23", take spin-b-15fps: the synthetic actor, turning to face another
     # way every 5-10 s, changes from jumping jacks to knee raises at 7.9 s. On the rows turned
     # back by the heading the whole periods either side differ most at 6.8 s (within 10 % of
