@@ -383,6 +383,30 @@ BATCHES = {
         ("dg", "elbowToKnee1RepsLelbowStart:5,throwBasketball:3,jogLeftCircle4StepsRstart:2,squat1Reps:6,depositFloorR:4",
          104, {"seed": 104, "palette": "c", "build": 0.95}),
     ],
+    # The mocap6 exercises the synthetic actor lacked until now (side reaches, toe touches with
+    # both hands, up-downs: held-out CMU takes are labelled with them), each next to the one
+    # most like it (side bends, toe touches with one hand, hops and squats), at other tempos,
+    # builds and rates, with rests, turns and wandering. Made and committed before the parser
+    # was run on them, scored once at the defaults, to be kept whatever they score.
+    "mocap6-rest": [
+        ("synth", "m6-a", dict(motions=["jumping-jacks", "side-reach", "side-bends", "squats"], cycles=[8, 4, 4, 5],
+                               seed=401)),
+        ("synth", "m6-b-15fps", dict(motions=["toe-touch", "toe-touch-both", "knee-raises", "box"], cycles=[4, 4, 5, 8],
+                                     jitter=1.5, fps=15, build=0.9, seed=402)),
+        ("synth", "m6-c-20fps", dict(motions=["squats", "up-down", "hop", "arm-circles"], cycles=[5, 6, 8, 6],
+                                     fps=20, build=1.15, noise=0.004, seed=403)),
+        ("synth", "m6-d-rests", dict(motions=["side-bends", "toe-touch-both", "side-reach", "run"], cycles=[4, 4, 4, 10],
+                                     rest=1.0, transition=0.5, seed=404)),
+        ("synth", "m6-e-tempo", dict(motions=["up-down", "jumping-jacks", "toe-touch-both", "twist"],
+                                     periods_s=[1.4, 0.8, 3.2, 1.6], cycles=[6, 8, 4, 5], build=1.25, height=1.05,
+                                     seed=405)),
+        ("synth", "m6-f-turns", dict(motions=["side-reach", "up-down", "toe-touch", "toe-touch-both"], cycles=[4, 6, 4, 4],
+                                     turns=60.0, seed=406)),
+        ("synth", "m6-g-wander", dict(motions=["box", "side-reach", "up-down", "knee-raises"], cycles=[8, 4, 6, 5],
+                                      jitter=2.0, wander=0.6, seed=407)),
+        ("synth", "m6-h-slow", dict(motions=["toe-touch-both", "side-bends", "side-reach", "squats"],
+                                    periods_s=[3.6, 3.2, 3.0, 2.8], cycles=[4, 4, 4, 4], transition=2.0, seed=408)),
+    ],
 }
 
 

@@ -10,8 +10,9 @@ Conventions: Z up, metres, feet on z = 0, subject about 1.70 m tall, facing -Y; 
 moves on the spot (walking and running as on a treadmill), so a histogram of vertex positions
 about the first frame's centroid sees only the motion.
 
-Boxing, toe touches, twists, knee raises and side bends go left then right within a cycle, as
-the CMU mocap6 exercises of those names do. Kicks (front kicks with the left leg, standing in
+Boxing, toe touches, twists, knee raises, side bends and side reaches go left then right within
+a cycle, as the CMU mocap6 exercises of those names do; toe touches with both hands and up-downs
+(a deep crouch, then a jump with the arms overhead) are mocap6's other two the actor does. Kicks (front kicks with the left leg, standing in
 guard between them) and hops on both feet are done as HDM05's single-repetition clips of those
 names are.
 
@@ -28,7 +29,7 @@ and the frame index, so any number of workers writes byte-identical files.
 >>> sorted(MOTIONS)[:7]
 ['arm-circles', 'box', 'hop', 'jumping-jacks', 'kick', 'knee-raises', 'pick-up']
 >>> sorted(MOTIONS)[7:]
-['reach-up', 'run', 'side-bends', 'squats', 'toe-touch', 'twist', 'walk']
+['reach-up', 'run', 'side-bends', 'side-reach', 'squats', 'toe-touch', 'toe-touch-both', 'twist', 'up-down', 'walk']
 >>> PRESETS["gym"]["motions"][0], PRESETS["walk"]["motions"]
 ('walk', ['walk'])
 """
@@ -221,6 +222,49 @@ def _hop(phase, a):
                  elbow_l=0.3, elbow_r=0.3)
 
 
+def _side_reach(phase, a):
+    # Reach out to the left, leaning over a bent left knee with the left arm stretched out
+    # and up to the side and the right hand at the hip, back to standing, then the same to
+    # the right (mocap6's SideReach). The same arm leads as the body leans, where a side bend
+    # lifts the other arm overhead.
+    th = 2 * np.pi * phase
+    left, right = max(0.0, np.sin(th)), max(0.0, -np.sin(th))
+    return _pose(roll=a * (0.38 * left - 0.32 * right),
+                 sh_abd_l=0.15 + 1.85 * a * left, sh_abd_r=0.15 + 1.75 * a * right,
+                 sh_flex_l=0.25 * left, sh_flex_r=0.25 * right,
+                 elbow_l=0.15 + 0.9 * right, elbow_r=0.15 + 0.9 * left,
+                 knee_l=0.1 + 0.6 * a * left, knee_r=0.1 + 0.55 * a * right,
+                 hip_flex_l=0.3 * a * left, hip_flex_r=0.3 * a * right,
+                 hip_abd_l=0.22 + 0.12 * left, hip_abd_r=0.22 + 0.12 * right)
+
+
+def _toe_touch_both(phase, a):
+    # Bend forward to touch the toes with both hands, come up and reach both arms overhead,
+    # arms back down (mocap6's ToeTouchTwoHands): one symmetric cycle, where toe-touch
+    # reaches each hand to the other foot in turn.
+    down = np.sin(np.pi * phase / 0.6) ** 2 if phase < 0.6 else 0.0
+    up = np.sin(np.pi * (phase - 0.5) / 0.5) ** 2 if phase >= 0.5 else 0.0
+    return _pose(pitch=1.4 * a * down - 0.12 * up, knee_l=0.15 * down, knee_r=0.15 * down,
+                 sh_flex_l=0.15 + 1.2 * down + 2.6 * a * up, sh_flex_r=0.15 + 1.15 * down + 2.5 * a * up,
+                 sh_abd_l=0.15 + 0.2 * up, sh_abd_r=0.15 + 0.2 * up, elbow_l=0.12, elbow_r=0.12,
+                 hip_abd_l=0.12, hip_abd_r=0.12, toe_l=0.25 * up, toe_r=0.25 * up)
+
+
+def _up_down(phase, a):
+    # Down into a deep crouch with the hands by the feet, then up in a jump with both arms
+    # thrown overhead, and land back to standing (mocap6's UpDown): a hop's course, deeper
+    # and slower, with the arms up.
+    crouch = np.sin(np.pi * phase / 0.5) ** 2 if phase < 0.5 else 0.0
+    crouch += 0.4 * np.sin(np.pi * (phase - 0.72) / 0.28) ** 2 if phase >= 0.72 else 0.0
+    air = np.sin(np.pi * (phase - 0.42) / 0.32) if 0.42 <= phase < 0.74 else 0.0
+    return _pose(knee_l=0.1 + 1.9 * a * crouch, knee_r=0.1 + 1.85 * a * crouch,
+                 hip_flex_l=1.5 * a * crouch, hip_flex_r=1.5 * a * crouch, pitch=0.6 * a * crouch,
+                 lift=0.2 * a * air, toe_l=0.6 * air, toe_r=0.6 * air,
+                 sh_flex_l=0.1 + 1.1 * crouch + 2.7 * air, sh_flex_r=0.1 + 1.05 * crouch + 2.6 * air,
+                 sh_abd_l=0.15 + 0.25 * air, sh_abd_r=0.15 + 0.25 * air, elbow_l=0.2, elbow_r=0.2,
+                 hip_abd_l=0.1, hip_abd_r=0.1)
+
+
 def _ease(phase, up, top):
     # 0 -> 1 over [0, up), 1 over [up, top), 1 -> 0 over [top, 1): a one-off movement's course.
     if phase < up:
@@ -283,6 +327,9 @@ MOTIONS = {
     "twist": Motion(_twist, 2.0, 5),
     "kick": Motion(_kick, 1.4, 6),
     "hop": Motion(_hop, 0.9, 8),
+    "side-reach": Motion(_side_reach, 2.4, 4),
+    "toe-touch-both": Motion(_toe_touch_both, 2.6, 4),
+    "up-down": Motion(_up_down, 1.8, 6),
 }
 
 PRESETS = {
