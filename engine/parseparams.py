@@ -79,7 +79,8 @@ class StructureParams:
         0.5 chosen by cross-validation on the development suite (0.3 before).
     submultiple : float
         "energy": the chosen lag L gives way to a valley at L/3 or L/2 whose dip below the
-        profile's median is at least this fraction of the dip at L (repetitions that
+        profile's median is at least this fraction of the dip at L, and of the dip at the
+        most prominent valley where that is deeper (repetitions that
         alternate a little, e.g. in heading, made the clearest valley two repetitions
         long); 0 turns the test off. Any value in 0.5-0.9 gives the same figures on the
         development suite; 0.4 halved a texton of CMU 13_29.

@@ -51,6 +51,13 @@ Thirds as well as halves: with period tolerance 0.3 an HDM05 hop got a texton of
 The one-repetition valley is looked for within ``JITTER`` (15 %) of L/2 or L/3, not 10 %:
 repetitions differ in length, so it is seldom at exactly half the two-repetition lag (an
 HDM05 kick: valleys at 20 and 35 frames, one kick of 20 frames and the next of 15).
+The dip L/parts must reach is ``submultiple`` of the larger of L's dip and the dip at the
+profile's most prominent valley (step 34 of ``docs/parsing.md``): where the shortest-lag rule
+has already gone below that valley, to the half cycle of a left-then-right exercise, L's dip
+can be slight, and 0.7 of a slight dip is no evidence. Slow synthetic side bends (3.2 s a
+cycle) read their half cycle, 1.6 s, 1-8 % of the level below it, and a dent at 0.5 s, a third
+of it, passed: textons of 0.5 s. Against the cycle's dip there, the 0.5 s dent reaches only
+0.21-0.36 of it.
 
 **Half periods whose third multiple is no valley.** A period repeats, so the lag profile
 dips below its level (median) near every multiple of it. Where the chosen L has a valley at
@@ -237,7 +244,7 @@ def _lowest_valley(cand, lags, prof, target, reach):
     return min(near, key=lambda i: prof[i]) if near else None
 
 
-def _submultiple(chosen, cand, lags, prof, level, ratio):
+def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
     """The shortest sub-multiple of the chosen lag whose valley is nearly as low (index into lags).
 
     A valley at L/3 or L/2 (:data:`SUBMULTIPLES`) whose dip below the profile's level (its
@@ -248,6 +255,12 @@ def _submultiple(chosen, cand, lags, prof, level, ratio):
     :data:`JITTER` of L/parts: repetitions differ in length, so the one-repetition valley
     under a two-repetition one is seldom at exactly half its lag. The mirror test still
     doubles a half period of a left-then-right exercise afterwards.
+
+    ``clearest`` is the dip at the profile's most prominent valley. Where the shortest-lag
+    rule has already taken a lag shorter than that valley (a half cycle of a left-then-right
+    exercise), the dip at L can be slight, and a sub-multiple must dip at least ``ratio``
+    times the larger of the two (see the module docstring, *Double periods of alternating
+    repetitions*).
     """
     if not ratio:
         return chosen
@@ -255,7 +268,7 @@ def _submultiple(chosen, cand, lags, prof, level, ratio):
         for parts in SUBMULTIPLES:
             target = lags[chosen] / parts
             k = _lowest_valley(cand, lags, prof, target, max(1.0, JITTER * target))
-            if k is not None and level - prof[k] >= ratio * (level - prof[chosen]):
+            if k is not None and level - prof[k] >= ratio * max(level - prof[chosen], clearest):
                 chosen = k
                 break
         else:
@@ -337,7 +350,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None, p
     # A multiple of the period is a valley too, often as deep: take the shortest lag that
     # is nearly as prominent as the most prominent one.
     chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
-    chosen = _submultiple(chosen, cand, lags, prof, level, p.submultiple)
+    chosen = _submultiple(chosen, cand, lags, prof, level, p.submultiple, clearest=level - prof[best])
     L = int(lags[chosen])
     # A half period (one side then the other) can pass that test: left and right poses
     # have the same r and phi histograms and differ in theta only. Prefer 2L when the

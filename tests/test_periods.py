@@ -37,3 +37,24 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     texton = float(np.median([len(t) for t in structure.textons_of(0)])) / take.fps
     assert abs(texton - 1.0) < 0.15, texton
+
+
+def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
+    # Fresh batch "mocap6-rest", take m6-h-slow: the synthetic actor's side bends at 3.2 s a
+    # cycle, left then right, after a 2 s transition. The lag profile's most prominent valley
+    # is the cycle (3.3 s); the shortest-lag rule takes the half cycle (1.6 s), which barely
+    # dips below the profile's level, and the sub-multiple test then took a shallow dent at
+    # 0.5 s, as deep as 0.7 of that little dip: textons of 0.5 s. A sub-multiple must dip 0.7
+    # as deep as the deepest valley, so the half cycle stays and the mirror test doubles it.
+    import fresh
+    from engine.structure import parse
+    options = {name: opts for _, name, opts in fresh.BATCHES["mocap6-rest"] if name == "m6-h-slow"}["m6-h-slow"]
+    take = devsuite.synth_take("fresh", "m6-h-slow", options)
+    segment = take.truth["segments"][1]
+    assert segment["label"] == "side-bends"
+    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
+    middle = (segment["start"] + segment["end"]) // 2
+    ci = next(i for i, (cs, ce) in enumerate(structure.clusters) if cs <= middle <= ce)
+    texton = float(np.median([len(t) for t in structure.textons_of(ci)])) / take.fps
+    period = take.truth["periods_hint"][1]["period_s"]
+    assert abs(texton - period) <= 0.15 * period, (texton, period)
