@@ -332,6 +332,29 @@ def test_a_kick_is_the_left_leg_out_in_front_and_a_hop_leaves_the_floor():
         assert np.allclose(synth.MOTIONS[name].pose(0.0, 1.0), synth.MOTIONS[name].pose(1 - 1e-9, 1.0), atol=1e-6)
 
 
+def test_side_reaches_toe_touches_with_both_hands_and_up_downs():
+    # The other mocap6 exercises, as the fresh batch "mocap6-rest" uses them: a side reach has
+    # the left hand out to the left (+x) and up, then the right hand out to the right, each
+    # while the other stays in; a toe touch with both hands brings both down, then both over
+    # the head; an up-down crouches with the hands low, then jumps with both feet off the
+    # floor and both hands over the head.
+    reach = synth.MOTIONS["side-reach"].pose
+    assert _hand(reach(0.25, 1.0), "l")[0] > _hand(reach(0.0, 1.0), "l")[0] + 0.5
+    assert _hand(reach(0.75, 1.0), "r")[0] < _hand(reach(0.0, 1.0), "r")[0] - 0.5
+    assert abs(_hand(reach(0.25, 1.0), "r")[0]) < 0.4 and abs(_hand(reach(0.75, 1.0), "l")[0]) < 0.4
+    both = synth.MOTIONS["toe-touch-both"].pose
+    standing = _hand(both(0.0, 1.0), "l")[2]
+    assert all(_hand(both(0.3, 1.0), s)[2] < standing - 0.3 for s in "lr")
+    assert all(_hand(both(0.75, 1.0), s)[2] > 1.8 for s in "lr")
+    up_down = synth.MOTIONS["up-down"].pose
+    floor = min(_toe_tip(up_down(0.0, 1.0), s)[2] for s in "lr")
+    assert all(_hand(up_down(0.25, 1.0), s)[2] < standing - 0.3 for s in "lr")
+    assert min(_toe_tip(up_down(0.58, 1.0), s)[2] for s in "lr") > floor + 0.1
+    assert all(_hand(up_down(0.58, 1.0), s)[2] > 1.8 for s in "lr")
+    for name in ("side-reach", "toe-touch-both", "up-down"):   # a cycle ends where the next one starts
+        assert np.allclose(synth.MOTIONS[name].pose(0.0, 1.0), synth.MOTIONS[name].pose(1 - 1e-9, 1.0), atol=1e-6)
+
+
 def test_a_turning_actor_turns_on_its_feet(tmp_path):
     # tvmedit synth --turns: the actor turns to face another way now and then while touching
     # its toes. People turn on their feet: the feet (the lowest vertices) stay on their spot
