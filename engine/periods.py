@@ -51,7 +51,7 @@ Thirds as well as halves: with period tolerance 0.3 an HDM05 hop got a texton of
 The one-repetition valley is looked for within ``JITTER`` (15 %) of L/2 or L/3, not 10 %:
 repetitions differ in length, so it is seldom at exactly half the two-repetition lag (an
 HDM05 kick: valleys at 20 and 35 frames, one kick of 20 frames and the next of 15).
-The dip L/parts must reach is ``submultiple`` of the larger of L's dip and the dip at the
+The first dip L/parts must reach is ``submultiple`` of the larger of L's dip and the dip at the
 profile's most prominent valley (step 34 of ``docs/parsing.md``): where the shortest-lag rule
 has already gone below that valley, to the half cycle of a left-then-right exercise, L's dip
 can be slight, and 0.7 of a slight dip is no evidence. Slow synthetic side bends (3.2 s a
@@ -258,9 +258,24 @@ def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
 
     ``clearest`` is the dip at the profile's most prominent valley. Where the shortest-lag
     rule has already taken a lag shorter than that valley (a half cycle of a left-then-right
-    exercise), the dip at L can be slight, and a sub-multiple must dip at least ``ratio``
-    times the larger of the two (see the module docstring, *Double periods of alternating
-    repetitions*).
+    exercise), the dip at L can be slight, and the first sub-multiple must dip at least
+    ``ratio`` times the larger of the two (see the module docstring, *Double periods of
+    alternating repetitions*); each step after it, from a sub-multiple already taken, asks
+    ``ratio`` of that one's dip, as before.
+
+    >>> lags = np.arange(4, 50)
+    >>> def dips(**at):   # a flat profile at level 1 with valleys (index into lags) of these dips
+    ...     prof = np.ones(len(lags))
+    ...     for lag, dip in at.items():
+    ...         prof[int(lag[1:]) - 4] = 1 - dip
+    ...     return [int(lag[1:]) - 4 for lag in at], prof
+    >>> cand, prof = dips(L40=1.0, L20=0.75, L10=0.6)      # alternating repetitions: 40 -> 20 -> 10
+    >>> int(lags[_submultiple(36, cand, lags, prof, 1.0, 0.7, clearest=1.0)])
+    10
+    >>> cand, prof = dips(L33=0.5, L16=0.05, L5=0.04)      # a half cycle that barely dips, at 16
+    >>> before = _submultiple(12, cand, lags, prof, 1.0, 0.7)         # as the test was before step 34
+    >>> int(lags[before]), int(lags[_submultiple(12, cand, lags, prof, 1.0, 0.7, clearest=0.5)])
+    (5, 16)
     """
     if not ratio:
         return chosen
@@ -269,7 +284,7 @@ def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
             target = lags[chosen] / parts
             k = _lowest_valley(cand, lags, prof, target, max(1.0, JITTER * target))
             if k is not None and level - prof[k] >= ratio * max(level - prof[chosen], clearest):
-                chosen = k
+                chosen, clearest = k, 0.0      # a further step from here asks as the test always did
                 break
         else:
             return chosen

@@ -77,9 +77,9 @@ Two methods are provided.
        (``submultiple``; fixes textons two repetitions long where repetitions alternate a
        little, as HDM05's stitched clips do), as low measured against the most prominent
        valley's dip too where L is shorter than that valley (step 34: slow side bends read
-       their half cycle, which barely dipped, and then a third of it). A cluster whose valleys are too broad for a
-       0.3 s reach (a slow exercise) is measured again with a reach of a quarter of each
-       lag before it is left without textons (a 3.9 s toe touch had none); transitions are
+       their half cycle, which barely dipped, and then a third of it). A cluster whose
+       valleys are too broad for a 0.3 s reach (a slow exercise) is measured again with a
+       reach of a quarter of each lag before it is left without textons (a 3.9 s toe touch had none); transitions are
        still told with the 0.3 s reach alone. **Two repetitions in one texton** (step 31,
        ``comb``): the textons are cut at P/2 where the lag profile also dips below its level
        near P/2 and near 3P/2 (a period repeats at its multiples, so a dip at one and a half

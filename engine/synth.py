@@ -12,9 +12,9 @@ about the first frame's centroid sees only the motion.
 
 Boxing, toe touches, twists, knee raises, side bends and side reaches go left then right within
 a cycle, as the CMU mocap6 exercises of those names do; toe touches with both hands and up-downs
-(a deep crouch, then a jump with the arms overhead) are mocap6's other two the actor does. Kicks (front kicks with the left leg, standing in
-guard between them) and hops on both feet are done as HDM05's single-repetition clips of those
-names are.
+(a deep crouch, then a jump with the arms overhead), mocap6's other two, once a cycle. Kicks (front kicks
+with the left leg, standing in guard between them) and hops on both feet are done as HDM05's
+single-repetition clips of those names are.
 
 Timeline: each motion is repeated for a number of cycles whose period and amplitude jitter a
 little from cycle to cycle (a lot for the one-off movements, putting something on the floor
@@ -223,9 +223,10 @@ def _hop(phase, a):
 
 
 def _side_reach(phase, a):
-    # Reach out to the left, leaning over a bent left knee with the left arm stretched out
-    # and up to the side and the right hand at the hip, back to standing, then the same to
-    # the right (mocap6's SideReach). The same arm leads as the body leans, where a side bend
+    # Reach out to the left: lean left with the left arm stretched out to the side at shoulder
+    # height, the left knee bent (that foot lifts a little: the actor stands on the straight
+    # leg) and the right hand in front of the hip; back to standing, then the same to the
+    # right (mocap6's SideReach). The same arm leads as the body leans, where a side bend
     # lifts the other arm overhead.
     th = 2 * np.pi * phase
     left, right = max(0.0, np.sin(th)), max(0.0, -np.sin(th))
@@ -239,9 +240,9 @@ def _side_reach(phase, a):
 
 
 def _toe_touch_both(phase, a):
-    # Bend forward to touch the toes with both hands, come up and reach both arms overhead,
-    # arms back down (mocap6's ToeTouchTwoHands): one symmetric cycle, where toe-touch
-    # reaches each hand to the other foot in turn.
+    # Bend forward, both hands down to the shins (as deep as toe-touch's one hand goes), come
+    # up on the toes with both arms overhead, arms back down (mocap6's ToeTouchTwoHands): one
+    # symmetric cycle, where toe-touch reaches each hand to the other foot in turn.
     down = np.sin(np.pi * phase / 0.6) ** 2 if phase < 0.6 else 0.0
     up = np.sin(np.pi * (phase - 0.5) / 0.5) ** 2 if phase >= 0.5 else 0.0
     return _pose(pitch=1.4 * a * down - 0.12 * up, knee_l=0.15 * down, knee_r=0.15 * down,
@@ -251,9 +252,9 @@ def _toe_touch_both(phase, a):
 
 
 def _up_down(phase, a):
-    # Down into a deep crouch with the hands by the feet, then up in a jump with both arms
-    # thrown overhead, and land back to standing (mocap6's UpDown): a hop's course, deeper
-    # and slower, with the arms up.
+    # Down into a deep crouch with the hands low in front of the knees, then up in a jump with
+    # both arms thrown overhead, land, give a little at the knees and stand (mocap6's UpDown):
+    # a hop's course, deeper and slower, with the arms up.
     crouch = np.sin(np.pi * phase / 0.5) ** 2 if phase < 0.5 else 0.0
     crouch += 0.4 * np.sin(np.pi * (phase - 0.72) / 0.28) ** 2 if phase >= 0.72 else 0.0
     air = np.sin(np.pi * (phase - 0.42) / 0.32) if 0.42 <= phase < 0.74 else 0.0

@@ -45,7 +45,7 @@ def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     # is the cycle (3.3 s); the shortest-lag rule takes the half cycle (1.6 s), which barely
     # dips below the profile's level, and the sub-multiple test then took a shallow dent at
     # 0.5 s, as deep as 0.7 of that little dip: textons of 0.5 s. A sub-multiple must dip 0.7
-    # as deep as the deepest valley, so the half cycle stays and the mirror test doubles it.
+    # as deep as the most prominent valley, so the half cycle stays and the mirror test doubles it.
     import fresh
     from engine.structure import parse
     options = {name: opts for _, name, opts in fresh.BATCHES["mocap6-rest"] if name == "m6-h-slow"}["m6-h-slow"]
