@@ -19,6 +19,7 @@ example:
   tvmedit synth --motions pick-up,reach-up,squats --out /tmp/one-offs
   tvmedit synth --motions box,toe-touch,twist --out /tmp/alternating
   tvmedit synth --motions knee-raises,kick,hop --rest 0.5 --out /tmp/kicks
+  tvmedit synth --motions side-reach,toe-touch-both,up-down --out /tmp/mocap6
   tvmedit synth --motions jumping-jacks,side-bends --turns 90 --out /tmp/turning
 """
 
