@@ -32,11 +32,14 @@ does not move.
 reflection plane fits a whole cluster only if the person kept facing one way. So (step 32 of
 ``docs/parsing.md``) they are read turned back by their own slow heading
 (:mod:`engine.heading`), as the parser's rows are, and the plane is chosen anew every
-``WINDOW`` (3) lags, a cycle and a half of a left-then-right exercise: a sudden turn between
+``WINDOW`` (2) lags, a cycle of a left-then-right exercise: a sudden turn between
 repetitions (over a second) is faster than the slow heading follows. A plane chosen every lag
 is too free (symmetric exercises read as mirrored: the synthetic jumping jacks of the suite's
 turning take doubled, and five fresh batches lose texton lengths); every two lags or more
-holds. A cluster shorter than seven lags (three and a half cycles) still has one plane. CMU
+holds. Every three lags until step 35 of ``docs/parsing.md``: a turn inside a stretch spoils
+its plane, and shorter stretches hold fewer turns (one-hand toe touches across two turns read
+half their cycle, mirror ratio 0.81 against 0.8). A cluster shorter than five lags (two and a
+half cycles) still has one plane. CMU
 13_30 swaying up to 90 degrees read half cycles of its twists, and walks, side bends and toe
 touches across sudden turns a half or a third of their cycle (fresh turning batches).
 
@@ -141,9 +144,9 @@ MIRROR_RATIO = 0.8
 
 #: The mirror test's reflection plane is chosen anew every this many lags (a person who turns
 #: between repetitions turns the plane). 1 is too free: symmetric exercises read as mirrored
-#: (five fresh batches lose texton lengths against 3); 2, 3, 5 and 8 hold (engine.periods, *A
-#: person who turns*).
-WINDOW = 3
+#: (five fresh batches lose texton lengths against 3); 2, 3, 5 and 8 hold, and 2 gains the most
+#: (3 until step 35; engine.periods, *A person who turns*).
+WINDOW = 2
 
 #: Share of a stretch's length that its lag profile runs to (:func:`longest_lag`): the
 #: longest period its valleys can show directly. Only the mirror test's doubling (2L for a

@@ -70,7 +70,7 @@ Two methods are provided.
        nearly as deep, unless 2L is the true period of a left-then-right exercise: the
        *mirror test* (frame u + L nearer the mirror image of frame u than frame u itself;
        fixes half-period textons of knee raises, side bends, toe touches, twists) decides,
-       about a vertical plane chosen anew every three lags, on rows turned back by the
+       about a vertical plane chosen anew every two lags, on rows turned back by the
        heading (a person who turns turns the plane: half cycles of exercises done swaying or
        across turns).
        Symmetrically, L gives way to L/3 or L/2 when the profile dips nearly as low there

@@ -289,7 +289,7 @@ def test_walking_across_sudden_turns_gets_textons_of_a_whole_stride(devsuite):
     # left then right) and turns 90 degrees at 16 s and 124 degrees at 22-23 s, each over 1 s,
     # faster than the slow heading follows. One reflection plane for the whole cluster fits
     # neither heading, and the texton was a third of a stride (0.6 s); the plane is now chosen
-    # anew every three lags (engine.periods.mirror_ratio).
+    # anew every two lags (engine.periods.mirror_ratio).
     import fresh
 
     from engine.structure import parse

@@ -18,7 +18,7 @@ def test_a_left_then_right_exercise_stays_mirrored_across_turns():
     # Four poses of one side, then their mirror images: lag 4 is half a cycle. The person
     # turns five times, each turn moving the plane the halves are mirrored about. One plane
     # for the whole stretch read 0.81 here (no half cycle: the texton would be half an
-    # exercise's cycle); the plane chosen again every three lags reads the halves as mirrored.
+    # exercise's cycle); the plane chosen again every two lags reads the halves as mirrored.
     half = np.random.default_rng(0).random((4, BINS))
     cycle = np.vstack([half, half[:, (10 - np.arange(BINS)) % BINS]])
     headings = (0, 17, 40, 9, 55, 28)
@@ -30,7 +30,7 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     # ("turns", synth-drift) opens with jumping jacks (1.0 s a cycle, symmetric), during which
     # the actor turns. A plane chosen anew every lag is free enough to pass one cycle off as the
     # mirror image of the one before, and the texton read two cycles (2.0 s); chosen every
-    # three lags, it stays one cycle.
+    # two lags (three until step 35), it stays one cycle.
     from engine.structure import parse
     take = next(t for t in devsuite.takes(("synth-drift",)) if t.name == "turns")
     assert take.truth["segments"][0]["label"] == "jumping-jacks"
@@ -57,4 +57,24 @@ def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     ci = next(i for i, (cs, ce) in enumerate(structure.clusters) if cs <= middle <= ce)
     texton = float(np.median([len(t) for t in structure.textons_of(ci)])) / take.fps
     period = take.truth["periods_hint"][1]["period_s"]
+    assert abs(texton - period) <= 0.15 * period, (texton, period)
+
+
+def test_toe_touches_across_two_turns_get_textons_of_a_whole_cycle(devsuite):
+    # Fresh batch "mocap6-rest", take m6-f-turns: the synthetic actor's one-hand toe touches
+    # (2.96 s a cycle, left then right), during which it turns to face another way twice, by
+    # 30-60 degrees over a second. With the reflection plane chosen every three lags a turn
+    # lay inside each stretch, the mirror ratio over the cluster was 0.81 against 0.8, and the
+    # textons were half a cycle (1.5 s); every two lags, a whole one.
+    import fresh
+    from engine.structure import parse
+    options = {name: opts for _, name, opts in fresh.BATCHES["mocap6-rest"] if name == "m6-f-turns"}["m6-f-turns"]
+    take = devsuite.synth_take("fresh", "m6-f-turns", options)
+    segment = take.truth["segments"][2]
+    assert segment["label"] == "toe-touch"
+    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
+    middle = (segment["start"] + segment["end"]) // 2
+    ci = next(i for i, (cs, ce) in enumerate(structure.clusters) if cs <= middle <= ce)
+    texton = float(np.median([len(t) for t in structure.textons_of(ci)])) / take.fps
+    period = take.truth["periods_hint"][2]["period_s"]
     assert abs(texton - period) <= 0.15 * period, (texton, period)
