@@ -39,6 +39,22 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     assert abs(texton - 1.0) < 0.15, texton
 
 
+def _texton_and_period(devsuite, name, segment, label):
+    # The median texton of the cluster that holds the middle of a true segment of a take of the
+    # fresh batch "mocap6-rest", and that segment's true period, in seconds.
+    import fresh
+    from engine.structure import parse
+    options = {take: opts for _, take, opts in fresh.BATCHES["mocap6-rest"] if take == name}[name]
+    take = devsuite.synth_take("fresh", name, options)
+    true = take.truth["segments"][segment]
+    assert true["label"] == label
+    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
+    middle = (true["start"] + true["end"]) // 2
+    ci = next(i for i, (cs, ce) in enumerate(structure.clusters) if cs <= middle <= ce)
+    texton = float(np.median([len(t) for t in structure.textons_of(ci)])) / take.fps
+    return texton, take.truth["periods_hint"][segment]["period_s"]
+
+
 def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     # Fresh batch "mocap6-rest", take m6-h-slow: the synthetic actor's side bends at 3.2 s a
     # cycle, left then right, after a 2 s transition. The lag profile's most prominent valley
@@ -46,17 +62,7 @@ def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     # dips below the profile's level, and the sub-multiple test then took a shallow dent at
     # 0.5 s, as deep as 0.7 of that little dip: textons of 0.5 s. A sub-multiple must dip 0.7
     # as deep as the most prominent valley, so the half cycle stays and the mirror test doubles it.
-    import fresh
-    from engine.structure import parse
-    options = {name: opts for _, name, opts in fresh.BATCHES["mocap6-rest"] if name == "m6-h-slow"}["m6-h-slow"]
-    take = devsuite.synth_take("fresh", "m6-h-slow", options)
-    segment = take.truth["segments"][1]
-    assert segment["label"] == "side-bends"
-    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
-    middle = (segment["start"] + segment["end"]) // 2
-    ci = next(i for i, (cs, ce) in enumerate(structure.clusters) if cs <= middle <= ce)
-    texton = float(np.median([len(t) for t in structure.textons_of(ci)])) / take.fps
-    period = take.truth["periods_hint"][1]["period_s"]
+    texton, period = _texton_and_period(devsuite, "m6-h-slow", 1, "side-bends")
     assert abs(texton - period) <= 0.15 * period, (texton, period)
 
 
@@ -66,15 +72,5 @@ def test_toe_touches_across_two_turns_get_textons_of_a_whole_cycle(devsuite):
     # 30-60 degrees over a second. With the reflection plane chosen every three lags a turn
     # lay inside each stretch, the mirror ratio over the cluster was 0.81 against 0.8, and the
     # textons were half a cycle (1.5 s); every two lags, a whole one.
-    import fresh
-    from engine.structure import parse
-    options = {name: opts for _, name, opts in fresh.BATCHES["mocap6-rest"] if name == "m6-f-turns"}["m6-f-turns"]
-    take = devsuite.synth_take("fresh", "m6-f-turns", options)
-    segment = take.truth["segments"][2]
-    assert segment["label"] == "toe-touch"
-    structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
-    middle = (segment["start"] + segment["end"]) // 2
-    ci = next(i for i, (cs, ce) in enumerate(structure.clusters) if cs <= middle <= ce)
-    texton = float(np.median([len(t) for t in structure.textons_of(ci)])) / take.fps
-    period = take.truth["periods_hint"][2]["period_s"]
+    texton, period = _texton_and_period(devsuite, "m6-f-turns", 2, "toe-touch")
     assert abs(texton - period) <= 0.15 * period, (texton, period)
