@@ -36,12 +36,13 @@ reflection plane fits a whole cluster only if the person kept facing one way. So
 repetitions (over a second) is faster than the slow heading follows. A plane chosen every lag
 is too free (symmetric exercises read as mirrored: the synthetic jumping jacks of the suite's
 turning take doubled, and five fresh batches lose texton lengths); every two lags or more
-holds. Every three lags until step 35 of ``docs/parsing.md``: a turn inside a stretch spoils
-its plane, and shorter stretches hold fewer turns (one-hand toe touches across two turns read
-half their cycle, mirror ratio 0.81 against 0.8). A cluster shorter than five lags (two and a
-half cycles) still has one plane. CMU
-13_30 swaying up to 90 degrees read half cycles of its twists, and walks, side bends and toe
-touches across sudden turns a half or a third of their cycle (fresh turning batches).
+holds. Every three lags until step 35 of ``docs/parsing.md``: a stretch's plane fits only
+the part of it on one side of a turn, and in shorter stretches less of it lies on the other
+side (one-hand toe touches across two turns read half their cycle with three lags, mirror
+ratio 0.81 against 0.8; 0.69 with two). A cluster shorter than five lags (two and a half
+cycles) still has one plane. CMU 13_30 swaying up to 90 degrees read half cycles of its
+twists, and walks, side bends and toe touches across sudden turns a half or a third of their
+cycle (fresh turning batches).
 
 **Double periods of alternating repetitions** (:func:`_submultiple`, ``submultiple``). The
 reverse failure: where consecutive repetitions differ a little (HDM05's single-repetition
@@ -139,7 +140,7 @@ __all__ = ["cluster_period", "one_repetition", "PeriodReader", "mirror_ratio", "
 #: touches, twists and knee raises, 0.79 at half a running stride; 0.9-1.25 at half the
 #: period of symmetric exercises (jumping jacks, squats, arm circles) and above 1 at whole
 #: periods. Measured with one plane for the whole cluster; a plane chosen every :data:`WINDOW`
-#: lags reads a little lower (random histograms: 0.996 with one plane, 0.96 with three lags).
+#: lags reads a little lower (random histograms: 0.996 with one plane, 0.95-0.96 with two or three lags).
 MIRROR_RATIO = 0.8
 
 #: The mirror test's reflection plane is chosen anew every this many lags (a person who turns
@@ -172,8 +173,8 @@ def mirror_ratio(seg, lag, theta):
     mean_u |t_u - R t_(u+lag)| / mean_u |t_u - t_(u+lag)| on the azimuth (theta) histograms
     t, where R reflects the histogram about a vertical plane: bin j goes to bin (c - j) mod n.
     The plane is the one that gives the smallest sum over each stretch of :data:`WINDOW`
-    lags of pairs (the remainder joins the last stretch, so stretches are WINDOW to
-    2 WINDOW - 1 lags long), chosen for each stretch on its own: a person who turns between
+    lags' worth of pairs (WINDOW x lag pairs; the remainder joins the last stretch, which
+    holds up to just under twice that), chosen for each stretch on its own: a person who turns between
     repetitions turns the plane. A segment shorter than 2 WINDOW + 1 lags has one plane. The
     r and phi histograms are left out: a pose and its mirror image share them.
 
