@@ -427,6 +427,11 @@ def takes(batch):
     return [_take(source) for source in BATCHES[batch]]
 
 
+def take(batch, name):
+    """The batch's synthetic take of that name (devsuite.Take, group "fresh")."""
+    return _take(next(s for s in BATCHES[batch] if s[0] == "synth" and s[1] == name))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--batch", nargs="+", default=list(BATCHES), choices=list(BATCHES))

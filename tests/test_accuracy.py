@@ -243,8 +243,7 @@ def test_a_change_of_exercise_after_a_turn_is_not_taken_back_to_the_turn(devsuit
     import fresh
 
     from engine.structure import parse
-    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-a"}["spin-a"]
-    take = devsuite.synth_take("fresh", "spin-a", options)
+    take = fresh.take("step23", "spin-a")
     change = take.truth["segments"][1]["start"] / take.fps
     assert abs(change - 11.1) < 0.05 and take.truth["segments"][1]["label"] == "arm-circles"
     starts = [cs / take.fps for cs, _ in parse(take.vectors, take.fps, theta=take.theta,
@@ -293,8 +292,7 @@ def test_walking_across_sudden_turns_gets_textons_of_a_whole_stride(devsuite):
     import fresh
 
     from engine.structure import parse
-    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-c-rests"}["spin-c-rests"]
-    take = devsuite.synth_take("fresh", "spin-c-rests", options)
+    take = fresh.take("step23", "spin-c-rests")
     assert take.truth["segments"][1]["label"] == "walk"
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     k, cluster = min(enumerate(structure.clusters), key=lambda c: abs(c[1][0] / take.fps - 13.2))
@@ -314,8 +312,7 @@ def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
     import fresh
 
     from engine.structure import parse, textons_for
-    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-c-rests"}["spin-c-rests"]
-    take = devsuite.synth_take("fresh", "spin-c-rests", options)
+    take = fresh.take("step23", "spin-c-rests")
     assert take.truth["segments"][0]["label"] == "toe-touch"
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     cluster = structure.clusters[0]
@@ -489,8 +486,7 @@ def test_a_change_after_a_spin_is_settled_on_both_views(devsuite):
     # that over 6.5-7.9 s), on the heading-free rows at 8.1 s; the boundary was placed 1.3 s
     # early (6.6 s).
     import fresh
-    options = {name: opts for _, name, opts in fresh.BATCHES["step23"] if name == "spin-b-15fps"}["spin-b-15fps"]
-    take = devsuite.synth_take("fresh", "spin-b-15fps", options)
+    take = fresh.take("step23", "spin-b-15fps")
     change = take.truth["segments"][1]["start"] / take.fps
     assert abs(change - 7.9) < 0.1 and take.truth["segments"][1]["label"] == "knee-raises"
     found = starts_of(take)

@@ -39,13 +39,13 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     assert abs(texton - 1.0) < 0.15, texton
 
 
-def _texton_and_period(devsuite, name, segment, label):
+def _texton_and_period(name, segment, label):
     # The median texton of the cluster that holds the middle of a true segment of a take of the
-    # fresh batch "mocap6-rest", and that segment's true period, in seconds.
+    # fresh batch "mocap6-rest", and that segment's true period, in seconds (the calling test
+    # asks for the devsuite fixture, which puts benchmarks/ on the path).
     import fresh
     from engine.structure import parse
-    options = {take: opts for _, take, opts in fresh.BATCHES["mocap6-rest"] if take == name}[name]
-    take = devsuite.synth_take("fresh", name, options)
+    take = fresh.take("mocap6-rest", name)
     true = take.truth["segments"][segment]
     assert true["label"] == label
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
@@ -62,7 +62,7 @@ def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     # dips below the profile's level, and the sub-multiple test then took a shallow dent at
     # 0.5 s, as deep as 0.7 of that little dip: textons of 0.5 s. A sub-multiple must dip 0.7
     # as deep as the most prominent valley, so the half cycle stays and the mirror test doubles it.
-    texton, period = _texton_and_period(devsuite, "m6-h-slow", 1, "side-bends")
+    texton, period = _texton_and_period("m6-h-slow", 1, "side-bends")
     assert abs(texton - period) <= 0.15 * period, (texton, period)
 
 
@@ -72,5 +72,5 @@ def test_toe_touches_across_two_turns_get_textons_of_a_whole_cycle(devsuite):
     # 30-60 degrees over a second. With the reflection plane chosen every three lags a turn
     # lay inside each stretch, the mirror ratio over the cluster was 0.81 against 0.8, and the
     # textons were half a cycle (1.5 s); every two lags, a whole one.
-    texton, period = _texton_and_period(devsuite, "m6-f-turns", 2, "toe-touch")
+    texton, period = _texton_and_period("m6-f-turns", 2, "toe-touch")
     assert abs(texton - period) <= 0.15 * period, (texton, period)
