@@ -152,7 +152,7 @@ from .atoms import (PAPER_FPS, atom_distance, atom_distances_to, atoms_along_lag
                     atom_window, lag_profile, novelty)
 from .azimuth import azimuth_smoothed, azimuth_spectrum
 from .boundaries import novelty_boundaries, novelty_curve
-from .confidence import boundary_confidences, texton_confidence
+from .confidence import MOVED_S, boundary_confidences, texton_confidence
 from .heading import heading_track, turned
 from .onsets import onset, settle, turned_away
 from .parseparams import StructureParams
@@ -656,5 +656,8 @@ def parse(vectors, fps=PAPER_FPS, params: StructureParams | None = None, theta=N
     for t in textons:
         if t.confidence is None:
             t.confidence = texton_confidence(v, t.start, t.end, w)
-    return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params,
-                     boundary_confidences(curve, step, clusters, p.novelty_threshold))
+    # Each boundary's confidence: its novelty peak, discounted as the steps after the novelty
+    # (energy only: whole periods, the onset) moved it off that peak (engine.confidence).
+    reach = int(round((p.refine_reach + p.onset_reach) * fps)) if p.method != "paper" else 0
+    sure = boundary_confidences(curve, step, clusters, p.novelty_threshold, reach, MOVED_S * fps)
+    return Structure(clusters, textons, _curve(v, clusters, textons, w), float(fps), params, sure)
