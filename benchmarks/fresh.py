@@ -407,6 +407,25 @@ BATCHES = {
         ("synth", "m6-h-slow", dict(motions=["toe-touch-both", "side-bends", "side-reach", "squats"],
                                     periods_s=[3.6, 3.2, 3.0, 2.8], cycles=[4, 4, 4, 4], transition=2.0, seed=408)),
     ],
+    # After step 35 and the boundary confidence read at the novelty peak (engine.confidence),
+    # to check both out of sample: three HDM05 exercise sets in orders no take had, CMU 13_30
+    # turning to face other ways and 13_29 turning slowly the other way while swaying, and the
+    # synthetic actor mixing its newer motions with rests, turns and wandering. Made and
+    # committed before the parser was run on them, scored once, kept whatever they score.
+    "review-6": [
+        ("bd", "throwBasketball:3,squat1Reps:5,kickLFront1Reps:4,elbowToKnee1RepsLelbowStart:5,"
+               "jogLeftCircle4StepsRstart:2", 105, {"seed": 105, "palette": "c"}),
+        ("bk", "hopBothLegs1hops:7,depositFloorR:4,rotateArmsBothBackward1Reps:3,squat1Reps:5,grabHighR:4", 106,
+         {"seed": 106, "build": 1.05}),
+        ("dg", "kickLFront1Reps:5,sneak2StepsLStart:3,squat1Reps:6,hopBothLegs1hops:6,elbowToKnee1RepsLelbowStart:5",
+         107, {"seed": 107, "palette": "b"}),
+        ("cmu", "13_30", {"turns": 140.0, "seed": 601}),
+        ("cmu", "13_29", {"turn": -3.0, "sway": 50.0, "seed": 602}),
+        ("synth", "r6-a-rests", dict(motions=["hop", "up-down", "side-reach", "arm-circles", "kick"],
+                                     cycles=[8, 5, 4, 6, 6], rest=0.5, transition=1.0, jitter=1.5, seed=611)),
+        ("synth", "r6-b-25fps", dict(motions=["toe-touch-both", "twist", "squats", "jumping-jacks"], cycles=[4, 5, 5, 8],
+                                     turns=90.0, wander=0.5, fps=25, build=0.95, seed=612)),
+    ],
 }
 
 
