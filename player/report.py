@@ -10,7 +10,9 @@ What a build found, in the order of the paper:
   by ``engine.evaluate.score``, the scorer of the tests and of ``benchmarks/accuracy.py``.
   A sequence corrected by hand (``engine.corrections``) shows the automatic parse's clusters
   in a strip above the corrected ones, boundaries drawn by hand as orange lines and those
-  removed by hand as dotted red ones, and its corrections under the figure.
+  removed by hand as dotted red ones, and its corrections under the figure. Each detected
+  boundary's confidence (:mod:`engine.confidence`) is written above it; those under
+  ``LOOK_BELOW`` (0.1), the ones to look at first, are red with a dashed red line.
 * **Motion database** (section 5, eq. (9)): one contact sheet of evenly spaced frames per
   node, captioned with its length, texton distance d_T (eq. (6)) and motion intensity
   (eq. (11)), as Figure 6 shows selected textons.
@@ -44,6 +46,7 @@ from pathlib import Path
 import numpy as np
 
 from engine import atomic
+from engine.confidence import LOOK_BELOW
 from engine.errors import TvmError
 from engine.evaluate import TOLERANCE_S, score
 from engine.structure import StructureParams, followed_heading, vetoed_turns
@@ -90,7 +93,7 @@ def _save(fig, out_png):
 
 
 def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None, fps=None,
-                         title="", size=CURVE_SIZE, automatic=None, heading=None, turns=None):
+                         title="", size=CURVE_SIZE, automatic=None, heading=None, turns=None, confidence=None):
     """Figure 4 for one sequence: d_A(t, t_first) with texton starts and cluster bands.
 
     Parameters
@@ -117,12 +120,18 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     turns : list of int, optional
         Frames where the parser read the person turning and cut no boundary
         (:func:`engine.structure.vetoed_turns`): purple triangles along the top.
+    confidence : list of float or None, optional
+        Each cluster's boundary confidence (:attr:`engine.structure.Structure.boundary_confidence`;
+        the first cluster's is not drawn, None: none known, as for a boundary drawn by hand):
+        written above each boundary, and those under :data:`engine.confidence.LOOK_BELOW`, the
+        ones to look at first, in red with a dashed red line.
 
     Returns
     -------
     dict
         ``texton_starts``: the x positions (frames) of the markers as plotted, in order;
-        ``turns``: those of the turn markers; ``size``: the PNG's (width, height).
+        ``turns``: those of the turn markers; ``unsure``: the boundaries drawn as least sure
+        (frames); ``size``: the PNG's (width, height).
     """
     curve = np.asarray(curve, dtype=np.float64)
     starts = sorted(int(_start_end(t)[0]) for t in textons)
@@ -151,6 +160,17 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
         (mark,) = ax.plot(sorted(int(t) for t in turns), [0.97] * len(turns), "v", color=TURN_COLOUR, ms=7,
                           transform=ax.get_xaxis_transform(), clip_on=False, label="turn, no boundary")
         shown = [int(x) for x in mark.get_xdata()]
+    unsure = []
+    for (b, _), c in zip(clusters[1:], (confidence or [])[1:]):
+        if c is None:
+            continue
+        low = round(c, 2) < LOOK_BELOW             # as written: 0.099 reads 0.10, not under 0.1
+        ax.text(b - 0.5, 1.0, f"{c:.2f}", transform=ax.get_xaxis_transform(), ha="center", va="bottom",
+                fontsize=7, color=UNSURE_COLOUR if low else "#606060", fontweight="bold" if low else "normal")
+        if low:
+            line = ax.axvline(b - 0.5, color=UNSURE_COLOUR, lw=1.0, ls="--",
+                              label=f"least sure boundary (confidence < {LOOK_BELOW:g})" if not unsure else None)
+            unsure.append(int(round(line.get_xdata()[0] + 0.5)))
     ax.set_ylabel("atom distance")
     ax.tick_params(labelbottom=False)
     handles = ax.get_legend_handles_labels()[0]
@@ -165,7 +185,7 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
         handles.append(line)
     ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.8)
     if title:
-        ax.set_title(title, fontsize=10)
+        ax.set_title(title, fontsize=10, pad=12 if confidence else 6)   # above the confidences
     rows = [("corrected" if automatic is not None else "detected",
              [(s, e, f"C{k}") for k, (s, e) in enumerate(clusters)])]
     if automatic is not None:
@@ -185,7 +205,8 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     fig.axes[-1].set_xlabel(unit)
     _save(fig, out_png)
     # What the figure really marks, read back from the plotted line (not the input).
-    return {"texton_starts": [int(x) for x in markers.get_xdata()], "turns": shown, "size": list(size)}
+    return {"texton_starts": [int(x) for x in markers.get_xdata()], "turns": shown, "unsure": unsure,
+            "size": list(size)}
 
 
 #: Where along its arc an edge's weight is written (0: at the source, 1: at the target).
@@ -196,6 +217,8 @@ ADDED_COLOUR = "#c0262d"
 
 #: Where the parser read a turn and cut no boundary (structure figure).
 TURN_COLOUR = "#8a3ab9"
+#: Colour of the boundaries whose confidence is under engine.confidence.LOOK_BELOW.
+UNSURE_COLOUR = "#d62728"
 #: Colour of the cluster boundaries added or moved by hand.
 ADDED_COLOUR_BOUNDARY = "#e07010"
 
@@ -446,7 +469,7 @@ class _Report:
                                            self.folder / png,
                                            truth_segments=scored.segments if scored else None,
                                            fps=seq.fps, title=seq.name, automatic=automatic, heading=heading,
-                                           turns=turns)
+                                           turns=turns, confidence=structure.boundary_confidence)
             row = {"name": seq.name, "image": png, "texton_starts": plotted["texton_starts"],
                    "clusters": [list(map(int, c)) for c in structure.clusters],
                    "textons": len(structure.textons)}
@@ -814,7 +837,7 @@ def _confidence_paragraph(structure, row):
                texton_confidence=[None if t.confidence is None else float(t.confidence) for t in structure.textons])
     if not bounds and not textons:
         return ""
-    text = "Confidence (0-1, low first deserves a look): "
+    text = f"Confidence (0-1, low first deserves a look; boundaries under {LOOK_BELOW:g} are red in the figure): "
     text += ("boundaries " + ", ".join(f"frame {f} {v:.2f}" for f, v in bounds)) if bounds else "no boundaries"
     if textons:
         text += "; least sure textons " + ", ".join(f"{a}-{b} {v:.2f}" for v, a, b in textons)

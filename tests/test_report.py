@@ -233,6 +233,29 @@ def test_plotting_returns_the_markers_it_draws(tmp_path):
     assert iio.imread(tmp_path / "c.png").shape[:2] == (200, 400)
 
 
+def test_the_least_sure_boundaries_are_marked_red(tmp_path):
+    # Three boundaries, one of them under LOOK_BELOW: only that one gets the red dashed line,
+    # at its frame, and the figure says so; a boundary drawn by hand (no confidence) gets none.
+    from player.report import UNSURE_COLOUR, atom_distance_figure
+
+    curve = np.abs(np.sin(np.arange(80) * np.pi / 10))
+    clusters = [(0, 19), (20, 39), (40, 59), (60, 79)]
+    rgb = np.array([int(UNSURE_COLOUR[i:i + 2], 16) for i in (1, 3, 5)])
+    red = []
+    for confidence in ([1.0, 0.6, 0.3, 0.5], [1.0, 0.6, 0.04, None]):
+        plotted = atom_distance_figure(curve, [(0, 9)], clusters, tmp_path / "u.png", size=(400, 200),
+                                       confidence=confidence)
+        image = iio.imread(tmp_path / "u.png")[..., :3].astype(int)
+        mask = np.abs(image - rgb).max(axis=-1) <= 30
+        mask[:60, 250:] = False                     # the legend, upper right
+        red.append((plotted["unsure"], mask))
+    assert red[0][0] == [] and not red[0][1].any()
+    assert red[1][0] == [40]
+    rows, cols = np.nonzero(red[1][1])
+    # a line from the top of the curve's axes to its bottom, at frame 40 of 80 (x about the middle)
+    assert len(rows) > 60 and 0.4 * 400 < np.median(cols) < 0.6 * 400, (len(rows), np.median(cols))
+
+
 def test_turns_the_parser_cut_no_boundary_at_are_marked_and_named(report, tmp_path):
     # The synthetic actor never turns: nothing is marked, and the page says nothing of turns.
     _, page, summary = report
