@@ -423,8 +423,8 @@ BATCHES = {
         ("cmu", "13_29", {"turn": -3.0, "sway": 50.0, "seed": 602}),
         ("synth", "r6-a-rests", dict(motions=["hop", "up-down", "side-reach", "arm-circles", "kick"],
                                      cycles=[8, 5, 4, 6, 6], rest=0.5, transition=1.0, jitter=1.5, seed=611)),
-        ("synth", "r6-b-25fps", dict(motions=["toe-touch-both", "twist", "squats", "jumping-jacks"], cycles=[4, 5, 5, 8],
-                                     turns=90.0, wander=0.5, fps=25, build=0.95, seed=612)),
+        ("synth", "r6-b-25fps", dict(motions=["toe-touch-both", "twist", "squats", "jumping-jacks"],
+                                     cycles=[4, 5, 5, 8], turns=90.0, wander=0.5, fps=25, build=0.95, seed=612)),
     ],
 }
 
