@@ -426,6 +426,27 @@ BATCHES = {
         ("synth", "r6-b-25fps", dict(motions=["toe-touch-both", "twist", "squats", "jumping-jacks"],
                                      cycles=[4, 5, 5, 8], turns=90.0, wander=0.5, fps=25, build=0.95, seed=612)),
     ],
+    # To check the boundary confidence read at the novelty peak (engine.confidence, whose 0.5 s
+    # was chosen on the suite and the batches above) where boundaries go wrong: the kinds of take
+    # that had the most wrong ones (HDM05 everyday movement with few repetitions, CMU 13_29
+    # turning to face other ways, the synthetic actor turning and wandering with slow
+    # transitions). Made and committed before the parser was run on them, scored once.
+    "review-7": [
+        ("bd", "sneak2StepsLStart:3,hopBothLegs1hops:4,throwBasketball:3,kickLFront1Reps:3,jogLeftCircle4StepsRstart:2",
+         108, {"seed": 108, "palette": "b"}),
+        ("bk", "throwBasketball:3,grabHighR:3,sneak2StepsLStart:2,depositFloorR:3,hopBothLegs1hops:5", 109,
+         {"seed": 109, "build": 0.95}),
+        ("dg", "jogLeftCircle4StepsRstart:2,kickLFront1Reps:4,grabHighR:3,squat1Reps:4,throwBasketball:3", 110,
+         {"seed": 110, "palette": "c"}),
+        ("cmu", "13_29", {"turns": 150.0, "seed": 701}),
+        ("cmu", "13_29", {"turns": 110.0, "seed": 702}),
+        ("cmu", "13_30", {"turns": 160.0, "seed": 703}),
+        ("synth", "r7-a-turns", dict(motions=["side-reach", "knee-raises", "toe-touch", "box", "squats"],
+                                     cycles=[4, 5, 4, 8, 5], turns=120.0, wander=0.8, transition=2.0, jitter=1.5,
+                                     seed=711)),
+        ("synth", "r7-b-15fps", dict(motions=["walk", "up-down", "twist", "pick-up", "run"], cycles=[6, 5, 5, 4, 10],
+                                     transition=2.5, still=0.5, sway=60.0, fps=15, build=1.1, seed=712)),
+    ],
 }
 
 
