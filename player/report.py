@@ -122,9 +122,10 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
         (:func:`engine.structure.vetoed_turns`): purple triangles along the top.
     confidence : list of float or None, optional
         Each cluster's boundary confidence (:attr:`engine.structure.Structure.boundary_confidence`;
-        the first cluster's is not drawn, None: none known, as for a boundary drawn by hand):
-        written above each boundary, and those under :data:`engine.confidence.LOOK_BELOW`, the
-        ones to look at first, in red with a dashed red line.
+        the first cluster's is not drawn, nor a None; a boundary drawn by hand has 1.0,
+        :mod:`engine.corrections`): written above each boundary, and those under
+        :data:`engine.confidence.LOOK_BELOW`, the ones to look at first, in bright red with a
+        dashed bright red line (boundaries removed by hand are dotted, in a darker red).
 
     Returns
     -------
@@ -164,11 +165,13 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
     for (b, _), c in zip(clusters[1:], (confidence or [])[1:]):
         if c is None:
             continue
-        low = round(c, 2) < LOOK_BELOW             # as written: 0.099 reads 0.10, not under 0.1
-        ax.text(b - 0.5, 1.0, f"{c:.2f}", transform=ax.get_xaxis_transform(), ha="center", va="bottom",
+        low = c < LOOK_BELOW
+        # Written with a third digit where two would round it up to the mark (0.097, not 0.10).
+        text = f"{c:.3f}" if low and round(c, 2) >= LOOK_BELOW else f"{c:.2f}"
+        ax.text(b - 0.5, 1.0, text, transform=ax.get_xaxis_transform(), ha="center", va="bottom",
                 fontsize=7, color=UNSURE_COLOUR if low else "#606060", fontweight="bold" if low else "normal")
         if low:
-            line = ax.axvline(b - 0.5, color=UNSURE_COLOUR, lw=1.0, ls="--",
+            line = ax.axvline(b - 0.5, color=UNSURE_COLOUR, lw=1.2, ls="--",
                               label=f"least sure boundary (confidence < {LOOK_BELOW:g})" if not unsure else None)
             unsure.append(int(round(line.get_xdata()[0] + 0.5)))
     ax.set_ylabel("atom distance")
@@ -217,8 +220,9 @@ ADDED_COLOUR = "#c0262d"
 
 #: Where the parser read a turn and cut no boundary (structure figure).
 TURN_COLOUR = "#8a3ab9"
-#: Colour of the boundaries whose confidence is under engine.confidence.LOOK_BELOW.
-UNSURE_COLOUR = "#d62728"
+#: Colour of the boundaries whose confidence is under engine.confidence.LOOK_BELOW (dashed):
+#: a brighter red than ADDED_COLOUR's dotted lines of boundaries removed by hand.
+UNSURE_COLOUR = "#ff1a1a"
 #: Colour of the cluster boundaries added or moved by hand.
 ADDED_COLOUR_BOUNDARY = "#e07010"
 
