@@ -365,6 +365,35 @@ CMU_TURNS = {"13_29": {"turn": 6.0}, "13_30": {"sway": 90.0, "seed": 30}}
 CMU_FACING = {"13_29": {"turns": 120.0, "seed": 500}, "13_30": {"turns": 120.0, "seed": 501}}
 
 
+def _cmu_played(take, speed):
+    """CMU take ``take`` played at ``speed`` (10 fps), in the cmu group."""
+    folder = cmu_source(take, **CMU_SOURCES[take])
+    truth = json.loads((folder / "truth.json").read_text())
+    vectors, theta, centred = _frames_features(folder)
+    seg, per = _frame_truth(truth)
+    idx = _at_10fps(len(seg), float(truth["fps"]), speed)
+    t = truth_of(seg[idx].tolist(), per[idx] / speed, 10.0)
+    return Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t, _at(centred, idx))
+
+
+def cmu_take(name):
+    """One take of the CMU group by name, made alone where it can be (a test needs one, not
+    all sixteen): ``13_30@1.4x``, ``13_29-turn``, ``13_30-turns``, ``13_29-mirror``; a cut is
+    found among :func:`cmu_takes`."""
+    take, _, rest = name.partition("@") if "@" in name else name.partition("-")
+    if "@" in name:
+        return _cmu_played(take, float(rest.rstrip("x")))
+    if rest == "turn":
+        return cmu_turning_take(take, CMU_TURNS[take])
+    if rest == "turns":
+        return cmu_turning_take(take, CMU_FACING[take], name=name)
+    if rest == "mirror":
+        base = _cmu_played(take, 1.0)
+        return Take("cmu", name, mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth,
+                    None if base.centred is None else base.centred.mirrored())
+    return next(t for t in cmu_takes() if t.name == name)
+
+
 def cmu_takes(seed=0):
     """The CMU group: each take at 1x, 0.7x and 1.4x, mirrored, turning (steadily or swaying,
     and to face another way now and then), and two random cuts."""
@@ -373,18 +402,12 @@ def cmu_takes(seed=0):
     for take, opts in CMU_SOURCES.items():
         folder = cmu_source(take, **opts)
         truth = json.loads((folder / "truth.json").read_text())
-        vectors, theta, centred = _frames_features(folder)
         seg, per = _frame_truth(truth)
         src_fps = float(truth["fps"])
-        for speed in (1.0, 0.7, 1.4):
-            idx = _at_10fps(len(seg), src_fps, speed)
-            t = truth_of(seg[idx].tolist(), per[idx] / speed, 10.0)
-            takes.append(Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t, _at(centred, idx)))
-        base = takes[-3]
-        takes.append(Take("cmu", f"{take}-mirror", mirror_theta(base.vectors, base.theta), base.theta, 10.0, base.truth,
-                          None if base.centred is None else base.centred.mirrored()))
-        takes.append(cmu_turning_take(take, CMU_TURNS[take]))
-        takes.append(cmu_turning_take(take, CMU_FACING[take], name=f"{take}-turns"))
+        takes += [_cmu_played(take, speed) for speed in (1.0, 0.7, 1.4)]
+        takes.append(cmu_take(f"{take}-mirror"))
+        takes.append(cmu_take(f"{take}-turn"))
+        takes.append(cmu_take(f"{take}-turns"))
         segs = truth["segments"]
         pairs = [(a, b) for a in range(1, len(segs) - 1) for b in range(a + 1, len(segs))]
         for i in rng.choice(len(pairs), 2, replace=False):

@@ -149,7 +149,7 @@ def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
     # and the mirror test does not flag 12 as half a left-right cycle. A period repeats, so
     # the profile must dip near 36 too; it does not, and the texton is two halves long.
     needs_mocap()
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
+    take = devsuite.cmu_take("13_30@1.4x")
     rows = take_score(take).texton_rows
     first = [r for r in rows if r[1] == 1][0]   # (cluster, true segment, median, period, right)
     assert first[4] and first[2] > 0.85 * first[3], rows
@@ -161,7 +161,7 @@ def test_a_short_first_exercise_is_found_near_the_take_start(devsuite):
     # (engine.boundaries.STRONG_EDGE); it is taken, within 1 s of the labelled start.
     from engine.structure import parse
     needs_mocap()
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
+    take = devsuite.cmu_take("13_30@1.4x")
     starts = [cs for cs, _ in parse(take.vectors, take.fps, theta=take.theta, centred=take.centred).clusters]
     assert abs(starts[1] - take.truth["segments"][1]["start"]) <= take.fps, starts
 
@@ -173,7 +173,7 @@ def test_exercises_of_alike_poses_are_told_apart_by_their_pace(devsuite):
     # boundary is found within 1 s and none is false.
     from engine.structure import StructureParams
     needs_mocap()
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_29@0.7x")
+    take = devsuite.cmu_take("13_29@0.7x")
     # On the rows as they are (not whitened, engine.boundaries.whiten), as when the pace came in.
     raw = dict(novelty_components=0)   # threshold 0.05 then
     found = {pace: take_score(take, StructureParams(novelty_pace=pace, **raw)) for pace in (1.0, 0.0)}
@@ -298,7 +298,7 @@ def test_an_exercise_done_swaying_gets_textons_of_a_whole_cycle(devsuite):
     # cycles. The mirror test compares the rows about each frame's own centre against one
     # reflection plane; those rows turn with the person, so they are read turned back by their
     # own slow heading, as the parser's rows are (engine.periods, *A person who turns*).
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30-turn")
+    take = devsuite.cmu_take("13_30-turn")
     rows = take_score(take).texton_rows
     second = [r for r in rows if r[1] == 1][0]  # (cluster, true segment, median, period, right)
     assert abs(second[3] / take.fps - 3.16) < 0.1, rows                 # the twists' true cycle
@@ -410,7 +410,7 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     # (engine.rhythm, *A side too short to tell*).
     from engine import onsets
     from engine.structure import StructureParams, parse
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_29-turn")
+    take = devsuite.cmu_take("13_29-turn")
     # Without the heading (and without step 19's shoulders, which also drop a false boundary
     # that is a bump on the flank of a stronger peak) the turn is read as changes of pose.
     found = {window: take_score(take, StructureParams(heading_window=window, shoulder=0.0)) for window in (4.0, 0.0)}
@@ -475,7 +475,7 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
     from engine.evaluate import score
     from engine.structure import parse, parser_view
     needs_mocap()
-    take = next(t for t in devsuite.cmu_takes() if t.name == "13_30@1.4x")
+    take = devsuite.cmu_take("13_30@1.4x")
     s = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     result = score(s, take.truth, take.fps)
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
