@@ -8,7 +8,9 @@ and no network):
                      sequence's frames, its segments and the clusters' boundary precision
                      and recall (Figure 5); where the parse was corrected by hand, the
                      automatic clusters above the corrected ones, boundaries drawn by hand
-                     in orange and removed ones dotted red
+                     in orange and removed ones dotted red; each boundary's confidence
+                     (0-1) above it, the least sure (under 0.1) dashed bright red: look
+                     there first
   motion database    a contact sheet of every motion (Figure 6) with its length, texton
                      distance and motion intensity
   motion graph       motions with a rendered frame each, transitions labelled with their
