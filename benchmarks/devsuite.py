@@ -600,6 +600,16 @@ def synth_take(group, name, options, vertices=6000):
     return Take(group, name, vectors, theta, fps, truth, centred)
 
 
+def take(group, name):
+    """One take of the suite by group and name, made alone where it can be (a synthetic or CMU
+    take; an HDM05 take is found among :func:`hdm_takes`)."""
+    if group in SYNTH:
+        return synth_take(group, name, dict(SYNTH[group])[name])
+    if group == "cmu":
+        return cmu_take(name)
+    return next(t for t in takes((group,)) if t.name == name)
+
+
 def takes(groups=GROUPS):
     """Every take of the suite in ``groups``, in group order."""
     out = []

@@ -32,7 +32,7 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     # mirror image of the one before, and the texton read two cycles (2.0 s); chosen every
     # two lags (three until step 35), it stays one cycle.
     from engine.structure import parse
-    take = next(t for t in devsuite.takes(("synth-drift",)) if t.name == "turns")
+    take = devsuite.take("synth-drift", "turns")
     assert take.truth["segments"][0]["label"] == "jumping-jacks"
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     texton = float(np.median([len(t) for t in structure.textons_of(0)])) / take.fps
