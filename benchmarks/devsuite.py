@@ -365,12 +365,24 @@ CMU_TURNS = {"13_29": {"turn": 6.0}, "13_30": {"sway": 90.0, "seed": 30}}
 CMU_FACING = {"13_29": {"turns": 120.0, "seed": 500}, "13_30": {"turns": 120.0, "seed": 501}}
 
 
-def _cmu_played(take, speed):
-    """CMU take ``take`` played at ``speed`` (10 fps), in the cmu group."""
+@functools.cache
+def _cmu_truth(take):
+    """(folder, truth, per-frame segment and period) of CMU take ``take``, read once."""
     folder = cmu_source(take, **CMU_SOURCES[take])
     truth = json.loads((folder / "truth.json").read_text())
-    vectors, theta, centred = _frames_features(folder)
-    seg, per = _frame_truth(truth)
+    return folder, truth, _frame_truth(truth)
+
+
+@functools.cache
+def _cmu_features(take):
+    """The features of the whole of CMU take ``take`` (:func:`_frames_features`), read once."""
+    return _frames_features(_cmu_truth(take)[0])
+
+
+def _cmu_played(take, speed):
+    """CMU take ``take`` played at ``speed`` (10 fps), in the cmu group."""
+    _, truth, (seg, per) = _cmu_truth(take)
+    vectors, theta, centred = _cmu_features(take)
     idx = _at_10fps(len(seg), float(truth["fps"]), speed)
     t = truth_of(seg[idx].tolist(), per[idx] / speed, 10.0)
     return Take("cmu", f"{take}@{speed:g}x", vectors[idx], theta, 10.0, t, _at(centred, idx))
@@ -380,9 +392,10 @@ def cmu_take(name):
     """One take of the CMU group by name, made alone where it can be (a test needs one, not
     all sixteen): ``13_30@1.4x``, ``13_29-turn``, ``13_30-turns``, ``13_29-mirror``; a cut is
     found among :func:`cmu_takes`."""
-    take, _, rest = name.partition("@") if "@" in name else name.partition("-")
     if "@" in name:
-        return _cmu_played(take, float(rest.rstrip("x")))
+        take, speed = name.split("@")
+        return _cmu_played(take, float(speed.rstrip("x")))
+    take, _, rest = name.partition("-")
     if rest == "turn":
         return cmu_turning_take(take, CMU_TURNS[take])
     if rest == "turns":
@@ -399,10 +412,8 @@ def cmu_takes(seed=0):
     and to face another way now and then), and two random cuts."""
     rng = np.random.default_rng(seed)
     takes = []
-    for take, opts in CMU_SOURCES.items():
-        folder = cmu_source(take, **opts)
-        truth = json.loads((folder / "truth.json").read_text())
-        seg, per = _frame_truth(truth)
+    for take in CMU_SOURCES:
+        folder, truth, (seg, per) = _cmu_truth(take)
         src_fps = float(truth["fps"])
         takes += [_cmu_played(take, speed) for speed in (1.0, 0.7, 1.4)]
         takes.append(cmu_take(f"{take}-mirror"))
@@ -429,13 +440,16 @@ def _at_10fps(n, fps, speed=1.0):
 def cmu_turning_take(take, turning, group="cmu", name=None):
     """CMU take ``take`` at 1x (10 fps) with the body turned about its own axis as
     :func:`_headings` options ``turning`` say (the meshes rotated, then taken as a capture)."""
-    folder = cmu_source(take, **CMU_SOURCES[take])
-    truth = json.loads((folder / "truth.json").read_text())
-    seg, per = _frame_truth(truth)
+    folder, truth, (seg, per) = _cmu_truth(take)
     one_x = _at_10fps(len(seg), float(truth["fps"]))
     vectors, theta, centred = _turned_features(folder, one_x, _headings(len(one_x), 10.0, **turning))
     return Take(group, name or f"{take}-turn", vectors, theta, 10.0,
                 truth_of(seg[one_x].tolist(), per[one_x], 10.0), centred)
+
+
+def hdm_name(actor, plan, order_seed=None):
+    """The name of the stitched HDM05 take of that actor, plan and order seed."""
+    return f"{actor}-{_key(plan, order_seed)[:4]}"
 
 
 def hdm_take(actor, plan, order_seed=None, options=None, group="hdm05"):
@@ -445,7 +459,7 @@ def hdm_take(actor, plan, order_seed=None, options=None, group="hdm05"):
     vectors, theta, centred = _frames_features(folder)
     seg, per = _frame_truth(truth)
     t = truth_of(seg.tolist(), per, float(truth["fps"]))
-    return Take(group, f"{actor}-{_key(plan, order_seed)[:4]}", vectors, theta, float(truth["fps"]), t, centred)
+    return Take(group, hdm_name(actor, plan, order_seed), vectors, theta, float(truth["fps"]), t, centred)
 
 
 def hdm_takes():

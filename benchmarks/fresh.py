@@ -450,15 +450,25 @@ BATCHES = {
 }
 
 
+def _name(source):
+    """The name of the take a BATCHES entry makes, known without making it."""
+    kind, *rest = source
+    if kind == "synth":
+        return rest[0]
+    if kind == "cmu":
+        take, turning = rest
+        how = "turns" if "turns" in turning else "turn"
+        rate = f"{turning[how]:g}".replace("-", "m")          # 13_29-turn-m4: 4 degrees a second the other way
+        return f"{take}-{how}-{rate}"
+    return devsuite.hdm_name(*source[:3])
+
+
 def _take(source):
     kind, *rest = source
     if kind == "synth":
         return devsuite.synth_take("fresh", *rest)
     if kind == "cmu":
-        take, turning = rest
-        how = "turns" if "turns" in turning else "turn"
-        rate = f"{turning[how]:g}".replace("-", "m")          # 13_29-turn-m4: 4 degrees a second the other way
-        return devsuite.cmu_turning_take(take, turning, "fresh", f"{take}-{how}-{rate}")
+        return devsuite.cmu_turning_take(*rest, "fresh", _name(source))
     return devsuite.hdm_take(*source, group="fresh")
 
 
@@ -468,8 +478,8 @@ def takes(batch):
 
 
 def take(batch, name):
-    """The batch's synthetic take of that name (devsuite.Take, group "fresh")."""
-    return _take(next(s for s in BATCHES[batch] if s[0] == "synth" and s[1] == name))
+    """The batch's take of that name, made alone (devsuite.Take, group "fresh")."""
+    return _take(next(s for s in BATCHES[batch] if _name(s) == name))
 
 
 def main(argv=None):

@@ -261,7 +261,8 @@ def test_a_change_whose_novelty_peaks_twice_is_not_taken_early(devsuite):
     # peak they place it at 15.2 s. Since step 33 (settle_free) the settling places it right
     # from the earlier peak too, so the earlier rule is tried without that step.
     needs_mocap()
-    take = devsuite.cmu_turning_take("13_29", {"turn": -4.0}, "fresh", "13_29-turn-m4")
+    import fresh
+    take = fresh.take("steady-turns", "13_29-turn-m4")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
     found = starts_of(take)
@@ -281,7 +282,8 @@ def test_the_boundaries_placed_wrong_are_the_least_sure(devsuite):
     from engine.evaluate import score
     from engine.structure import parse
     needs_mocap()
-    take = devsuite.cmu_turning_take("13_29", {"turn": -6.0, "sway": 30.0, "seed": 208}, "fresh", "13_29-turn-m6")
+    import fresh
+    take = fresh.take("review-3", "13_29-turn-m6")
     s = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     result = score(s, take.truth, take.fps)
     found = {d for d, _ in result.matches}
@@ -501,7 +503,8 @@ def test_a_change_in_a_turning_take_is_settled_on_both_views(devsuite):
     # (Without the step the parser's rows score 14.9 s only 1 % over 16.3 s, so that is not
     # asserted here; the next test asserts a clearer miss without it.)
     needs_mocap()
-    take = devsuite.cmu_turning_take("13_29", {"turn": 7.0}, "fresh", "13_29-turn-7")
+    import fresh
+    take = fresh.take("steady-turns", "13_29-turn-7")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
     found = starts_of(take)
