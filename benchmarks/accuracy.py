@@ -20,7 +20,8 @@ suite drawn again ``--bootstrap`` times (500), each group's takes drawn with rep
 as many as it has, and the whole cross-validation run on each draw; printed are each
 figure's 90 % interval over the draws and how often it, and all three, meet the issue's
 bars (:data:`BARS`). It says how far the figure could move with other takes of the same
-kinds, not with other kinds of take. ``--takes`` also
+kinds, not with other kinds of take (500 draws take one to two minutes on each of the two
+held-out figures). ``--takes`` also
 prints each take's line; ``--errors`` each take's errors (missed and false cluster starts, in
 seconds, a false one with its confidence; clusters whose texton length is wrong, median
 against true period), with the defaults and, per held-out group, with the setting chosen.
@@ -210,7 +211,7 @@ def cross_validate(takes, base, show_errors=False, draws=BOOTSTRAP):
             print(f"leaving one person out ({len(set(labels))} folds):")
         p, r, a = pool(held_out(takes, by_setting, labels, show_errors and title == "held-out pooled"))
         print(line(title, p, r, a, f"({p:.3f} / {r:.3f} / {a:.3f})"))
-        if draws:
+        if draws > 0:
             print(f"  takes drawn again within each group ({draws} draws, settings chosen anew on each):")
             print_spread((p, r, a), bootstrap(takes, by_setting, labels, draws))
 

@@ -36,6 +36,7 @@ def test_the_spread_follows_the_takes_and_holds_the_figure(devsuite, capsys):
     takes, by_setting = suite([2, 2, 2], [2, 2, 0])
     labels = [t.group for t in takes]
     draws = accuracy.bootstrap(takes, by_setting, labels, n=400)
+    assert capsys.readouterr().out == ""                 # the draws' cross-validations print nothing
     recall = draws[:, 1]
     assert recall.min() < 10 / 12 < recall.max()
     assert recall.max() == 1.0                           # draws without the bad take
@@ -48,6 +49,17 @@ def test_the_spread_follows_the_takes_and_holds_the_figure(devsuite, capsys):
     assert "recall         0.833, 90 % of draws" in out
     share = np.mean(recall >= 0.95)
     assert f"at or over 0.95 in {share:.0%}" in out and 0 < share < 1
+    low, high = np.percentile(recall, [5, 95])
+    assert f"recall         0.833, 90 % of draws {low:.3f}-{high:.3f}," in out
+
+
+def test_each_group_is_drawn_from_its_own_takes(devsuite):
+    import accuracy
+    # Group a finds every change and group b none: drawn within each group, as many takes as
+    # each has, every draw holds three of each, so recall is one half in every draw.
+    takes, by_setting = suite([2, 2, 2], [0, 0, 0])
+    draws = accuracy.bootstrap(takes, by_setting, [t.group for t in takes], n=200)
+    assert np.all(draws[:, 1] == 0.5)
 
 
 def test_the_settings_are_chosen_anew_on_each_draw(devsuite):
@@ -62,6 +74,6 @@ def test_the_settings_are_chosen_anew_on_each_draw(devsuite):
     two = [result(0), result(2), result(2), result(2), result(2), result(2)]
     by_setting = [({"s": 1}, one), ({"s": 2}, two)]
     precision = accuracy.bootstrap(takes, by_setting, labels, n=200)[:, 0]
-    # Only group c can place a false boundary: with one choice for every draw, precision
-    # would be the same in all of them.
+    # Only group c can place a false boundary: had one setting served every draw, precision
+    # would be under 1 in every draw (setting 1) or 1 in every draw (setting 2).
     assert (precision == 1.0).any() and (precision < 1.0).any()
