@@ -205,11 +205,13 @@ def cross_validate(takes, base, show_errors=False, draws=BOOTSTRAP):
     Then the same leaving one person out (:func:`person`): each HDM05 person is held out while
     the other two are among the rest, as a new person of a lab the parser was tuned on."""
     by_setting = [(setting, run(takes, StructureParams(**{**base, **setting}))) for setting in GRID]
-    for title, labels in (("held-out pooled", [t.group for t in takes]), ("held out by person", None)):
-        if labels is None:
-            labels = [person(t) for t in takes]
-            print(f"leaving one person out ({len(set(labels))} folds):")
-        p, r, a = pool(held_out(takes, by_setting, labels, show_errors and title == "held-out pooled"))
+    persons = [person(t) for t in takes]
+    folds = [("held-out pooled", [t.group for t in takes], show_errors, None),
+             ("held out by person", persons, False, f"leaving one person out ({len(set(persons))} folds):")]
+    for title, labels, errors_too, heading in folds:
+        if heading:
+            print(heading)
+        p, r, a = pool(held_out(takes, by_setting, labels, errors_too))
         print(line(title, p, r, a, f"({p:.3f} / {r:.3f} / {a:.3f})"))
         if draws > 0:
             print(f"  takes drawn again within each group ({draws} draws, settings chosen anew on each):")
