@@ -83,7 +83,7 @@ GRID = [{"novelty_pace": w, "novelty_components": c, "novelty_threshold": t, "tu
         for q in (0.3, 0.5) for h in (0.0, 1.5)]
 if devsuite.FRAME == "stored":
     GRID = [{**s, "heading_window": h, "refine_reach": r, "onset_reach": o}
-            for s in GRID for h in (0.0, 4.0) for r in (0.0, 1.5) for o in (0.0, 2.0)]
+            for s in GRID for h in (0.0, 4.0) for r in (0.0, 1.5) for o in (0.0, 1.0)]
 
 
 def run(takes, params):

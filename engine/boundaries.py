@@ -1,9 +1,14 @@
-"""Cluster boundaries from novelty peaks: step 1 of the ``energy`` parser (:mod:`engine.structure`).
+"""Cluster boundaries from the novelty: step 1 of the ``energy`` parser (:mod:`engine.structure`).
 
 The novelty of a frame is the energy distance between the ``novelty_window`` seconds of
 frames before it and after it (:func:`engine.atoms.novelty`), on the sequence reduced to
-about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and at least
-``min_cluster`` apart, are boundaries.
+about 10 fps. Until step 36 of ``docs/parsing.md`` its local maxima above
+``novelty_threshold``, strongest first and at least ``min_cluster`` apart, were the
+boundaries (``partition`` 0 still does that; the bullets below were measured so). Since then
+the boundaries are the changes of the partition of the same rows that the take as a whole
+supports (*Changes of the whole take*, the last bullet); the novelty still reads each of them
+(the turn veto, the floor, the confidence) and finds the boundaries near the ends and behind
+turns.
 
 * **Pose and pace.** Each row compared (:func:`novelty_rows`, about 0.1 s of frames) is
   their mean histograms and, weighted by ``novelty_pace``, how fast each bin changes: its
@@ -131,11 +136,33 @@ about 10 fps. Its local maxima above ``novelty_threshold``, strongest first and 
   exercise of 1.3 s (CMU 13_30 played at 1.4x, the development suite) was lost; its peak is
   twice the threshold. On the suite (``benchmarks/accuracy.py``) pooled recall 0.95 -> 0.96
   in tvmedit's axes and 0.93 -> 0.94 in the body's, nothing else changed.
+* **Changes of the whole take** (step 36 of ``docs/parsing.md``, ``partition``). A peak of
+  the novelty says that 4 s differ from the 4 s after them; two exercises of alike poses
+  (HDM05 kicks beside elbow to knee, throwing beside jogging) differ little within 4 s, and
+  where one exercise (lying on the floor) holds much of the take's spread the others' changes
+  peaked under the threshold too. The boundaries are now the changes of the partition of the
+  whitened rows of least within-segment energy scatter plus ``partition`` (20) per change
+  (:func:`engine.partition.energy_partition`): the novelty's own statistic taken over whole
+  segments, each at least ``min_cluster`` long. A change is read on the novelty's highest
+  point within 0.5 s (:data:`PEAK_REACH_S`): no boundary where that stays under
+  ``partition_floor`` (0.7) of the threshold (a slow exercise's long cycles cut into 2 s
+  pieces: CMU 13_29 played at 0.7x), and the turn veto reads it as it reads a peak. The
+  boundary stays at the change, not the peak. Near the ends, where a segment cannot be
+  ``min_cluster`` long, a peak of :data:`STRONG_EDGE` times the threshold is a boundary as
+  before (CMU 13_30 played at 1.4x); behind a vetoed turn the heading-free novelty's peaks
+  are, as before; shoulders and twin peaks have no meaning for a partition. Raw (no later
+  step), over the suite and the 26 fresh batches (772 changes), the partition finds changes
+  within 1 s at F1 0.862 where the peaks reach 0.809 at their best threshold. With the later
+  steps (and ``onset_reach`` 1 s, since the changes already lie where the poses change) the
+  fresh batches find 547 of 580 changes where they found 525, and place 31 boundaries falsely
+  rather than 33; the suite 0.98 / 0.98 / 0.93 -> 0.99 / 0.98 / 0.94 (with step 5b of
+  :mod:`engine.structure`, :func:`engine.transitions.join_short`).
 """
 
 import numpy as np
 
 from .atoms import block_means, novelty
+from .partition import MAX_SEGMENT_S, energy_partition
 
 __all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "local_maxima", "turn_test", "pace", "whiten",
            "STRONG_EDGE", "PACE_SECONDS", "WHITEN_FLOOR"]
@@ -151,6 +178,10 @@ PACE_SECONDS = 0.1
 
 #: :func:`whiten` adds this fraction of the kept components' mean variance to each one's.
 WHITEN_FLOOR = 1.0
+
+#: A change of the partition (``partition``) is read on the novelty's highest point within
+#: this many seconds of it: the turn veto and ``partition_floor`` look there.
+PEAK_REACH_S = 0.5
 
 
 def pace(rows):
@@ -345,7 +376,9 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
     vectors : (T, D) array
     fps : float
     p : engine.structure.StructureParams
-        ``novelty_threshold``, ``min_cluster``, ``twin_peak`` and ``turn_ratio`` are used.
+        ``novelty_threshold``, ``min_cluster``, ``turn_ratio``, ``partition`` and
+        ``partition_floor`` (with ``novelty_components`` and what :func:`novelty_rows` reads),
+        and for the novelty's peaks ``twin_peak`` and ``shoulder``, are used.
     n, step
         From :func:`novelty_curve`.
     turn_free : array like ``n``, optional
@@ -391,6 +424,57 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
     near_end = lambda t: t < edge or len(n) - t < edge  # noqa: E731
     is_peak = local_maxima(n)
     turned = turn_test(n, turn_free, p.turn_ratio, f)
+    if p.partition > 0 and p.novelty_components > 0:
+        bounds, claimed, turns = _partition_boundaries(vectors, fps, p, n, f, sep, is_peak, near_end, turned)
+    else:
+        bounds, claimed, turns = _peak_boundaries(p, n, f, sep, edge, is_peak, near_end, turned)
+    if turns:
+        bounds += _behind_turns(turn_free, turns, claimed, p.novelty_threshold, sep, int(round(p.novelty_window * f)),
+                                near_end)
+    bounds.sort()
+    starts = [0] + [min(T - 1, t * step) for t in bounds]
+    starts = sorted(set(starts))
+    return [(s, e - 1) for s, e in zip(starts, starts[1:] + [T])], [min(T - 1, t * step) for t in sorted(turns)]
+
+
+def _partition_boundaries(vectors, fps, p, n, f, sep, is_peak, near_end, turned):
+    # Step 1 since step 36 of docs/parsing.md: the changes of the kernel partition
+    # (engine.partition) of the novelty's rows, each read on the novelty's top within
+    # PEAK_REACH_S of it: no boundary where that stays under ``partition_floor`` of the
+    # threshold, a turn where the veto says so. Near the ends, where a segment may not be
+    # ``min_cluster`` long, a novelty peak of STRONG_EDGE times the threshold, as before.
+    rows, _ = novelty_rows(vectors, fps, p)
+    reach = max(1, int(round(PEAK_REACH_S * f)))
+    bounds, claimed, turns = [], [], []
+    for c in energy_partition(rows, p.partition, sep, max(2 * sep, int(round(MAX_SEGMENT_S * f)))):
+        lo, hi = max(0, c - reach), min(len(n), c + reach + 1)
+        t = lo + int(np.argmax(n[lo:hi]))
+        if n[t] < p.partition_floor * p.novelty_threshold:
+            continue
+        if turned(t):
+            claimed.append(t)
+            turns.append(t)
+            continue
+        bounds.append(c)
+        claimed += [t, c]
+    for t in np.argsort(-n, kind="stable"):
+        t = int(t)
+        if n[t] < STRONG_EDGE * p.novelty_threshold:
+            break
+        if not is_peak[t] or not near_end(t) or any(abs(t - q) < sep for q in claimed):
+            continue
+        if turned(t):
+            claimed.append(t)
+            turns.append(t)
+            continue
+        bounds.append(t)
+        claimed.append(t)
+    return bounds, claimed, turns
+
+
+def _peak_boundaries(p, n, f, sep, edge, is_peak, near_end, turned):
+    # Step 1 until step 36 (``partition`` 0): the novelty's local maxima over the threshold,
+    # strongest first (see the module docstring).
     bounds, claimed, turns = [], [], []
     for t in np.argsort(-n, kind="stable"):
         t = int(t)
@@ -413,10 +497,4 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
         bounds.append(early[0] if early else t)
         # Both the peak and the boundary chosen for it keep others ``sep`` away.
         claimed += [t, bounds[-1]]
-    if turns:
-        bounds += _behind_turns(turn_free, turns, claimed, p.novelty_threshold, sep, int(round(p.novelty_window * f)),
-                                near_end)
-    bounds.sort()
-    starts = [0] + [min(T - 1, t * step) for t in bounds]
-    starts = sorted(set(starts))
-    return [(s, e - 1) for s, e in zip(starts, starts[1:] + [T])], [min(T - 1, t * step) for t in sorted(turns)]
+    return bounds, claimed, turns

@@ -20,7 +20,8 @@ __all__ = ["StructureParams", "BEFORE", "MAX_WINDOW_S", "MAX_TAPS", "WHITENED_TH
 #: Parameters added after libraries were first written, at the value a parse recorded without
 #: them was made with (the step each one adds left out).
 BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "heading_window": 0.0,
-          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0, "comb": 0.0, "settle_free": 0.0}
+          "pause_share": 0.0, "shoulder": 0.0, "rhythm_ratio": 0.0, "comb": 0.0, "settle_free": 0.0,
+          "partition": 0.0}
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
@@ -144,6 +145,12 @@ class StructureParams:
     onset_reach : float
         "energy": a boundary moves back by up to this many seconds from its novelty peak to
         where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
+        1 s since step 36 of docs/parsing.md (2 s before): with the partition's changes
+        (``partition``), which already lie where the distribution of poses changes, 2 s took
+        some changes back 2-3 s early (development suite 0.99 / 0.98 / 0.94 at 1 s and 0.98 /
+        0.97 / 0.94 at 2 s; the 26 fresh batches 547 and 543 right boundaries of 580; with the
+        novelty's peaks, before step 36's other parts, 1 s scores 0.99 / 0.98 / 0.93 and 2 s
+        0.98 / 0.98 / 0.93).
     weak_boundary : float
         "energy": a boundary whose confidence (engine.confidence) is under this, between two
         clusters of at most one texton each, at least one of which shows no period, is
@@ -170,6 +177,17 @@ class StructureParams:
         the settled boundary would move back over frames that are only the old poses turned
         (step 24's test, which reads the boundaries this places), the heading-free rows are
         read alone either way.
+    partition : float
+        "energy": step 1's boundaries are the changes of the partition of the novelty's
+        whitened rows of least within-segment energy scatter plus this penalty per change
+        (engine.partition; step 36 of docs/parsing.md), rather than the novelty's peaks over
+        ``novelty_threshold``; 0 (or ``novelty_components`` 0: the penalty is in units of the
+        whitened rows) takes the peaks, as before step 36. 20 was read off the development
+        suite and the fresh batches (16: more false boundaries, 24 fewer right ones).
+    partition_floor : float
+        "energy": a change of the partition is no boundary where the novelty stays under this
+        share of ``novelty_threshold`` within 0.5 s of it (a slow exercise's long cycle cut
+        into ``min_cluster`` pieces: CMU 13_29 played at 0.7x); 0 keeps every change.
     """
 
     method: str = "energy"
@@ -195,12 +213,14 @@ class StructureParams:
     analysis_fps: float = _param(10.0, above=0, at_most=MAX_FPS)
     max_transition: float = _param(4.0, at_least=0, at_most=3600)
     refine_reach: float = _param(1.5, at_least=0, at_most=60)
-    onset_reach: float = _param(2.0, at_least=0, at_most=60)
+    onset_reach: float = _param(1.0, at_least=0, at_most=60)
     weak_boundary: float = _param(0.25, at_least=0, at_most=1)
     rhythm_ratio: float = _param(1.5, at_least=0, at_most=100)
     pause_share: float = _param(0.1, at_least=0, at_most=1)
     comb: float = _param(0.5, at_least=0, at_most=1)
     settle_free: float = _param(1.0, at_least=0, at_most=100)
+    partition: float = _param(20.0, at_least=0)
+    partition_floor: float = _param(0.7, at_least=0)
 
     def __post_init__(self):
         if self.method not in ("energy", "paper"):

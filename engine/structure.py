@@ -50,9 +50,16 @@ Two methods are provided.
        take's ``novelty_components`` principal axes of change, each scaled to its spread
        (exercises that differ along a direction of little variance were missed;
        ``novelty_threshold`` is then in units of that spread).
-       Local maxima above ``novelty_threshold`` and at least ``min_cluster`` seconds apart
-       are boundaries (of two close peaks, the higher since step 30 of docs/parsing.md, the
-       earlier of nearly equal ones before; not the ``shoulder`` of a stronger peak, a bump on its slowly falling flank), except
+       Until step 36 of docs/parsing.md, local maxima above ``novelty_threshold`` and at
+       least ``min_cluster`` seconds apart were the boundaries (of two close peaks, the higher
+       since step 30, the earlier of nearly equal ones before; not the ``shoulder`` of a
+       stronger peak, a bump on its slowly falling flank). **Changes of the whole take**
+       (step 36, :mod:`engine.partition`, ``partition``): the boundaries are now the changes
+       of the partition of the same rows of least within-segment energy scatter plus a
+       penalty per change, each read on the novelty within 0.5 s (none under
+       ``partition_floor`` of the threshold); two exercises of alike poses differ little
+       within 4 s but over whole segments (fresh batches: 547 of 580 changes found rather
+       than 525, 31 false boundaries rather than 33). Either way no boundary
        where the person only turned: a peak under which the novelty of the same rows taken
        whichever way the body faces (:func:`engine.azimuth.azimuth_spectrum`) stays below
        ``turn_ratio`` of it is vetoed (false boundaries in exercises done while turning).
@@ -110,13 +117,18 @@ Two methods are provided.
     5. **Boundaries at the onset** (:mod:`engine.onsets`). The novelty peaks in the middle
        of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
        suite's takes with 3 s transitions); each boundary moves back, by up to
-       ``onset_reach`` seconds, to where the motion left the old exercise's poses. Where the
+       ``onset_reach`` seconds (1 s since step 36, whose changes already lie nearer the
+       onset; 2 s before), to where the motion left the old exercise's poses. Where the
        frames it would leave behind are the old poses turned
        (:func:`engine.onsets.turned_away`), the onset is also read on the heading-free rows
        and the later of the two taken (a person who turned 1-2.5 s before changing exercise
        had the boundary taken back to the turn; since step 28 also frames turned only 10
        degrees or more from the old poses: CMU 13_29 turning 6 degrees a second);
        step 4 reads the heading-free rows where it would move a boundary back over such frames.
+       **5b. Clusters the placing left too short** (:func:`engine.transitions.join_short`,
+       step 36): steps 4 and 5 move each boundary on its own, and an inner cluster they
+       leave shorter than ``min_cluster`` joins the neighbour across its weaker boundary (a
+       slow transition between two changes of the partition stayed a 1.5 s cluster).
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
@@ -159,7 +171,7 @@ from .parseparams import StructureParams
 from .pauses import moving_frames, with_pauses
 from .periods import PeriodReader
 from .rhythm import rhythm_splits
-from .transitions import absorb_transitions, merge_weak
+from .transitions import absorb_transitions, join_short, merge_weak
 
 __all__ = [
     "StructureParams",
@@ -418,6 +430,12 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
+    # Step 5b: a piece steps 4 and 5 left shorter than min_cluster joins a neighbour
+    # (engine.transitions).
+    joined = join_short(clusters, lambda cs: boundary_confidences(n, step, cs, p.novelty_threshold),
+                        p.min_cluster * fps)
+    if joined != clusters:
+        clusters, periods = joined, None
     if p.weak_boundary > 0:
         clusters, periods = merge_weak(period, clusters, count,
                                        boundary_confidences(n, step, clusters, p.novelty_threshold), periods)

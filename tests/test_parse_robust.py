@@ -112,9 +112,10 @@ def test_info_shows_the_confidence_of_each_boundary_and_texton(small_library):
 
 def test_a_boundary_after_a_slow_transition_is_placed_where_the_old_exercise_stopped():
     # 3 s from the last squat to the first run: the novelty peaks 1.1 s into the change, past
-    # the 1 s tolerance; the boundary moves back to where the squats stopped.
+    # the 1 s tolerance; the boundary moves back to where the squats stopped (0.4 s after it
+    # since step 36 of docs/parsing.md, whose onset reaches back 1 s; 0.3 s with 2 s).
     vectors, theta, truth, _ = _take(motions=["squats", "run"], cycles=[4, 10], transition=3.0, seed=7)
     s = parse(vectors, truth["fps"], theta=theta)
     result = score(s, truth)
     assert (result.precision, result.recall) == (1.0, 1.0), (s.clusters, truth["segments"])
-    assert abs(s.clusters[1][0] - truth["segments"][1]["start"]) <= 3
+    assert abs(s.clusters[1][0] - truth["segments"][1]["start"]) <= 4
