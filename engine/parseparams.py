@@ -94,7 +94,9 @@ class StructureParams:
         fixed there (``benchmarks/accuracy.py``).
     novelty_threshold : float or None
         "energy": smallest energy-distance peak that counts as a cluster boundary, in the
-        units of the novelty's rows. None (the default) is 0.9 where they are whitened
+        units of the novelty's rows (with ``partition``, a change of the partition needs
+        ``partition_floor`` of it, and the threshold still rules the peaks near the ends,
+        behind turns and where the rhythm changes, and the confidence). None (the default) is 0.9 where they are whitened
         (``novelty_components`` > 0: units of the take's own spread along each kept axis) and
         0.05 where they are not (units of histograms and their pace).
     turn_ratio : float
@@ -124,11 +126,12 @@ class StructureParams:
         "energy": least distance between boundaries, seconds; the first and last cluster
         may be down to 3/4 of it.
     shoulder : float
-        "energy": a novelty peak within twice ``min_cluster`` of a stronger one already taken
-        that rises less than this share of its height above the lowest novelty between them
-        is the stronger peak's shoulder, not a boundary; 0 keeps it.
+        "energy", with ``partition`` 0 only (the novelty's peaks): a novelty peak within twice
+        ``min_cluster`` of a stronger one already taken that rises less than this share of its
+        height above the lowest novelty between them is the stronger peak's shoulder, not a
+        boundary; 0 keeps it.
     twin_peak : float
-        "energy": an earlier novelty peak within ``min_cluster`` of a stronger one and at
+        "energy", with ``partition`` 0 only: an earlier novelty peak within ``min_cluster`` of a stronger one and at
         least this fraction of its height is the boundary instead; 1 (the default since step
         30 of docs/parsing.md, 0.9 before) leaves the rule out: the later steps that place a
         boundary (between whole periods, at the onset) already take it back where the motion
@@ -141,14 +144,16 @@ class StructureParams:
         a transition and joins the exercise it leads into; 0 keeps it.
     refine_reach : float
         "energy": a boundary moves by up to this many seconds to where blocks of whole periods
-        before and after it differ most (engine.onsets.settle); 0 keeps the novelty peak.
+        before and after it differ most (engine.onsets.settle); 0 keeps it where step 1 put it.
     onset_reach : float
-        "energy": a boundary moves back by up to this many seconds from its novelty peak to
-        where the motion left the previous exercise's poses (engine.onsets); 0 keeps the peak.
+        "energy": a boundary moves back by up to this many seconds from where steps 1 and 4
+        put it to where the motion left the previous exercise's poses (engine.onsets); 0
+        keeps it there.
         1 s since step 36 of docs/parsing.md (2 s before): with the partition's changes
         (``partition``), which already lie where the distribution of poses changes, 2 s took
         some changes back 2-3 s early (development suite 0.99 / 0.98 / 0.94 at 1 s and 0.98 /
-        0.97 / 0.94 at 2 s; the 26 fresh batches 547 and 543 right boundaries of 580; with the
+        0.97 / 0.94 at 2 s; the 26 fresh batches 547 right boundaries of 578 found and 543 of
+        579, of 580 changes; with the
         novelty's peaks, before step 36's other parts, 1 s scores 0.99 / 0.98 / 0.93 and 2 s
         0.98 / 0.98 / 0.93).
     weak_boundary : float
@@ -272,6 +277,8 @@ class StructureParams:
         >>> StructureParams.recorded({}).heading_window      # and read the histograms as they stood
         0.0
         >>> StructureParams.recorded({}).pause_share         # and measured every frame of a cluster
+        0.0
+        >>> StructureParams.recorded({}).partition           # and took the novelty's peaks
         0.0
         >>> StructureParams.recorded(StructureParams().__dict__) == StructureParams()
         True

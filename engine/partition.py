@@ -13,8 +13,8 @@ here compares every stretch with every other and keeps the cuts that pay for the
 
     sum_k (1 / |S_k|) sum_{i, j in S_k} |x_i - x_j|  +  penalty * (K - 1),
 
-the within-segment energy scatter (twice the mean distance between a segment's rows, times
-its length) plus a penalty per change. This is the kernel change-point criterion of Arlot,
+the within-segment energy scatter (the mean distance between a segment's rows over all its
+ordered pairs, itself included, times its length) plus a penalty per change. This is the kernel change-point criterion of Arlot,
 Celisse and Harchaoui (JMLR 2019, "A kernel multiple change-point algorithm via model
 selection") with the energy-distance kernel -|x - y| of Matteson and James (JASA 2014,
 "A nonparametric approach for multiple change point analysis of multivariate data"): a cut
@@ -79,7 +79,8 @@ def energy_partition(rows, penalty, min_len, max_len=None):
     min_len : int
         Fewest rows in a segment (>= 1).
     max_len : int, optional
-        Most rows in a segment; default T (no limit). At least 2 * ``min_len``.
+        Most rows in a segment; default T (no limit: memory then grows with T squared, 8 T^2
+        bytes twice). At least 2 * ``min_len``.
 
     Returns
     -------

@@ -126,9 +126,10 @@ Two methods are provided.
        degrees or more from the old poses: CMU 13_29 turning 6 degrees a second);
        step 4 reads the heading-free rows where it would move a boundary back over such frames.
        **5b. Clusters the placing left too short** (:func:`engine.transitions.join_short`,
-       step 36): steps 4 and 5 move each boundary on its own, and an inner cluster they
-       leave shorter than ``min_cluster`` joins the neighbour across its weaker boundary (a
-       slow transition between two changes of the partition stayed a 1.5 s cluster).
+       step 36, with ``partition`` only): steps 4 and 5 move each boundary on its own, and
+       an inner cluster they leave shorter than step 1's spacing (``min_cluster``) joins the
+       neighbour across its weaker boundary (a slow transition between two changes of the
+       partition stayed a 1.5 s cluster).
     6. **Weak splits of non-repeating stretches undone** (:mod:`engine.transitions`). An
        exercise of one-off movements (putting something on the floor) makes novelty
        fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
@@ -430,12 +431,13 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
         if starts != [cs for cs, _ in clusters]:
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
-    # Step 5b: a piece steps 4 and 5 left shorter than min_cluster joins a neighbour
-    # (engine.transitions).
-    joined = join_short(clusters, lambda cs: boundary_confidences(n, step, cs, p.novelty_threshold),
-                        p.min_cluster * fps)
-    if joined != clusters:
-        clusters, periods = joined, None
+    if p.partition > 0:
+        # Step 5b (with step 36's partition; partition 0 parses as before it): a piece steps
+        # 4 and 5 left shorter than step 1's spacing joins a neighbour (engine.transitions).
+        least = max(2, int(round(p.min_cluster * fps / step))) * step
+        joined = join_short(clusters, lambda cs: boundary_confidences(n, step, cs, p.novelty_threshold), least)
+        if joined != clusters:
+            clusters, periods = joined, None
     if p.weak_boundary > 0:
         clusters, periods = merge_weak(period, clusters, count,
                                        boundary_confidences(n, step, clusters, p.novelty_threshold), periods)

@@ -52,10 +52,12 @@ gives:
   With the partition's changes (:mod:`engine.partition`) a slow transition can be a segment
   of its own, 2 s long with a change at each end, and after the placing 1.5 s of it stayed a
   cluster (CMU 13_29 played at 0.7x, between two exercises: a false boundary). An inner
-  cluster shorter than ``min_cluster`` now joins the neighbour across the weaker of its two
-  boundaries (:mod:`engine.confidence`, read at the boundary itself, as step 6 reads it).
-  The development suite gains that take (cmu 0.98 / 1.00 -> 1.00 / 1.00) and nothing else
-  moves; the 26 fresh batches find one change fewer (547 of 580, one false boundary fewer).
+  cluster shorter than step 1's spacing (``min_cluster``, in whole rows of the reduced
+  sequence) now joins the neighbour across the weaker of its two boundaries
+  (:mod:`engine.confidence`, read at the boundary itself, as step 6 reads it). With the
+  partition only: ``partition`` 0 parses as before step 36. The development suite gains that
+  take (cmu 0.98 / 1.00 -> 1.00 / 1.00) and nothing else moves; the 26 fresh batches find one
+  change fewer (548 -> 547 right boundaries, 579 -> 578 found: as many false ones).
 
 ``count(cs, ce, P)`` is the number of whole textons of period P in cluster [cs, ce] (the
 parser's texton step, which measures a cluster whose repetitions pause on its moving frames:
