@@ -449,32 +449,32 @@ def _partition_boundaries(vectors, fps, p, n, f, sep, is_peak, near_end, turned)
     # ``min_cluster`` long, a novelty peak of STRONG_EDGE times the threshold, as before, if
     # no change is within ``min_cluster`` of it. (Taken first, such peaks cost the suite
     # CMU 13_30 turning's first change, 1.8 s in.)
+    bounds, claimed, turns = [], [], []
+
+    def take(t, at):
+        # The novelty's top t is a turn (claimed, no boundary) or a boundary placed at ``at``;
+        # both keep others ``sep`` away.
+        claimed.append(t)
+        if turned(t):
+            turns.append(t)
+            return
+        bounds.append(at)
+        if at != t:
+            claimed.append(at)
+
     rows, _ = novelty_rows(vectors, fps, p)
     reach = max(1, int(round(PEAK_REACH_S * f)))
-    bounds, claimed, turns = [], [], []
     for c in energy_partition(rows, p.partition, sep, max(2 * sep, int(round(MAX_SEGMENT_S * f)))):
         lo, hi = max(0, c - reach), min(len(n), c + reach + 1)
         t = lo + int(np.argmax(n[lo:hi]))
-        if n[t] < p.partition_floor * p.novelty_threshold:
-            continue
-        if turned(t):
-            claimed.append(t)
-            turns.append(t)
-            continue
-        bounds.append(c)
-        claimed += [t, c]
+        if n[t] >= p.partition_floor * p.novelty_threshold:
+            take(t, c)
     for t in np.argsort(-n, kind="stable"):
         t = int(t)
         if n[t] < STRONG_EDGE * p.novelty_threshold:
             break
-        if not is_peak[t] or not near_end(t) or any(abs(t - q) < sep for q in claimed):
-            continue
-        if turned(t):
-            claimed.append(t)
-            turns.append(t)
-            continue
-        bounds.append(t)
-        claimed.append(t)
+        if is_peak[t] and near_end(t) and not any(abs(t - q) < sep for q in claimed):
+            take(t, t)
     return bounds, claimed, turns
 
 
