@@ -447,6 +447,31 @@ BATCHES = {
         ("synth", "r7-b-15fps", dict(motions=["walk", "up-down", "twist", "pick-up", "run"], cycles=[6, 5, 5, 4, 10],
                                      transition=2.5, still=0.5, sway=60.0, fps=15, build=1.1, seed=712)),
     ],
+    # After step 36 (the partition of the whole take for step 1's boundaries, whose penalty and
+    # onset reach were read off the suite and the batches above), to check it out of sample:
+    # four HDM05 exercise sets in orders and seeds no batch had, CMU 13_30 turning to face other
+    # ways and 13_29 turning slowly while swaying, and the synthetic actor's exercises of alike
+    # poses (kicks, knee raises, up-downs, squats), wandering and turning, and still stretches
+    # at 15 fps. Made and committed before the parser was run on them, scored once, kept
+    # whatever they score.
+    "review-8": [
+        ("bd", "kickLFront1Reps:5,hopBothLegs1hops:6,throwBasketball:3,rotateArmsBothBackward1Reps:4,squat1Reps:5", 111,
+         {"seed": 111, "palette": "a", "build": 1.05}),
+        ("bk", "elbowToKnee1RepsLelbowStart:5,grabHighR:4,kickLFront1Reps:5,jogLeftCircle4StepsRstart:2,depositFloorR:3",
+         112, {"seed": 112, "palette": "c"}),
+        ("dg", "depositFloorR:4,squat1Reps:6,elbowToKnee1RepsLelbowStart:5,sneak2StepsLStart:3,hopBothLegs1hops:7", 113,
+         {"seed": 113, "build": 0.9}),
+        ("bd", "grabHighR:4,elbowToKnee1RepsLelbowStart:5,sneak2StepsLStart:2,kickLFront1Reps:5,throwBasketball:3", 114,
+         {"seed": 114, "palette": "b"}),
+        ("cmu", "13_30", {"turns": 100.0, "seed": 801}),
+        ("cmu", "13_29", {"turn": 5.0, "sway": 40.0, "seed": 802}),
+        ("synth", "r8-a-20fps", dict(motions=["kick", "knee-raises", "up-down", "squats", "side-reach"],
+                                     cycles=[6, 5, 5, 5, 4], rest=0.6, jitter=1.5, fps=20, build=1.05, seed=811)),
+        ("synth", "r8-b-wander", dict(motions=["twist", "box", "toe-touch-both", "hop", "walk"], cycles=[5, 8, 4, 8, 8],
+                                      transition=1.5, wander=0.7, turns=80.0, seed=812)),
+        ("synth", "r8-c-15fps", dict(motions=["arm-circles", "side-bends", "jumping-jacks", "pick-up", "run"],
+                                     cycles=[6, 4, 8, 4, 10], still=0.8, noise=0.004, fps=15, height=0.95, seed=813)),
+    ],
 }
 
 
