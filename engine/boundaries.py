@@ -152,8 +152,8 @@ turns.
   before (CMU 13_30 played at 1.4x) where no change of the partition lies within
   ``min_cluster`` of it. The partition cuts no nearer an end than that: a first or last
   exercise under 2 s long is cut at 2 s, up to 1 s off, and only steps 4 and 5 can move it
-  to where it is (taking the peaks first cost the suite a change instead); behind a vetoed turn the heading-free novelty's peaks
-  are, as before; shoulders and twin peaks have no meaning for a partition. Raw (no later
+  to where it is (taking the peaks first cost the suite a change instead); behind a vetoed
+  turn the heading-free novelty's peaks are, as before; shoulders and twin peaks have no meaning for a partition. Raw (no later
   step), over the suite and the 26 fresh batches (772 changes), the partition finds changes
   within 1 s at F1 0.862 (at penalty 24; 20, the default, was chosen with the later steps)
   where the peaks reach 0.809 at their best threshold. With the later
@@ -168,8 +168,8 @@ import numpy as np
 from .atoms import block_means, novelty
 from .partition import MAX_SEGMENT_S, energy_partition
 
-__all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "local_maxima", "turn_test", "pace", "whiten",
-           "STRONG_EDGE", "PACE_SECONDS", "WHITEN_FLOOR"]
+__all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "local_maxima", "turn_test", "spacing", "pace",
+           "whiten", "STRONG_EDGE", "PACE_SECONDS", "WHITEN_FLOOR"]
 
 #: A novelty peak this many times ``novelty_threshold`` is a boundary even within 0.75
 #: ``min_cluster`` of the sequence's ends, where weaker peaks are not trusted. (On whitened rows
@@ -305,6 +305,12 @@ def novelty_curve(vectors, fps, p):
     return novelty(v, block, min_block=min(block, max(3, int(round(0.5 * p.min_cluster * f))))), step
 
 
+def spacing(p, f):
+    """Least distance between step 1's boundaries, in rows of the novelty (``f`` a second):
+    ``min_cluster``, in whole rows. Steps 1b and 5b keep to it too."""
+    return max(2, int(round(p.min_cluster * f)))
+
+
 def _shoulder(n, t, claimed, reach, share):
     # A peak that rises less than ``share`` of its height above the lowest novelty between it
     # and a stronger peak already taken (within ``reach``) is that peak's shoulder.
@@ -416,7 +422,7 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
     """
     T = len(vectors)
     f = fps / step
-    sep = max(2, int(round(p.min_cluster * f)))
+    sep = spacing(p, f)
     # Non-maximum suppression over local maxima only (a broad peak's shoulder is not a
     # second boundary): strongest first, none closer than ``sep``. With ``twin_peak`` under 1
     # (left out by default since step 30), an earlier local maximum within ``sep`` and at
@@ -464,7 +470,7 @@ def _partition_boundaries(vectors, fps, p, n, f, sep, is_peak, near_end, turned)
 
     rows, _ = novelty_rows(vectors, fps, p)
     reach = max(1, int(round(PEAK_REACH_S * f)))
-    for c in energy_partition(rows, p.partition, sep, max(2 * sep, int(round(MAX_SEGMENT_S * f)))):
+    for c in energy_partition(rows, p.partition, sep, int(round(MAX_SEGMENT_S * f))):
         lo, hi = max(0, c - reach), min(len(n), c + reach + 1)
         t = lo + int(np.argmax(n[lo:hi]))
         if n[t] >= p.partition_floor * p.novelty_threshold:

@@ -64,7 +64,7 @@ motion*).
 
 import numpy as np
 
-from .boundaries import local_maxima, turn_test
+from .boundaries import local_maxima, spacing, turn_test
 from .periods import longest_lag
 
 __all__ = ["rhythm_splits", "FLOOR", "WHOLE", "LOCAL"]
@@ -115,7 +115,7 @@ def rhythm_splits(period, clusters, n, step, turn_free=None):
     if p.rhythm_ratio <= 0:
         return list(clusters)
     f = fps / step
-    sep = max(2, int(round(p.min_cluster * f))) * step
+    sep = spacing(p, f) * step
     peak, turned = local_maxima(n), turn_test(n, turn_free, p.turn_ratio, f)
     low = FLOOR * p.novelty_threshold
     local = int(round(LOCAL * p.max_period * fps))

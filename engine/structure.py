@@ -164,7 +164,7 @@ import numpy as np
 from .atoms import (PAPER_FPS, atom_distance, atom_distances_to, atoms_along_lag,
                     atom_window, lag_profile, novelty)
 from .azimuth import azimuth_smoothed, azimuth_spectrum
-from .boundaries import novelty_boundaries, novelty_curve
+from .boundaries import novelty_boundaries, novelty_curve, spacing
 from .confidence import MOVED_S, boundary_confidences, texton_confidence
 from .heading import heading_track, turned
 from .onsets import onset, settle, turned_away
@@ -434,7 +434,7 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     if p.partition > 0:
         # Step 5b (with step 36's partition; partition 0 parses as before it): a piece steps
         # 4 and 5 left shorter than step 1's spacing joins a neighbour (engine.transitions).
-        least = max(2, int(round(p.min_cluster * fps / step))) * step
+        least = spacing(p, fps / step) * step
         joined = join_short(clusters, lambda cs: boundary_confidences(n, step, cs, p.novelty_threshold), least)
         if joined != clusters:
             clusters, periods = joined, None
