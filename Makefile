@@ -26,7 +26,7 @@ demo: $(STAMP)
 # The tests run in one process a core (at most 8; pytest-xdist, an idle process taking
 # tests from a busy one); the test data they share is made once (tests/conftest.py).
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n auto --maxprocesses 8 --dist worksteal
+	$(BIN)/pytest -q -n auto --maxprocesses 8 --dist worksteal
 
 # Benchmarks also install the peers they measure against (pyrender).
 bench: $(STAMP)

@@ -24,9 +24,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from engine.features import BinSizes, FeatureAccumulator  # noqa: E402
-from engine.load import frame_paths, iter_frames, open_sequence  # noqa: E402
-from engine.structure import parse  # noqa: E402
+from tvmedit.engine.features import BinSizes, FeatureAccumulator  # noqa: E402
+from tvmedit.engine.capture.load import frame_paths, iter_frames, open_sequence  # noqa: E402
+from tvmedit.engine.parse.structure import parse  # noqa: E402
 
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
 FPS = 60

@@ -18,8 +18,8 @@ sys.path.insert(0, str(ROOT))
 
 from accuracy import CACHE, VARIANTS, take_folder  # noqa: E402
 
-from engine.evaluate import score_take  # noqa: E402
-from engine.features import BinSizes  # noqa: E402
+from tvmedit.engine.lab.evaluate import score_take  # noqa: E402
+from tvmedit.engine.features import BinSizes  # noqa: E402
 
 R_SIZES = (0.01, 0.02, 0.04, 0.08)
 ANGLE_SIZES = (2.5, 5.0, 10.0, 20.0)

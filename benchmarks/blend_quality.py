@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/blend_quality.py [--takes gym 13_29 13_30] [--workers 2]
 
-Each take is built at default options (in-between frames as many as needed, ``engine.blend``).
+Each take is built at default options (in-between frames as many as needed, ``tvmedit.engine.inbetween.blend``).
 For every edge of the motion graph it prints the *pop ratio*: the largest step across the
 transition window, from the exit frame to the entry frame, divided by the library's natural
 step (median step between consecutive texton frames). A step is the symmetric mean Chamfer
@@ -10,10 +10,10 @@ distance between consecutive displayed frames (all vertices). "cut" is the paper
 exit frame to entry frame (``--blend-frames 0``); "blended" plays the in-between frames
 between them. The bar: blended <= 1.25 on every edge.
 
-Then every looping motion's wrap from its texton's last frame to its first (``engine.wraps``),
+Then every looping motion's wrap from its texton's last frame to its first (``tvmedit.engine.inbetween.loops``),
 as captured and closed, over the capture's own step across that phase.
 
-Then the cost, on one core (CPU time of ``engine.blend.blend`` for one transition, reading
+Then the cost, on one core (CPU time of ``tvmedit.engine.inbetween.blend.blend`` for one transition, reading
 aside): per transition of 13_29 (17,000-vertex frames, limit 2 s), how it grows with the
 vertex count (every k-th vertex of the same two frames) and with the number of in-between
 frames (fixed counts).
@@ -34,8 +34,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT))
 
-import engine  # noqa: E402
-from engine import blend  # noqa: E402
+from tvmedit import engine # noqa: E402
+from tvmedit.engine.inbetween import blend  # noqa: E402
 
 LIMIT_RATIO = 1.25
 LIMIT_SECONDS = 2.0
@@ -91,9 +91,9 @@ def quality(names, workers, folder):
 
 
 def loops(library):
-    """Every cyclic motion's wrap (engine.wraps): its largest step over the capture's own step
+    """Every cyclic motion's wrap (tvmedit.engine.inbetween.loops): its largest step over the capture's own step
     there (and the natural step), as captured and with the loop closed."""
-    from engine.wraps import pace, window as closing_window
+    from tvmedit.engine.inbetween.loops import pace, window as closing_window
 
     rows = []
     for node in library.nodes:

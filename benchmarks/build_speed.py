@@ -10,7 +10,7 @@ build time and frames per second, the ratio to the bare loop (limit 3x, and at m
 peak memory of the build process and its workers (limit 1.5 GB), the share of worker time
 spent reading files versus computing, how build time grows from 250 to 2,000 frames, and
 how long opening the built library takes (limit 0.2 s). The in-between frames at transitions
-(``engine.blend``, on by default) are timed apart: the ratio and the 15 s are of the rest.
+(``tvmedit.engine.inbetween.blend``, on by default) are timed apart: the ratio and the 15 s are of the rest.
 
     python benchmarks/build_speed.py [--workers N] [--quick]
 
@@ -62,7 +62,7 @@ def child(args):
     import warnings
 
     warnings.simplefilter("ignore")
-    from engine import build
+    from tvmedit import build
 
     started = time.perf_counter()
     # The take is 60 fps; mocap2tvm writes no sequence.json, so say so (the default is 10).
@@ -79,7 +79,7 @@ def open_time(out):
 
     Imports (numpy above all) are not counted: they are paid once per program, not per open.
     """
-    code = ("import time; from engine.library import Library; t=time.perf_counter(); "
+    code = ("import time; from tvmedit.engine.store.library import Library; t=time.perf_counter(); "
             f"L=Library.open({str(out)!r}); a=time.perf_counter()-t; L.nodes; L.graph; "
             "print(a, time.perf_counter()-t)")
     runs = []
@@ -132,7 +132,7 @@ def main():
                 shutil.rmtree(tmp / f"lib-{n}")
 
     report, total = full["report"], full["seconds"]
-    # The in-between frames at transitions (engine.blend) are a stage of their own, with their
+    # The in-between frames at transitions (tvmedit.engine.inbetween.blend) are a stage of their own, with their
     # own budget (2 s a transition, benchmarks/blend_quality.py): the pipeline that reads and
     # analyses the frames is compared with the bare loop without it.
     blends = report["stages"].get("blends", 0.0)

@@ -1,4 +1,4 @@
-"""Speed of making a motion graph strongly connected (engine.connect), against its limit.
+"""Speed of making a motion graph strongly connected (tvmedit.engine.graph.connect), against its limit.
 
     .venv/bin/python benchmarks/connect_speed.py [--seed 0]
 
@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from engine.connect import connect, strongly_connected
+from tvmedit.engine.graph.connect import connect, strongly_connected
 
 LIMIT_S = 1.0
 SIZES = (100, 200, 500, 1000)

@@ -41,7 +41,7 @@ LIMIT_S = 1.0
 def gym_data():
     """The 2,040-frame synthetic take, generated on first use (about a minute on two cores)."""
     if not (GYM / "truth.json").exists():
-        from engine import synth
+        from tvmedit.engine.lab import synth
 
         print(f"generating {GYM} (once) ...", flush=True)
         synth.generate(GYM, preset="gym", cycles=22, fps=10, vertices=16000, workers=2, progress=False,
@@ -76,7 +76,7 @@ def corrections_for(library, data):
 
 
 def measure(name, data, fps, tmp, keep):
-    from engine import Library, build
+    from tvmedit import Library, build
 
     path = tmp / f"{name}-{keep}.tvmlib"
     build([("take", data)], path, fps=fps, workers=2, keep_frames=keep)   # fills the feature cache

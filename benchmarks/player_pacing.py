@@ -42,7 +42,7 @@ REDRAW_TARGET_HZ = 60.0
 
 def library():
     """The benchmark library: built once, keyed by its take (rebuild by deleting the folder)."""
-    import engine
+    from tvmedit import engine
 
     take = synth_take("gym", cycles=3, vertices=17000)
     out = CACHE / f"library-{take.name}"
@@ -103,8 +103,8 @@ def main():
         print(f"skipped: {' and '.join(missing)} not installed (apt-get install xvfb xdotool)")
         return 0
 
-    from engine.library import Library
-    from player.window import motion_keys
+    from tvmedit.engine.store.library import Library
+    from tvmedit.player.window import motion_keys
 
     lib_path = library()
     lib = Library.open(lib_path)

@@ -41,7 +41,7 @@ def bare(frames):
 
 
 def tvmedit():
-    from engine.load import iter_frames, open_sequence
+    from tvmedit.engine.capture.load import iter_frames, open_sequence
 
     sequence = open_sequence(CARD)
     vertices = 0

@@ -34,11 +34,11 @@ import moderngl  # noqa: E402
 import numpy as np  # noqa: E402
 from skimage.measure import marching_cubes  # noqa: E402
 
-from player.camera import Camera  # noqa: E402
-from player.context import headless_context  # noqa: E402
-from player.programs import load_program  # noqa: E402
-from player.renderer import ANTIALIAS, Renderer  # noqa: E402
-from player.source import ArraySource  # noqa: E402
+from tvmedit.player.camera import Camera  # noqa: E402
+from tvmedit.player.context import headless_context  # noqa: E402
+from tvmedit.player.programs import load_program  # noqa: E402
+from tvmedit.player.renderer import ANTIALIAS, Renderer  # noqa: E402
+from tvmedit.player.source import ArraySource  # noqa: E402
 
 SIZE = (640, 480)
 VOXEL = 0.0107

@@ -19,9 +19,9 @@ import time
 import networkx as nx
 import numpy as np
 
-from engine.compose import compose
-from engine.errors import NoPath
-from engine.search import SearchIndex, best_path
+from tvmedit.engine.graph.compose import compose
+from tvmedit.engine.errors import NoPath
+from tvmedit.engine.graph.search import SearchIndex, best_path
 
 LIMIT_PATH_MS = 5.0
 LIMIT_COMPOSE_MS = 20.0

@@ -12,7 +12,7 @@ import time
 
 import numpy as np
 
-from engine import synth
+from tvmedit.engine.lab import synth
 
 LIMIT_S = 0.3
 

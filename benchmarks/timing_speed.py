@@ -1,4 +1,4 @@
-"""Speed of planning an edit of a given length (engine.timing) against the 0.5 s limit.
+"""Speed of planning an edit of a given length (tvmedit.engine.graph.timing) against the 0.5 s limit.
 
     .venv/bin/python benchmarks/timing_speed.py [--nodes 1000] [--edits 10] [--seed 0]
 
@@ -16,8 +16,8 @@ import warnings
 
 import numpy as np
 
-from engine.compose import compose
-from engine.timing import Timing, miss
+from tvmedit.engine.graph.compose import compose
+from tvmedit.engine.graph.timing import Timing, miss
 from search_speed import dense_motion_graph, time_ms
 
 LIMIT_S = 0.5

@@ -72,7 +72,7 @@ class DurationError(TvmError):
 
 
 class DurationWarning(UserWarning):
-    """A leg lasts the nearest time any schedule makes, not the time asked (:mod:`engine.timing`)."""
+    """A leg lasts the nearest time any schedule makes, not the time asked (:mod:`tvmedit.engine.graph.timing`)."""
 
 
 class OutputError(TvmError):
@@ -97,7 +97,7 @@ def build_call(inputs, out, force=False):
 
 def not_a_library(path, frames=False):
     """The sentence for a folder without a manifest: a sequence folder (``frames``: it holds
-    frame files, :func:`engine.load.holds_frames`) is told how to build one."""
+    frame files, :func:`tvmedit.engine.capture.load.holds_frames`) is told how to build one."""
     if frames:
         plain = path if path.name not in ("", ".", "..") else path.resolve()
         target = plain.with_name(f"{plain.name}.tvmlib")

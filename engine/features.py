@@ -31,7 +31,7 @@ angle bins of 2.5, 5, 10 and 20 degrees. Only 2 cm / 5 degrees meets every targe
 five (precision, recall and texton accuracy 1.00 at their worst). Next best are 4 cm / 5
 degrees (1.00 / 1.00 / 0.80) and 1 cm / 5 degrees (0.80 / 0.80 / 1.00). Coarser angles
 lose texton lengths first (0.71 at 10 degrees, 0.56 at 20). The cluster thresholds of
-:mod:`engine.structure` were calibrated at these defaults, so another bin size also wants
+:mod:`tvmedit.engine.parse.structure` were calibrated at these defaults, so another bin size also wants
 them recalibrated.
 """
 
@@ -45,7 +45,7 @@ from typing import Iterable
 import numpy as np
 
 from .errors import InputError
-from .params import number
+from .checks import number
 
 #: Most angular bins (theta or phi) and radial bins a histogram may have: each is a column
 #: of every frame's feature vector.
@@ -376,7 +376,7 @@ class Features:
         where the origin stays put, else None (then they are these). A person
         turning about their own axis away from the origin changes these rows much less than
         those about the origin; the parser's turn veto reads them
-        (:func:`engine.structure.parse`). Not padded with the rows above.
+        (:func:`tvmedit.engine.parse.structure.parse`). Not padded with the rows above.
 
     Examples
     --------

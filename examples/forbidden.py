@@ -6,7 +6,7 @@ motion, and compare the detour (or the reason there is none).
 
 import sys
 
-from engine import Library, NoPath
+from tvmedit import Library, NoPath
 from tvmedit.demo import demo_library
 
 lib = Library.open(sys.argv[1] if len(sys.argv) > 1 else demo_library())

@@ -4,15 +4,15 @@
 
 LIB defaults to the demo library (demo/gym.tvmlib), built from the synthetic actor the first
 time. The first three motions begin at 0, 6 and 14 s and the third plays 3 s before its last
-cycle; each leg is planned to last its time to within a frame (engine.timing), or the nearest
+cycle; each leg is planned to last its time to within a frame (tvmedit.engine.graph.timing), or the nearest
 time a schedule makes, with a warning.
 """
 
 import sys
 import warnings
 
-from engine import Library
-from engine.export import export_edit
+from tvmedit import Library
+from tvmedit.engine.graph.export import export_edit
 from tvmedit.demo import demo_library
 
 lib = Library.open(sys.argv[1] if len(sys.argv) > 1 else demo_library())

@@ -8,8 +8,8 @@ time. The two motions are the cheapest round trip the motion graph allows.
 
 import sys
 
-import player
-from engine import Library, NoPath
+from tvmedit import player
+from tvmedit import Library, NoPath
 from tvmedit.demo import demo_library
 
 lib = Library.open(sys.argv[1] if len(sys.argv) > 1 else demo_library())

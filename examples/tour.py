@@ -9,9 +9,9 @@ that cannot be reached at the library's mu are reported.
 
 import sys
 
-from engine import Library, NoPath
-from engine.export import export_edit
-from engine.search import best_path, path_cost
+from tvmedit import Library, NoPath
+from tvmedit.engine.graph.export import export_edit
+from tvmedit.engine.graph.search import best_path, path_cost
 from tvmedit.demo import demo_library
 
 lib = Library.open(sys.argv[1] if len(sys.argv) > 1 else demo_library())

@@ -9,7 +9,7 @@ import functools
 
 import moderngl
 
-from engine.errors import TvmError
+from ..engine.errors import TvmError
 
 GL_VERSION = 330
 

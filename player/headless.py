@@ -15,14 +15,14 @@ import imageio_ffmpeg
 import numpy as np
 from tqdm import tqdm
 
-from engine import atomic
-from engine.errors import ParameterError
-from engine.params import MAX_FPS, number, whole
-from player.camera import Camera
-from player.context import shared_headless_context
-from player.font import draw_text
-from player.renderer import BACKGROUND, Renderer
-from player.source import check_shading, texture_of
+from ..engine import safewrite
+from ..engine.errors import ParameterError
+from ..engine.checks import MAX_FPS, number, whole
+from .camera import Camera
+from .context import shared_headless_context
+from .font import draw_text
+from .renderer import BACKGROUND, Renderer
+from .source import check_shading, texture_of
 
 FRAME_PATTERN = "frame_{:05d}.png"
 #: Largest image side a GL context is sure to allocate (GL_MAX_TEXTURE_SIZE is 16384 or more).
@@ -37,12 +37,12 @@ def render_frame(source, key, camera=None, size=(640, 480), grid=False, backgrou
 
     Parameters
     ----------
-    source : MeshSource (see ``player.source``)
+    source : MeshSource (see ``tvmedit.player.source``)
     key : (sequence_name, frame_index)
     camera : ``Camera``; default frames ``source.bounds()`` from the front
     size : (width, height) in pixels
     shading : "auto" (the frame's texture where it has one), "texture" or "colour" (vertex
-        colours); see ``player.source.SHADINGS``
+        colours); see ``tvmedit.player.source.SHADINGS``
     """
     size = _check_size(size)
     check_shading(source, shading)
@@ -60,7 +60,7 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     height is rounded down to even, as yuv420p requires), ``.gif`` (looping), or no suffix for a
     folder of ``frame_00000.png``, ``frame_00001.png``, ... An existing output is replaced only
     with ``force``, and only a file of that kind or a folder of frames rendered before (see
-    :func:`engine.atomic.check_target`); nothing goes inside the source's own folders.
+    :func:`tvmedit.engine.safewrite.check_target`); nothing goes inside the source's own folders.
 
     Parameters
     ----------
@@ -91,7 +91,7 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
     bar = tqdm(keys, desc=f"render {out.name}", unit="frame", disable=not progress)
     # A folder is swapped in whole; a file is written under a temporary name with its suffix.
-    target = atomic.replacing_folder(out, kind="frames") if kind == "folder" else atomic.replacing_file(out)
+    target = safewrite.replacing_folder(out, kind="frames") if kind == "folder" else safewrite.replacing_file(out)
     try:
         with target as temporary, _renderer(source, (width, height), grid, background, samples) as renderer:
             frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps), shading)
@@ -169,7 +169,7 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
             sheet[r * th:(r + 1) * th, c * tw:(c + 1) * tw] = image
     out_png = Path(out_png)
     out_png.parent.mkdir(parents=True, exist_ok=True)
-    with atomic.replacing_file(out_png) as temporary:
+    with safewrite.replacing_file(out_png) as temporary:
         iio.imwrite(temporary, sheet, extension=".png")
     return sheet
 
@@ -221,9 +221,9 @@ def _legacy_frames(path):
 def _check_output(out, kind, force, source):
     inputs = source.sources() if hasattr(source, "sources") else ()
     if kind == "folder":
-        atomic.check_target(out, "frames", force, inputs=inputs, legacy=_legacy_frames)
+        safewrite.check_target(out, "frames", force, inputs=inputs, legacy=_legacy_frames)
     else:
-        atomic.check_file_target(out, force, inputs=inputs)
+        safewrite.check_file_target(out, force, inputs=inputs)
 
 
 def _write_mp4(frames, path, size, fps):

@@ -5,10 +5,10 @@ a Python call (scriptable, tested headless): move the playhead, add, delete or m
 cluster boundary or texton start nearest it, force the texton under it as its cluster's
 representative, undo, rebuild the library from the corrections and read the new graph's
 summary, save ``corrections.json``. After each edit the corrections are applied to the
-automatic parse at once (:func:`engine.corrections.apply_structure`) and the timeline shows
+automatic parse at once (:func:`tvmedit.engine.store.corrections.apply_structure`) and the timeline shows
 the result; an edit the corrections refuse (a texton shorter than the atom window) is undone
 and said. ``InspectorWindow`` is the glfw window around it: the source frame under the
-playhead in 3D at the top, the timeline (:mod:`engine.timeline`) below.
+playhead in 3D at the top, the timeline (:mod:`tvmedit.engine.parse.timeline`) below.
 
 Keys: left/right one frame (held: repeat), up/down one second, home/end, page up/down
 the next cluster; b add a boundary, t add a texton start, d or delete removes the marker
@@ -24,13 +24,13 @@ from pathlib import Path
 
 import networkx as nx
 
-from engine.corrections import CorrectionError, Corrections, apply_database, apply_structure
-from engine.database import build_database
-from engine.errors import TvmError
-from engine.timeline import timeline
-from player.camera import CameraControls
-from player.overlay import Label
-from player.window import Window
+from ..engine.store.corrections import CorrectionError, Corrections, apply_database, apply_structure
+from ..engine.graph.database import build_database
+from ..engine.errors import TvmError
+from ..engine.parse.timeline import timeline
+from .camera import CameraControls
+from .overlay import Label
+from .window import Window
 
 #: Share of the window's height the timeline takes, at the bottom.
 TIMELINE_SHARE = 0.3
@@ -57,7 +57,7 @@ class InspectorApp(CameraControls):
 
     Parameters
     ----------
-    library : engine.library.Library
+    library : tvmedit.engine.store.library.Library
     corrections_path : str or Path
         Where :meth:`save` writes; read at start when it exists (else the library's own).
     out : str or Path, optional
@@ -265,12 +265,12 @@ class InspectorApp(CameraControls):
 
 
 class TimelineView:
-    """Draws :class:`engine.timeline.Shapes` (rectangles and the curve) with ``shaders/flat.glsl``."""
+    """Draws :class:`tvmedit.engine.parse.timeline.Shapes` (rectangles and the curve) with ``shaders/flat.glsl``."""
 
     def __init__(self, ctx):
         import numpy as np
 
-        from player.programs import load_program
+        from .programs import load_program
 
         self.ctx = ctx
         self.program = load_program(ctx, "flat")

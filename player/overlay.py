@@ -1,4 +1,4 @@
-"""On-screen text for the realtime window: the bitmap font of ``player.font`` as textured quads.
+"""On-screen text for the realtime window: the bitmap font of ``tvmedit.player.font`` as textured quads.
 
 The glyphs go once into a one-channel atlas texture; each label becomes quads in pixel
 coordinates with a translucent backing box, so the text stays readable over the mesh and the
@@ -8,8 +8,8 @@ floor. The vertex buffer is rewritten only when the text changes, not on every r
 import moderngl
 import numpy as np
 
-from player.font import CHARSET, GLYPH_H, GLYPH_W, bitmap
-from player.programs import load_program
+from .font import CHARSET, GLYPH_H, GLYPH_W, bitmap
+from .programs import load_program
 
 _CELL = GLYPH_W + 1          # one empty texel column between cells keeps glyphs apart
 #: Colour of dimmed lines (motions out of reach), sRGB.

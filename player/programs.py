@@ -12,7 +12,7 @@ from importlib import resources
 @functools.lru_cache(maxsize=None)
 def shader_text(name):
     """The text of ``shaders/<name>.glsl`` (read once per process)."""
-    return resources.files("shaders").joinpath(f"{name}.glsl").read_text(encoding="utf-8")
+    return resources.files("tvmedit.shaders").joinpath(f"{name}.glsl").read_text(encoding="utf-8")
 
 
 @functools.lru_cache(maxsize=None)

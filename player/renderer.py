@@ -20,7 +20,7 @@ from the scene texture: the pass then costs what the person's pixels cost, not t
 import moderngl
 import numpy as np
 
-from player.programs import load_program
+from .programs import load_program
 
 BACKGROUND = (0.12, 0.13, 0.15)
 """Default clear colour, sRGB in 0..1."""
@@ -41,7 +41,7 @@ class Renderer:
 
     Parameters
     ----------
-    ctx : moderngl.Context, from ``player.context``
+    ctx : moderngl.Context, from ``tvmedit.player.context``
     size : (width, height) of the own framebuffer, pixels
     samples : samples per pixel when multisampling, clamped to what the context allows; 0 (or 1)
         for no multisampling
@@ -111,7 +111,7 @@ class Renderer:
         ----------
         mesh : (positions (N, 3) float32, colours (N, 3) uint8, faces (M, 3) uint32,
                 normals (N, 3) float32 or None), as ``MeshSource.frame_mesh`` returns
-        camera : ``player.camera.Camera``; its aspect should match the target's
+        camera : ``tvmedit.player.camera.Camera``; its aspect should match the target's
         framebuffer : draw there instead of the own framebuffer (e.g. ``ctx.screen``)
         texture : (uv (N, 2) float32, image (H, W, 3) uint8) to draw the frame's texture
             instead of its vertex colours, as ``MeshSource.frame_texture`` returns; None for

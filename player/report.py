@@ -7,11 +7,11 @@ What a build found, in the order of the paper:
   motion clusters as alternating bands. Where a ``truth.json`` sits beside the sequence's
   frames, its segments are drawn as a labelled band under the detected clusters and the
   boundary precision and recall of the clusters are printed (Figure 5's measure), computed
-  by ``engine.evaluate.score``, the scorer of the tests and of ``benchmarks/accuracy.py``.
-  A sequence corrected by hand (``engine.corrections``) shows the automatic parse's clusters
+  by ``tvmedit.engine.lab.evaluate.score``, the scorer of the tests and of ``benchmarks/accuracy.py``.
+  A sequence corrected by hand (``tvmedit.engine.store.corrections``) shows the automatic parse's clusters
   in a strip above the corrected ones, boundaries drawn by hand as orange lines and those
   removed by hand as dotted red ones, and its corrections under the figure. Each detected
-  boundary's confidence (:mod:`engine.confidence`) is written above it; those under
+  boundary's confidence (:mod:`tvmedit.engine.parse.confidence`) is written above it; those under
   ``LOOK_BELOW`` (0.1), the ones to look at first, are red with a dashed red line.
 * **Motion database** (section 5, eq. (9)): one contact sheet of evenly spaced frames per
   node, captioned with its length, texton distance d_T (eq. (6)) and motion intensity
@@ -21,10 +21,10 @@ What a build found, in the order of the paper:
   faint with ``show_pruned``.
 * **Transitions**: every kept edge with its transition frames (eq. (10)), cheapest first, and
   the two frames side by side for the cheapest and the costliest.
-* **Blending** (:mod:`engine.blend`), per transition: a filmstrip of the frames around it as
+* **Blending** (:mod:`tvmedit.engine.inbetween.blend`), per transition: a filmstrip of the frames around it as
   an edit plays them, with the in-between frames and with the paper's cut, and the step curve
   (Chamfer distance between consecutive displayed frames) with the natural step marked; and
-  per loop the build closed (:mod:`engine.wraps`), the frames around its wrap as it plays and
+  per loop the build closed (:mod:`tvmedit.engine.inbetween.loops`), the frames around its wrap as it plays and
   as captured.
 
 The page is self-contained: ``index.html`` with PNG files beside it, referenced relatively,
@@ -45,11 +45,11 @@ from pathlib import Path
 
 import numpy as np
 
-from engine import atomic
-from engine.confidence import LOOK_BELOW
-from engine.errors import TvmError
-from engine.evaluate import TOLERANCE_S, score
-from engine.structure import StructureParams, followed_heading, vetoed_turns
+from ..engine import safewrite
+from ..engine.parse.confidence import LOOK_BELOW
+from ..engine.errors import TvmError
+from ..engine.lab.evaluate import TOLERANCE_S, score
+from ..engine.parse.structure import StructureParams, followed_heading, vetoed_turns
 
 #: Frames per node contact sheet (evenly spaced over the texton, first and last included).
 SHEET_FRAMES = 8
@@ -116,15 +116,15 @@ def atom_distance_figure(curve, textons, clusters, out_png, truth_segments=None,
         those removed by hand by dotted red ones.
     heading : (T,) array_like, optional
         The person's heading as the parser followed it, degrees
-        (:func:`engine.structure.followed_heading`): a grey line on its own axis, right.
+        (:func:`tvmedit.engine.parse.structure.followed_heading`): a grey line on its own axis, right.
     turns : list of int, optional
         Frames where the parser read the person turning and cut no boundary
-        (:func:`engine.structure.vetoed_turns`): purple triangles along the top.
+        (:func:`tvmedit.engine.parse.structure.vetoed_turns`): purple triangles along the top.
     confidence : list of float or None, optional
-        Each cluster's boundary confidence (:attr:`engine.structure.Structure.boundary_confidence`;
+        Each cluster's boundary confidence (:attr:`tvmedit.engine.parse.structure.Structure.boundary_confidence`;
         the first cluster's is not drawn, nor a None; a boundary drawn by hand has 1.0,
-        :mod:`engine.corrections`): written above each boundary, and those under
-        :data:`engine.confidence.LOOK_BELOW`, the ones to look at first, in bright red with a
+        :mod:`tvmedit.engine.store.corrections`): written above each boundary, and those under
+        :data:`tvmedit.engine.parse.confidence.LOOK_BELOW`, the ones to look at first, in bright red with a
         dashed bright red line (boundaries removed by hand are dotted, in a darker red).
 
     Returns
@@ -220,7 +220,7 @@ ADDED_COLOUR = "#c0262d"
 
 #: Where the parser read a turn and cut no boundary (structure figure).
 TURN_COLOUR = "#8a3ab9"
-#: Colour of the boundaries whose confidence is under engine.confidence.LOOK_BELOW (dashed):
+#: Colour of the boundaries whose confidence is under tvmedit.engine.parse.confidence.LOOK_BELOW (dashed):
 #: a brighter red than ADDED_COLOUR's dotted lines of boundaries removed by hand.
 UNSURE_COLOUR = "#ff1a1a"
 #: Colour of the cluster boundaries added or moved by hand.
@@ -233,7 +233,7 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
     Parameters
     ----------
     graph : networkx.DiGraph
-        As ``engine.graph.graph_from`` makes it: node attribute ``name``, edge attribute
+        As ``tvmedit.engine.graph.motiongraph.graph_from`` makes it: node attribute ``name``, edge attribute
         ``weight``, and ``graph.graph["unpruned"]`` ({(i, j): weight}) for the pruned edges.
     thumbnails : dict of node -> (H, W, 3) uint8, optional
         Drawn at the node's place; nodes without one are drawn as discs.
@@ -279,7 +279,7 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
     added = [e for e in kept if graph.edges[e].get("added")]
     for edge, w in zip(kept, weights):
         colour = cmap(0.85 * (w - low) / (high - low) if high > low else 0.0)
-        # Edges put back to connect the graph (engine.connect): dashed, labelled in red.
+        # Edges put back to connect the graph (tvmedit.engine.graph.connect): dashed, labelled in red.
         extra = {"ls": (0, (4, 2))} if edge in added else {}
         mid = _arrow(ax, FancyArrowPatch, positions, edge, radius, color=colour, lw=1.4, zorder=2, **extra)
         frame = ADDED_COLOUR if edge in added else colour
@@ -322,7 +322,7 @@ def graph_figure(graph, out_png, thumbnails=None, show_pruned=False, size=GRAPH_
 
 
 def _connect_sentence(connect):
-    """What connecting the graph did, in a sentence (engine.connect), or nothing."""
+    """What connecting the graph did, in a sentence (tvmedit.engine.graph.connect), or nothing."""
     if not connect or connect["mode"] == "off":
         return "The graph is the paper's: nothing was added to connect it (built with --connect off). "
     if not connect["added"]:
@@ -398,10 +398,10 @@ def write_report(library, out, show_pruned=False, progress=True, source=None, fo
     require_matplotlib()
     out = Path(out)
     inputs = library.sources() if hasattr(library, "sources") else ()
-    atomic.check_target(out, "report", force, inputs=inputs, legacy=_legacy_report)
+    safewrite.check_target(out, "report", force, inputs=inputs, legacy=_legacy_report)
     say = _say if progress else (lambda *a: None)
-    recheck = lambda target: atomic.check_target(target, "report", force, legacy=_legacy_report)  # noqa: E731
-    with atomic.replacing_folder(out, recheck=recheck, kind="report") as temporary:
+    recheck = lambda target: safewrite.check_target(target, "report", force, legacy=_legacy_report)  # noqa: E731
+    with safewrite.replacing_folder(out, recheck=recheck, kind="report") as temporary:
         page = _Report(library, source if source is not None else library, temporary, say)
         html_text, summary = page.build(show_pruned)
         (temporary / "index.html").write_text(html_text, encoding="utf-8")
@@ -495,7 +495,7 @@ class _Report:
         return "\n".join(parts)
 
     def _score_paragraph(self, seq, structure, scored, row):
-        """The scores against truth.json (engine.evaluate.score), for the page and report.json."""
+        """The scores against truth.json (tvmedit.engine.lab.evaluate.score), for the page and report.json."""
         self.say(f"report: {seq.name}: cluster boundaries against truth.json: precision "
                  f"{scored.precision:.3f}, recall {scored.recall:.3f}")
         accuracy = ""
@@ -512,7 +512,7 @@ class _Report:
                 f"true boundaries){accuracy}</p>")
 
     def database_section(self, nodes, summary):
-        from player.headless import contact_sheet, spread_frames
+        from .headless import contact_sheet, spread_frames
 
         parts = ["<h2 id='database'>Motion database</h2>",
                  "<p>The representative texton of each cluster, eq. (9): the one with the smallest "
@@ -545,7 +545,7 @@ class _Report:
         return "\n".join(parts)
 
     def graph_section(self, graph, nodes, show_pruned, summary):
-        from player.headless import render_frame
+        from .headless import render_frame
 
         self.say("report: motion graph")
         thumbnails = {}
@@ -576,7 +576,7 @@ class _Report:
                 "alt='motion graph'>")
 
     def transitions_section(self, graph, nodes, summary):
-        from player.headless import contact_sheet
+        from .headless import contact_sheet
 
         names = {node.id: node.name for node in nodes}
         sequence_of = {node.id: node.sequence for node in nodes}
@@ -613,7 +613,7 @@ class _Report:
                 "<th>entry frame</th><th>exit | entry</th></tr>" + "\n".join(rows) + "</table>")
 
     def blending_section(self, graph, nodes, summary):
-        from player.headless import contact_sheet
+        from .headless import contact_sheet
 
         natural = getattr(self.library, "natural_step", 0.0)
         runs = self.library.blend_runs() if hasattr(self.library, "blend_runs") else {}
@@ -654,8 +654,8 @@ class _Report:
         return "\n".join(parts + self._loops_part(nodes, natural, summary))
 
     def _loops_part(self, nodes, natural, summary):
-        """Each loop the build closed (:mod:`engine.wraps`): its wrap as captured and closed."""
-        from player.headless import contact_sheet
+        """Each loop the build closed (:mod:`tvmedit.engine.inbetween.loops`): its wrap as captured and closed."""
+        from .headless import contact_sheet
 
         data = self.library.blend_data() if hasattr(self.library, "blend_data") else {}
         wraps = [w for w in data.get("wraps", []) if w["count"]]
@@ -683,7 +683,7 @@ class _Report:
         return parts
 
     def _framing(self, key, size):
-        from player.camera import Camera
+        from .camera import Camera
 
         positions = self.source.frame_mesh(key)[0]
         return Camera.framing((positions.min(axis=0), positions.max(axis=0)), size[0] / size[1])
@@ -704,7 +704,7 @@ def _blend_window(source, target, data):
 
 def _loop_window(node, count, at):
     """Keys and labels of the frames around a texton's wrap, with its closing frames and without."""
-    from engine.wraps import window
+    from ..engine.inbetween.loops import window
 
     warped = window(node.start, node.end, at, count)[0]
     closing = [((node.sequence, f, ((node.id, node.id), k)), f"w{f}") for k, f in enumerate(warped)]
@@ -720,7 +720,7 @@ def _loop_window(node, count, at):
 
 def _window_steps(source, window, run):
     """Steps across the window (metres): the texton steps at either end are measured here."""
-    from engine.blend import chamfer
+    from ..engine.inbetween.blend import chamfer
 
     mesh = lambda key: np.asarray(source.frame_mesh(key)[0])  # noqa: E731
     (first, _), (exit_key, _), (entry_key, _), (last, _) = window["cut"]
@@ -806,7 +806,7 @@ def _page(title, sections):
 
 
 def _heading_paragraph(heading, row):
-    """Which way the parser read the person facing (engine.heading), for the page and report.json."""
+    """Which way the parser read the person facing (tvmedit.engine.parse.heading), for the page and report.json."""
     if heading is None:
         row.update(heading_deg=None)
         return "<p class='heading'>The parser read the azimuth histograms as they stand (no heading followed).</p>"
@@ -833,7 +833,7 @@ def _turns_paragraph(turns, fps, row):
 
 
 def _confidence_paragraph(structure, row):
-    """How sure the parse is of each boundary and of its least sure textons (engine.confidence)."""
+    """How sure the parse is of each boundary and of its least sure textons (tvmedit.engine.parse.confidence)."""
     bounds = [(int(c[0]), float(v)) for c, v in zip(structure.clusters[1:], structure.boundary_confidence[1:])]
     known = [t for t in structure.textons if t.confidence is not None]
     textons = sorted((float(t.confidence), int(t.start), int(t.end)) for t in known)[:3]

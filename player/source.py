@@ -28,8 +28,8 @@ from typing import Protocol
 
 import numpy as np
 
-from engine.normals import vertex_normals  # the library computes them so at build time
-from engine.errors import InputError
+from ..engine.capture.normals import vertex_normals  # the library computes them so at build time
+from ..engine.errors import InputError
 
 
 class MeshSource(Protocol):

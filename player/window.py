@@ -5,7 +5,7 @@ at the display rate, so camera moves stay smooth, while the sequence advances at
 library's frame rate: a sequence frame is due every ``1 / fps`` seconds, and its mesh is
 fetched from the library once, when it is first shown; redraws in between pass the same
 arrays, which ``Renderer.draw`` recognises and does not upload again. Which
-frame comes next is decided by ``engine.compose.Playhead``, the loop-then-transition rule of
+frame comes next is decided by ``tvmedit.engine.graph.compose.Playhead``, the loop-then-transition rule of
 section 8: the current texton is shown to its end, then each transition of the best path is
 taken as early as the rule allows.
 
@@ -23,11 +23,11 @@ from pathlib import Path
 
 import networkx as nx
 
-from engine.compose import Playhead
-from engine.errors import NoPath, TvmError
-from player.camera import CameraControls
-from player.overlay import Label
-from player.source import check_shading, texture_of
+from ..engine.playback import Playhead
+from ..engine.errors import NoPath, TvmError
+from .camera import CameraControls
+from .overlay import Label
+from .source import check_shading, texture_of
 
 #: Letters that are commands, so they never queue a motion.
 COMMAND_LETTERS = "qrs"
@@ -349,8 +349,8 @@ class Window:
     def __init__(self, app, size=(960, 720), title="tvmedit", clock=time.perf_counter, vsync=True):
         import glfw
 
-        from player.overlay import TextOverlay
-        from player.renderer import Renderer, is_software
+        from .overlay import TextOverlay
+        from .renderer import Renderer, is_software
 
         self.glfw = glfw
         self.app = app
@@ -400,7 +400,7 @@ class Window:
         glfw.set_framebuffer_size_callback(self.window, lambda _w, width, height: self._resize(width, height))
 
     def _open(self, size, samples, vsync):
-        from player.context import window_context
+        from .context import window_context
 
         glfw = self.glfw
         glfw.default_window_hints()

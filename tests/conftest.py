@@ -6,7 +6,7 @@ The cache lives in ``.cache/testdata`` (git-ignored), keyed by everything that s
 data, and a folder counts as complete only once its ``truth.json`` exists (both generators
 write it last and atomically). ``make test`` runs the tests in several processes
 (pytest-xdist): the first that needs a folder makes it while the others wait for it
-(:func:`engine.atomic.made_once`).
+(:func:`tvmedit.engine.safewrite.made_once`).
 """
 
 import hashlib
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from engine.atomic import made_once
+from tvmedit.engine.safewrite import made_once
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
@@ -63,11 +63,9 @@ def mocap_take(take, **options):
 @pytest.fixture(scope="session")
 def devsuite():
     """The parser's development suite, ``benchmarks/devsuite.py`` (its takes, sources and scorer)."""
-    path = str(ROOT / "benchmarks")
-    if path not in sys.path:
-        sys.path.insert(0, path)
-    import devsuite as module
-    return module
+    from tvmedit.engine.lab import devsuite
+
+    return devsuite
 
 
 @pytest.fixture(scope="session")
@@ -85,7 +83,7 @@ def take_13_29():
 @pytest.fixture(scope="session")
 def ctx():
     """The shared headless (EGL) OpenGL context; the test skips, saying why, where there is none."""
-    from player.context import ContextError, shared_headless_context
+    from tvmedit.player.context import ContextError, shared_headless_context
 
     try:
         return shared_headless_context()
@@ -94,8 +92,8 @@ def ctx():
 
 
 def synth_take(preset, **options):
-    """Folder of a take made by the synthetic actor (:func:`engine.synth.generate` options)."""
-    from engine import synth
+    """Folder of a take made by the synthetic actor (:func:`tvmedit.engine.lab.synth.generate` options)."""
+    from tvmedit.engine.lab import synth
 
     options = {"fps": 10, "vertices": 16000, "seed": 0, **options}
     out = CACHE / f"synth-{preset}-{_key(preset, options, synth.VERSION)}"
@@ -117,7 +115,7 @@ def synth_gym():
 
 def _engine_hash():
     digest = hashlib.sha1()
-    for path in sorted((ROOT / "engine").glob("*.py")):
+    for path in sorted((ROOT / "engine").rglob("*.py")):
         digest.update(path.read_bytes())
     return digest.hexdigest()[:10]
 
@@ -125,7 +123,7 @@ def _engine_hash():
 def built_library(name, take, **options):
     """A library of ``take`` (as sequence ``name``) built with ``engine.build`` options into the
     test cache, keyed by the take, the options and the engine's code. Tests must not modify it."""
-    import engine
+    from tvmedit import engine
 
     out = CACHE / f"library-{name}-{take.name}-{_key(options)}-{_engine_hash()}"
     return made_once(out, "manifest.json", lambda: engine.build([(name, take)], out, workers=2, force=True, **options))
@@ -138,7 +136,7 @@ def small_library():
     Built once into the test cache, keyed by the take and the engine's code. Tests must not
     modify it (copy it first, e.g. to rename motions).
     """
-    import engine
+    from tvmedit import engine
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"gym-library-{take.name}-{_engine_hash()}"
@@ -148,7 +146,7 @@ def small_library():
 @pytest.fixture(scope="session")
 def paper_library(small_library):
     """:func:`small_library` with the paper's graph (``connect="off"``): motions can be cut off."""
-    import engine
+    from tvmedit import engine
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"{small_library.name}-paper"

@@ -50,8 +50,8 @@ def default_sigint():
 def run_signalled(args, *, at, signum, after=1, env=None):
     """Run ``tvmedit ARGS``, sending ``signum`` to itself after ``after`` calls of ``at``.
 
-    ``at`` is ``"module:attribute"``, e.g. ``"engine.export:write_ply"`` or
-    ``"engine.libformat:NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
+    ``at`` is ``"module:attribute"``, e.g. ``"tvmedit.engine.graph.export:write_ply"`` or
+    ``"tvmedit.engine.store.layout:NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
     """
     module, attribute = at.split(":")
     command = [sys.executable, "-c", _CHILD, module, attribute, str(after), str(int(signum)),
@@ -68,7 +68,7 @@ def tvmedit(*args, **kwargs):
 
 def refused(library, a, b):
     """Whether ``library`` refuses an edit from motion ``a`` to motion ``b`` (no path)."""
-    from engine.errors import NoPath
+    from tvmedit.engine.errors import NoPath
 
     try:
         library.edit([a, b])
@@ -79,7 +79,7 @@ def refused(library, a, b):
 
 def reachable_pair(library):
     """Two different motions of ``library`` with a path between them, and the edit through them."""
-    from engine.errors import NoPath
+    from tvmedit.engine.errors import NoPath
 
     for a in library.nodes:
         for b in library.nodes:

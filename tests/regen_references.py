@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from test_render import REFERENCE, reference_scenes  # noqa: E402
 
-from player.context import headless_context  # noqa: E402
+from tvmedit.player.context import headless_context  # noqa: E402
 
 
 def main():

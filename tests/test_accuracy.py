@@ -4,9 +4,9 @@ Targets, per take: cluster-boundary precision and recall >= 0.9 (one-to-one matc
 1 s of a true exercise start), and the median texton length within 15 % of the true period
 for >= 90 % of the detected clusters. A 30 fps variant guards that the defaults, given in
 seconds, are not fitted to 10 fps. Features are cached next to the generated frames
-(``engine.evaluate.sequence_features``), so a rerun costs seconds. One HDM05 take of the
-development suite guards the sub-multiple step of ``engine.periods``, another step 1b
-(``engine.rhythm``), a third step 31 (textons cut at one repetition where the period read
+(``tvmedit.engine.lab.evaluate.sequence_features``), so a rerun costs seconds. One HDM05 take of the
+development suite guards the sub-multiple step of ``tvmedit.engine.parse.periods``, another step 1b
+(``tvmedit.engine.parse.rhythm``), a third step 31 (textons cut at one repetition where the period read
 spans two).
 """
 
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from conftest import CACHE, mocap_take, needs_hdm05, needs_mocap
-from engine.evaluate import score_take
-from engine.structure import StructureParams
+from tvmedit.engine.lab.evaluate import score_take
+from tvmedit.engine.parse.structure import StructureParams
 
 pytestmark = pytest.mark.slow
 
@@ -31,14 +31,14 @@ _OWN = object()
 def take_score(take, params=None, centred=_OWN):
     """A development-suite take (benchmarks/devsuite.Take) parsed and scored against its truth;
     ``centred``: other rows about each frame's own centre than the take's (None: none)."""
-    from engine.evaluate import score
-    from engine.structure import parse
+    from tvmedit.engine.lab.evaluate import score
+    from tvmedit.engine.parse.structure import parse
     rows = take.centred if centred is _OWN else centred
     return score(parse(take.vectors, take.fps, params, theta=take.theta, centred=rows), take.truth, take.fps)
 
 
 #: Steps 1 and 5 as they were before step 36 of docs/parsing.md: boundaries at the novelty's
-#: peaks (no partition, engine.partition) and taken back up to 2 s to the onset. The tests
+#: peaks (no partition, tvmedit.engine.parse.partition) and taken back up to 2 s to the onset. The tests
 #: that show what a rule of the peaks does without it read the takes so; with the partition
 #: some of those failures no longer arise (each test also checks the defaults).
 PEAKS = dict(partition=0.0, onset_reach=2.0)
@@ -47,7 +47,7 @@ PEAKS = dict(partition=0.0, onset_reach=2.0)
 def starts_of(take, **params):
     """Where a development-suite take's clusters after the first start, in seconds, parsed with
     ``params`` over the defaults."""
-    from engine.structure import parse
+    from tvmedit.engine.parse.structure import parse
     s = parse(take.vectors, take.fps, StructureParams(**params), theta=take.theta, centred=take.centred)
     return [cs / take.fps for cs, _ in s.clusters[1:]]
 
@@ -87,7 +87,7 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     # HDM05 actor bk, five exercises stitched from single-repetition clips (a take of the
     # development suite). Consecutive hops differ a little, so the lag profile's clearest
     # valley lies at two hops (17 frames); the sub-multiple test takes the one-hop valley.
-    from engine.evaluate import load_truth, texton_length_accuracy
+    from tvmedit.engine.lab.evaluate import load_truth, texton_length_accuracy
     needs_hdm05()
     actor, plan, seed, options = devsuite.HDM_SOURCES[3]
     folder = devsuite.hdm_source(actor, plan, seed, **options)
@@ -111,8 +111,8 @@ def test_kicks_whose_lag_profile_dips_at_one_and_a_half_periods_get_one_kick_tex
     # kick on average. Consecutive kicks differ, so the lag profile's clearest valley lies at
     # two kicks, and the one-kick valley is too shallow for the sub-multiple test; but the
     # profile dips at one and a half times that lag too, which a period of two kicks would not
-    # show (step 31, engine.periods): the textons are one kick long. No boundary moves.
-    from engine.evaluate import load_truth, texton_length_accuracy
+    # show (step 31, tvmedit.engine.parse.periods): the textons are one kick long. No boundary moves.
+    from tvmedit.engine.lab.evaluate import load_truth, texton_length_accuracy
     needs_hdm05()
     actor, plan, seed, options = devsuite.HDM_SOURCES[0]
     assert plan.split(",")[3] == "kickLFront1Reps:6"
@@ -131,9 +131,9 @@ def test_a_weak_peak_where_the_period_changes_is_a_boundary(devsuite):
     # HDM05 actor bk (a take of the development suite): reaching up (1.79 s a repetition)
     # then hops (0.79 s) from 15.9 s. At the pace weight of before step 29, step 1 takes the
     # novelty's peak there for a turn, and a weaker peak beside it stays under the threshold;
-    # the period step reads 1.8 s before it and 0.8 s after (engine.rhythm): the boundary is
+    # the period step reads 1.8 s before it and 0.8 s after (tvmedit.engine.parse.rhythm): the boundary is
     # found, and no false one comes with it. At the weight 2 step 1 finds it by itself.
-    from engine.evaluate import load_truth
+    from tvmedit.engine.lab.evaluate import load_truth
     needs_hdm05()
     actor, plan, seed, options = devsuite.HDM_SOURCES[9]
     assert plan.startswith("squat1Reps:6,grabHighR:4,hopBothLegs1hops:8")
@@ -166,8 +166,8 @@ def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
 def test_a_short_first_exercise_is_found_near_the_take_start(devsuite):
     # CMU 13_30 played 1.4x opens with a 1.3 s exercise: its boundary's novelty peak, twice
     # the threshold, lies within 1.5 s of the start, where weaker peaks are not trusted
-    # (engine.boundaries.STRONG_EDGE); it is taken, within 1 s of the labelled start.
-    from engine.structure import parse
+    # (tvmedit.engine.parse.boundaries.STRONG_EDGE); it is taken, within 1 s of the labelled start.
+    from tvmedit.engine.parse.structure import parse
     needs_mocap()
     take = devsuite.cmu_take("13_30@1.4x")
     starts = [cs for cs, _ in parse(take.vectors, take.fps, theta=take.theta, centred=take.centred).clusters]
@@ -177,12 +177,12 @@ def test_a_short_first_exercise_is_found_near_the_take_start(devsuite):
 def test_exercises_of_alike_poses_are_told_apart_by_their_pace(devsuite):
     # CMU 13_29 played 0.7x (a take of the development suite): on the poses alone the
     # boundary from twists to arm circles came 1.4 s early (13.0 s for 14.4 s: a false start
-    # and a miss). With each bin's pace of change beside it (engine.boundaries.pace) every
+    # and a miss). With each bin's pace of change beside it (tvmedit.engine.parse.boundaries.pace) every
     # boundary is found within 1 s and none is false.
-    from engine.structure import StructureParams
+    from tvmedit.engine.parse.structure import StructureParams
     needs_mocap()
     take = devsuite.cmu_take("13_29@0.7x")
-    # On the rows as they are (not whitened, engine.boundaries.whiten), as when the pace came in.
+    # On the rows as they are (not whitened, tvmedit.engine.parse.boundaries.whiten), as when the pace came in.
     raw = dict(novelty_components=0, onset_reach=2.0)   # threshold 0.05 then, and the onset's reach
     found = {pace: take_score(take, StructureParams(novelty_pace=pace, **raw)) for pace in (1.0, 0.0)}
     assert (found[1.0].precision, found[1.0].recall) == (1.0, 1.0), found[1.0].matches
@@ -196,12 +196,12 @@ def test_a_person_turning_while_exercising_is_not_split_at_the_turn(devsuite):
     # over +/- 90 degrees while it wanders and exercises. The azimuth histograms shift with
     # the heading and the novelty peaked inside side bends (false boundaries). Read as they
     # stand (heading_window=0), compared whichever way the body faces
-    # (engine.azimuth.azimuth_spectrum) that peak vanishes and is vetoed
+    # (tvmedit.engine.parse.heading.azimuth_spectrum) that peak vanishes and is vetoed
     # (StructureParams.turn_ratio), while every true boundary stays; read turned back by the
-    # tracked heading (engine.heading, the default) there is no such peak to veto. (Without
+    # tracked heading (tvmedit.engine.parse.heading, the default) there is no such peak to veto. (Without
     # the heading followed, at the pace weight of before step 29: at weight 2 the rows read as
     # they stand make one false boundary more.)
-    from engine.structure import StructureParams
+    from tvmedit.engine.parse.structure import StructureParams
     take = devsuite.synth_take("synth-drift", "turn-sway", dict(devsuite.SYNTH["synth-drift"])["turn-sway"])
     found = {ratio: take_score(take, StructureParams(turn_ratio=ratio, heading_window=0, novelty_pace=1.0))
              for ratio in (0.4, 0.0)}
@@ -218,14 +218,14 @@ def test_a_change_of_exercise_just_after_a_turn_is_found_and_placed_where_it_is(
     # The development suite's "turns" take: the synthetic actor turns to face another way
     # every 5-10 s; the first turn (5.4-6.4 s, 76 degrees) comes 2.7 s before jumping jacks
     # give way to side bends (8.1 s). While the actor's feet slid as it turned (synth VERSION
-    # 2), the turn's novelty peak hid the change on its slope (engine.boundaries, *Boundaries
+    # 2), the turn's novelty peak hid the change on its slope (tvmedit.engine.parse.boundaries, *Boundaries
     # behind a turn*). Turning on its feet, it makes no peak of its own; the change's peak
     # lies at 8.1 s, and settling the boundary between whole periods moved it back onto the
     # turn (6.6 s), where the jumping jacks, seen turned, look left behind. Those frames are
-    # the old poses turned (engine.onsets.turned_away), so it is settled on the heading-free
+    # the old poses turned (tvmedit.engine.parse.onsets.turned_away), so it is settled on the heading-free
     # rows (step 24). Without the turn veto there are no heading-free rows to read.
-    from engine.evaluate import score
-    from engine.structure import parse
+    from tvmedit.engine.lab.evaluate import score
+    from tvmedit.engine.parse.structure import parse
     take = devsuite.synth_take("synth-drift", "turns", dict(devsuite.SYNTH["synth-drift"])["turns"])
     change = take.truth["segments"][1]["start"] / take.fps
     assert abs(change - 8.1) < 0.05
@@ -249,10 +249,10 @@ def test_a_change_of_exercise_after_a_turn_is_not_taken_back_to_the_turn(devsuit
     # peak and the change's merge, so no turn is vetoed; the boundary settles at 11.5 s, and
     # the onset step took it back to 9.6 s, where the squats, seen turned, looked left
     # behind (a false start and a miss). Those frames are the old poses turned
-    # (engine.onsets.turned_away), so the onset is read on the heading-free rows: 11.1 s.
-    import fresh
+    # (tvmedit.engine.parse.onsets.turned_away), so the onset is read on the heading-free rows: 11.1 s.
+    from tvmedit.engine.lab import fresh
 
-    from engine.structure import parse
+    from tvmedit.engine.parse.structure import parse
     take = fresh.take("step23", "spin-a")
     change = take.truth["segments"][1]["start"] / take.fps
     assert abs(change - 11.1) < 0.05 and take.truth["segments"][1]["label"] == "arm-circles"
@@ -271,7 +271,7 @@ def test_a_change_whose_novelty_peaks_twice_is_not_taken_early(devsuite):
     # peak they place it at 15.2 s. Since step 33 (settle_free) the settling places it right
     # from the earlier peak too, so the earlier rule is tried without that step.
     needs_mocap()
-    import fresh
+    from tvmedit.engine.lab import fresh
     take = fresh.take("steady-turns", "13_29-turn-m4")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
@@ -287,12 +287,12 @@ def test_the_boundaries_placed_wrong_are_the_least_sure(devsuite):
     # off their novelty peaks, and both are missed. `tvmedit info` lists the least sure
     # boundaries first: the ones placed wrong must lead the list, below every right one. Read
     # where a boundary lies, the novelty ranked those two first and fourth of five (0.21 and
-    # 0.38 against 0.29-0.56); read at its peak and discounted by the move (engine.confidence),
+    # 0.38 against 0.29-0.56); read at its peak and discounted by the move (tvmedit.engine.parse.confidence),
     # first and second (0.02 and 0.10 against 0.21-0.26).
-    from engine.evaluate import score
-    from engine.structure import parse
+    from tvmedit.engine.lab.evaluate import score
+    from tvmedit.engine.parse.structure import parse
     needs_mocap()
-    import fresh
+    from tvmedit.engine.lab import fresh
     take = fresh.take("review-3", "13_29-turn-m6")
     s = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
     result = score(s, take.truth, take.fps)
@@ -309,7 +309,7 @@ def test_an_exercise_done_swaying_gets_textons_of_a_whole_cycle(devsuite):
     # development suite): its second exercise (twists, 3.16 s a cycle, left then right) once read half
     # cycles. The mirror test compares the rows about each frame's own centre against one
     # reflection plane; those rows turn with the person, so they are read turned back by their
-    # own slow heading, as the parser's rows are (engine.periods, *A person who turns*).
+    # own slow heading, as the parser's rows are (tvmedit.engine.parse.periods, *A person who turns*).
     take = devsuite.cmu_take("13_30-turn")
     rows = take_score(take).texton_rows
     second = [r for r in rows if r[1] == 1][0]  # (cluster, true segment, median, period, right)
@@ -322,10 +322,10 @@ def test_walking_across_sudden_turns_gets_textons_of_a_whole_stride(devsuite):
     # left then right) and turns 90 degrees at 16 s and 124 degrees at 22-23 s, each over 1 s,
     # faster than the slow heading follows. One reflection plane for the whole cluster fits
     # neither heading, and the texton was a third of a stride (0.6 s); the plane is now chosen
-    # anew every two lags (engine.periods.mirror_ratio).
-    import fresh
+    # anew every two lags (tvmedit.engine.parse.periods.mirror_ratio).
+    from tvmedit.engine.lab import fresh
 
-    from engine.structure import parse
+    from tvmedit.engine.parse.structure import parse
     take = fresh.take("step23", "spin-c-rests")
     assert take.truth["segments"][1]["label"] == "walk"
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
@@ -342,10 +342,10 @@ def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
     # mirror test tries is about a plane through that origin; the turned body's own plane no
     # longer passes through it, so the test read half cycles (1.6 s). About each frame's own
     # centre (Features.centred) the halves are mirror images, and the cycle is whole
-    # (engine.periods, *About the body's own centre*).
-    import fresh
+    # (tvmedit.engine.parse.periods, *About the body's own centre*).
+    from tvmedit.engine.lab import fresh
 
-    from engine.structure import parse, textons_for
+    from tvmedit.engine.parse.structure import parse, textons_for
     take = fresh.take("step23", "spin-c-rests")
     assert take.truth["segments"][0]["label"] == "toe-touch"
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
@@ -363,11 +363,11 @@ def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
 
 
 def test_the_turns_the_parser_vetoed_are_where_the_actor_turned(devsuite):
-    # engine.structure.vetoed_turns, which the report marks: on the "turns" take, the turn of
+    # tvmedit.engine.parse.structure.vetoed_turns, which the report marks: on the "turns" take, the turn of
     # 14.5-15.5 s (the later two lie at boundaries and are no veto's; the first, 5.4-6.4 s,
     # has made no novelty peak of its own since the actor turns on its feet, synth VERSION 3);
     # none on a take of the actor facing one way.
-    from engine.structure import vetoed_turns
+    from tvmedit.engine.parse.structure import vetoed_turns
     take = devsuite.synth_take("synth-drift", "turns", dict(devsuite.SYNTH["synth-drift"])["turns"])
     seen = [f / take.fps for f in vetoed_turns(take.vectors, None, take.theta, take.fps, take.centred)]
     assert any(14.5 <= s <= 16.0 for s in seen) and all(5.4 <= s <= 6.9 or 14.5 <= s <= 16.0 for s in seen), seen
@@ -383,7 +383,7 @@ def test_marching_jogging_and_high_knees_in_place_are_told_apart(devsuite):
     # like a turn on the heading-free rows about the first frame's centre and was vetoed;
     # on those about each frame's own centre (Features.centred, step 23) it is found. (At the
     # pace weight of before step 29, 1: at 2 the pace tells that change from a turn either way.)
-    from engine.structure import StructureParams
+    from tvmedit.engine.parse.structure import StructureParams
     take = devsuite.synth_take("synth", "warm-up", dict(devsuite.SYNTH["synth"])["warm-up"])
     found = take_score(take)
     assert (found.precision, found.recall, found.texton_accuracy) == (1.0, 1.0, 1.0), found.matches
@@ -396,10 +396,10 @@ def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsu
     # The development suite's "wander" take (the synthetic actor wandering up to 0.8 m), with
     # features in the body's own frame as build computes them: its front lies a fraction of
     # a 5 degree azimuth bin off the bins' edges, and on hard-edged histograms its last
-    # boundary landed 1.3 s late (a false start and a miss). Read smoothed (engine.azimuth),
+    # boundary landed 1.3 s late (a false start and a miss). Read smoothed (tvmedit.engine.parse.heading),
     # every boundary is found within 1 s and none is false.
-    from engine.evaluate import score
-    from engine.structure import parse
+    from tvmedit.engine.lab.evaluate import score
+    from tvmedit.engine.parse.structure import parse
     assert devsuite.FRAME == "body"
     take = devsuite.synth_take("synth-drift", "wander", dict(devsuite.SYNTH["synth-drift"])["wander"])
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
@@ -412,16 +412,16 @@ def test_a_real_take_done_while_turning_is_read_as_if_the_person_kept_facing_one
     # where the person stands, then taken in their own body frame): read as its histograms
     # stand, the turn makes novelty peaks inside exercises (boundaries more than there are
     # changes) and textons of the wrong length. Turned back by the tracked heading
-    # (engine.heading, StructureParams.heading_window) there are as many boundaries as changes
+    # (tvmedit.engine.parse.heading, StructureParams.heading_window) there are as many boundaries as changes
     # and every texton is right. One of its five changes (16.0 s) was taken 1.1 s early at its
     # onset once the take turned on the person's feet (synth VERSION 3; README, *The turning
     # takes' feet*), over frames that are the old toe touches turned 25 degrees, read about
     # each frame's own centre (which the tracker does not turn back): step 24 took turns under
-    # 30 degrees for none until step 28 (engine.onsets, *A slow turn counts too*). A second one
+    # 30 degrees for none until step 28 (tvmedit.engine.parse.onsets, *A slow turn counts too*). A second one
     # (22.5 s) was merged away in favour of a split 2.5 s into the toe touches, until step 26
-    # (engine.rhythm, *A side too short to tell*).
-    from engine import onsets
-    from engine.structure import StructureParams, parse
+    # (tvmedit.engine.parse.rhythm, *A side too short to tell*).
+    from tvmedit.engine.parse import onsets
+    from tvmedit.engine.parse.structure import StructureParams, parse
     take = devsuite.cmu_take("13_29-turn")
     # Without the heading (and without step 19's shoulders, which also drop a false boundary
     # that is a bump on the flank of a stronger peak) the turn is read as changes of pose (on
@@ -449,8 +449,8 @@ def test_repetitions_with_pauses_get_textons_of_a_whole_repetition(devsuite):
     # 1.5 s after each repetition. Measured on every frame, the lag profile's clearest valley
     # was the movement alone (squats: textons of 2.2 s where a repetition and its pause last
     # 3.0 s) and knee raises got half periods; measured on the frames that move
-    # (engine.pauses, StructureParams.pause_share), each texton is a repetition with its pause.
-    from engine.structure import StructureParams
+    # (tvmedit.engine.parse.pauses, StructureParams.pause_share), each texton is a repetition with its pause.
+    from tvmedit.engine.parse.structure import StructureParams
     take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
     found = {share: take_score(take, StructureParams(pause_share=share)) for share in (0.1, 0.0)}
     right = {share: sum(ok for *_, ok in found[share].texton_rows) for share in found}
@@ -464,7 +464,7 @@ def test_a_shoulder_of_a_strong_novelty_peak_is_no_boundary(devsuite):
     # and a bump on its flank 2 s later (from the pauses) made a false boundary inside the
     # knee raises; it is that peak's shoulder (StructureParams.shoulder) and no boundary now.
     # (At the pace weight of before step 29, 1; at 2 that bump stays under the threshold.)
-    from engine.structure import StructureParams
+    from tvmedit.engine.parse.structure import StructureParams
     take = devsuite.synth_take("synth", "rests-long-20fps", dict(devsuite.SYNTH["synth"])["rests-long-20fps"])
     # (A rule of the novelty's peaks: read on them, as before step 36 of docs/parsing.md.)
     found = {share: take_score(take, StructureParams(shoulder=share, novelty_pace=1.0, **PEAKS)) for share in (0.2, 0.0)}
@@ -492,10 +492,10 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
     # (confidence 0.22 where step 6 reads it, at the boundary). Each holds one whole texton, as
     # the stretches of one-off movements whose weak splits step 6 undoes do, but both show a
     # period: the boundary stays.
-    from engine.boundaries import novelty_curve
-    from engine.confidence import boundary_confidences
-    from engine.evaluate import score
-    from engine.structure import parse, parser_view
+    from tvmedit.engine.parse.boundaries import novelty_curve
+    from tvmedit.engine.parse.confidence import boundary_confidences
+    from tvmedit.engine.lab.evaluate import score
+    from tvmedit.engine.parse.structure import parse, parser_view
     needs_mocap()
     take = devsuite.cmu_take("13_30@1.4x")
     s = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
@@ -503,7 +503,7 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
     at = [i for i, (cs, _) in enumerate(s.clusters) if abs(cs / take.fps - 8.5) <= 1.0]
     # the confidence step 6 reads: the novelty at the boundary (not the one reported, which
-    # reads it at the peak and discounts a move, engine.confidence)
+    # reads it at the peak and discounts a move, tvmedit.engine.parse.confidence)
     p = StructureParams()
     curve, step = novelty_curve(parser_view(take.vectors, p, take.theta, take.fps), take.fps, p)
     weak = boundary_confidences(curve, step, s.clusters, p.novelty_threshold)
@@ -513,7 +513,7 @@ def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite
 
 
 def test_a_change_in_a_turning_take_is_settled_on_both_views(devsuite):
-    # Step 33 of docs/parsing.md (engine.onsets, *Both views*). Step 4 places each boundary
+    # Step 33 of docs/parsing.md (tvmedit.engine.parse.onsets, *Both views*). Step 4 places each boundary
     # between whole periods of its two clusters; on the rows turned back by the tracked
     # heading, which follows a steady turn only in whole bins a second and leaves offsets at a
     # change of exercise, the energy distance lay broad before the change and its top
@@ -523,7 +523,7 @@ def test_a_change_in_a_turning_take_is_settled_on_both_views(devsuite):
     # (Without the step the parser's rows score 14.9 s only 1 % over 16.3 s, so that is not
     # asserted here; the next test asserts a clearer miss without it.)
     needs_mocap()
-    import fresh
+    from tvmedit.engine.lab import fresh
     take = fresh.take("steady-turns", "13_29-turn-7")
     change = take.truth["segments"][3]["start"] / take.fps
     assert abs(change - 16.0) < 0.05
@@ -538,7 +538,7 @@ def test_a_change_after_a_spin_is_settled_on_both_views(devsuite):
     # back by the heading the whole periods either side differ most at 6.8 s (within 10 % of
     # that over 6.5-7.9 s), on the heading-free rows at 8.1 s; the boundary was placed 1.3 s
     # early (6.6 s).
-    import fresh
+    from tvmedit.engine.lab import fresh
     take = fresh.take("step23", "spin-b-15fps")
     change = take.truth["segments"][1]["start"] / take.fps
     assert abs(change - 7.9) < 0.1 and take.truth["segments"][1]["label"] == "knee-raises"

@@ -1,4 +1,4 @@
-"""Nothing lost, ever: atomic writes and the ownership rule (engine.atomic), and every command
+"""Nothing lost, ever: atomic writes and the ownership rule (tvmedit.engine.safewrite), and every command
 that writes, run as a user would against folders and files that are not tvmedit's."""
 
 import json
@@ -7,8 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from engine import atomic
-from engine.errors import OutputError
+from tvmedit.engine import safewrite
+from tvmedit.engine.errors import OutputError
 from interrupt import reachable_pair, tvmedit
 
 
@@ -25,14 +25,14 @@ def _one_sentence(result):
 
 def test_a_folder_is_swapped_in_whole_and_marked_with_what_was_written(tmp_path):
     out = tmp_path / "out"
-    with atomic.replacing_folder(out, kind="report") as tmp:
+    with safewrite.replacing_folder(out, kind="report") as tmp:
         (tmp / "a.txt").write_text("a")
         (tmp / "sub").mkdir()
         (tmp / "sub" / "b.txt").write_text("b")
-    marker = json.loads((out / atomic.MARKER).read_text())
+    marker = json.loads((out / safewrite.MARKER).read_text())
     assert marker == {"kind": "report", "files": ["a.txt", "sub/b.txt"]}
-    assert atomic.owner(out) == "report"
-    with pytest.raises(RuntimeError), atomic.replacing_folder(out, kind="report") as tmp:
+    assert safewrite.owner(out) == "report"
+    with pytest.raises(RuntimeError), safewrite.replacing_folder(out, kind="report") as tmp:
         (tmp / "c.txt").write_text("c")
         raise RuntimeError("disk gone")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
@@ -42,7 +42,7 @@ def test_a_folder_is_swapped_in_whole_and_marked_with_what_was_written(tmp_path)
 def test_an_interrupted_file_write_leaves_the_old_file(tmp_path):
     target = tmp_path / "notes.json"
     target.write_text("{}")
-    with pytest.raises(KeyboardInterrupt), atomic.replacing_file(target) as tmp:
+    with pytest.raises(KeyboardInterrupt), safewrite.replacing_file(target) as tmp:
         tmp.write_text('{"half":')
         raise KeyboardInterrupt
     assert target.read_text() == "{}" and sorted(tmp_path.iterdir()) == [target]
@@ -50,42 +50,42 @@ def test_an_interrupted_file_write_leaves_the_old_file(tmp_path):
 
 def test_force_replaces_only_an_output_of_the_same_kind_holding_nothing_else(tmp_path):
     out = tmp_path / "out"
-    with atomic.replacing_folder(out, kind="export") as tmp:
+    with safewrite.replacing_folder(out, kind="export") as tmp:
         (tmp / "edit.json").write_text("{}")
     with pytest.raises(OutputError, match="already exists; pass force=True"):
-        atomic.check_target(out, "export")
-    atomic.check_target(out, "export", force=True)
+        safewrite.check_target(out, "export")
+    safewrite.check_target(out, "export", force=True)
     with pytest.raises(OutputError, match="is a tvmedit export, not a report"):
-        atomic.check_target(out, "report", force=True)
+        safewrite.check_target(out, "report", force=True)
     for k in range(5):
         (out / f"mine{k}.txt").write_text("mine")
     with pytest.raises(OutputError, match=r"holds 5 files, e.g. mine0.txt, mine1.txt, mine2.txt, which "
                                           "tvmedit did not write"):
-        atomic.check_target(out, "export", force=True)
+        safewrite.check_target(out, "export", force=True)
     plain = tmp_path / "plain"
     plain.mkdir()
     (plain / "a.jpg").write_bytes(b"x")
     with pytest.raises(OutputError, match="is not a tvmedit export"):
-        atomic.check_target(plain, "export", force=True)
+        safewrite.check_target(plain, "export", force=True)
     with pytest.raises(OutputError, match="is inside the tvmedit export"):
-        atomic.check_target(out / "inner", "report")
+        safewrite.check_target(out / "inner", "report")
     with pytest.raises(OutputError, match="is inside the input"):
-        atomic.check_target(plain / "x", "report", inputs=[plain])
+        safewrite.check_target(plain / "x", "report", inputs=[plain])
 
 
 def test_a_file_is_replaced_only_with_force_and_only_when_it_is_of_its_kind(tmp_path):
     notes = tmp_path / "notes.png"
     notes.write_text("my notes")
     with pytest.raises(OutputError, match="already exists; pass force=True"):
-        atomic.check_file_target(notes)
+        safewrite.check_file_target(notes)
     with pytest.raises(OutputError, match="is not a PNG file"):
-        atomic.check_file_target(notes, force=True)
+        safewrite.check_file_target(notes, force=True)
     png = tmp_path / "real.png"
     png.write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(20))
-    atomic.check_file_target(png, force=True)
+    safewrite.check_file_target(png, force=True)
     video = tmp_path / "keep.mp4"
     video.write_bytes(bytes(4) + b"ftypisom" + bytes(20))
-    atomic.check_file_target(video, force=True)
+    safewrite.check_file_target(video, force=True)
 
 
 def test_stale_leftovers_of_a_killed_writer_are_tidied_and_a_mid_swap_folder_put_back(tmp_path):
@@ -94,7 +94,7 @@ def test_stale_leftovers_of_a_killed_writer_are_tidied_and_a_mid_swap_folder_put
     (tmp_path / f".lib.tmp-{dead}").mkdir()
     (tmp_path / f".lib.old-{dead}").mkdir()
     (tmp_path / f".lib.old-{dead}" / "manifest.json").write_text("{}")
-    atomic.clean_stale(out)
+    safewrite.clean_stale(out)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["lib"]
     assert (out / "manifest.json").exists()
 
@@ -102,7 +102,7 @@ def test_stale_leftovers_of_a_killed_writer_are_tidied_and_a_mid_swap_folder_put
 def test_export_inside_a_library_is_refused_and_build_force_keeps_user_files(small_library, tmp_path):
     library = tmp_path / "gym.lib"
     shutil.copytree(small_library, library)
-    from engine import Library
+    from tvmedit import Library
 
     a, b = _pair(Library.open(library))
     result = tvmedit("export", library, a, b, "-o", library / "my_edit", "-q")
@@ -121,7 +121,7 @@ def test_export_inside_a_library_is_refused_and_build_force_keeps_user_files(sma
 
 
 def test_render_and_report_never_replace_what_is_not_theirs(small_library, tmp_path):
-    from engine import Library
+    from tvmedit import Library
 
     nodes = Library.open(small_library).nodes
     notes = tmp_path / "notes.png"

@@ -1,4 +1,4 @@
-"""In-between frames at transitions (engine.blend), built into libraries of real takes: no
+"""In-between frames at transitions (tvmedit.engine.inbetween.blend), built into libraries of real takes: no
 displayed step across a transition is larger than natural motion, and every in-between frame
 looks like the person; edits, exports and the schedule carry them."""
 
@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from conftest import built_library
-from engine import Library, blend
-from engine.compose import Playhead
-from engine.load import read_frame
+from tvmedit.engine.inbetween import blend
+from tvmedit import Library
+from tvmedit.engine.playback import Playhead
+from tvmedit.engine.capture.load import read_frame
 from tvmedit.cli import main
 
 
@@ -112,7 +113,7 @@ def test_path_json_and_export_mark_the_in_between_frames(libraries, tmp_path, ca
     marked = [entry for entry in data["schedule"] if "blend" in entry]
     between = [entry for entry in marked if entry["blend"][0] == [u, v]]
     assert between and data["transitions"][0]["blend_frames"] == len(between)
-    # The others close a loop (engine.wraps): frames of the motion, marked [[n, n], i].
+    # The others close a loop (tvmedit.engine.inbetween.loops): frames of the motion, marked [[n, n], i].
     assert all(e["blend"][0] == [e["node"], e["node"]] for e in marked if e not in between)
 
     assert main(["export", str(library.path), str(u), str(v), "-o", str(tmp_path / "out"), "-q"]) == 0

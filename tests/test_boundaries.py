@@ -1,4 +1,4 @@
-"""Step 1 of the energy parser (engine.boundaries) on novelty curves and rows built by hand.
+"""Step 1 of the energy parser (tvmedit.engine.parse.boundaries) on novelty curves and rows built by hand.
 
 Each case is a decision a user would see as a boundary placed or not: a turn taken for a
 new exercise, a turn's shoulder or an earlier twin peak slipping through the veto, or the
@@ -8,8 +8,8 @@ same motion judged differently because the capture ran at another frame rate.
 import numpy as np
 import pytest
 
-from engine.boundaries import novelty_clusters, novelty_rows
-from engine.structure import StructureParams
+from tvmedit.engine.parse.boundaries import novelty_clusters, novelty_rows
+from tvmedit.engine.parse.structure import StructureParams
 
 FPS = 10.0
 T = 200   # 20 s at 10 fps: one novelty row a frame
@@ -123,7 +123,7 @@ def test_exercises_that_differ_in_a_direction_of_little_change_are_told_apart():
     # Whitened (the default), the small change of pose counts as much as the wide swing and
     # the boundary is found within 1 s; on the rows as they are, its novelty stays far under
     # the threshold, inside the noise.
-    from engine.structure import parse
+    from tvmedit.engine.parse.structure import parse
     v, change = alike_exercises()
     found = [cs for cs, _ in parse(v, FPS).clusters][1:]
     assert len(found) == 1 and abs(found[0] - change) <= FPS, found
@@ -131,9 +131,9 @@ def test_exercises_that_differ_in_a_direction_of_little_change_are_told_apart():
 
 
 def test_leading_axes_agree_with_a_full_eigensolver():
-    # Subspace iteration (engine.boundaries._leading_eigen) stands in for LAPACK's threaded
+    # Subspace iteration (tvmedit.engine.parse.boundaries._leading_eigen) stands in for LAPACK's threaded
     # solvers; on a decaying spectrum like a take's it must find the same top axes.
-    from engine.boundaries import _leading_eigen
+    from tvmedit.engine.parse.boundaries import _leading_eigen
     rng = np.random.default_rng(3)
     basis, _ = np.linalg.qr(rng.normal(size=(80, 80)))
     m = basis @ np.diag(0.8 ** np.arange(80)) @ basis.T
@@ -144,7 +144,7 @@ def test_leading_axes_agree_with_a_full_eigensolver():
 
 
 def test_whitening_takes_few_rows_still_rows_and_bad_rows():
-    from engine.boundaries import whiten
+    from tvmedit.engine.parse.boundaries import whiten
     rng = np.random.default_rng(0)
     assert whiten(rng.normal(size=(3, 50)), 10).shape == (3, 2)          # at most rows - 1 axes
     assert not whiten(np.ones((20, 50)), 10).any()                       # no change: zeros

@@ -11,8 +11,8 @@ import signal
 import jsonschema
 import pytest
 
-from engine import Library
-from engine.library import INFO_SCHEMA
+from tvmedit import Library
+from tvmedit.engine.store.library import INFO_SCHEMA
 from interrupt import run_signalled
 from tvmedit.cli import main
 
@@ -107,7 +107,7 @@ def test_an_interrupted_build_leaves_no_library_or_the_previous_one(take_13_30, 
     build = ["build", _small(take_13_30), "-o", out, "--workers", "1", "-q"]
 
     # Killed outright just after its temporary folder was made.
-    result = run_signalled(build, at="engine.featcache:stat_list", signum=signal.SIGKILL, env=env)
+    result = run_signalled(build, at="tvmedit.engine.store.featurecache:stat_list", signum=signal.SIGKILL, env=env)
     assert result.returncode == -signal.SIGKILL
     assert not out.exists() and len(_leftovers(tmp_path)) == 1
 
@@ -116,15 +116,15 @@ def test_an_interrupted_build_leaves_no_library_or_the_previous_one(take_13_30, 
     before = _library_files(out)
 
     # Killed while the new library was being written (its meshes are the old one's, linked:
-    # engine.meshstore).
-    result = run_signalled([*build, "--force"], at="engine.libformat:write_json", after=2,
+    # tvmedit.engine.store.meshfiles).
+    result = run_signalled([*build, "--force"], at="tvmedit.engine.store.layout:write_json", after=2,
                            signum=signal.SIGKILL, env=env)
     assert result.returncode == -signal.SIGKILL
     assert _library_files(out) == before
     assert Library.open(out).sequences[0].frames == 60
 
     # Stopped politely (SIGTERM) at the same point, the build removes its temporary folder itself.
-    result = run_signalled([*build, "--force"], at="engine.libformat:write_json", after=2,
+    result = run_signalled([*build, "--force"], at="tvmedit.engine.store.layout:write_json", after=2,
                            signum=signal.SIGTERM, env=env)
     assert result.returncode == 128 + signal.SIGTERM and "Traceback" not in result.stderr
     assert _leftovers(tmp_path) == []

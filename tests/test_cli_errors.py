@@ -6,7 +6,7 @@ import sys
 
 import pytest
 
-from engine import Library
+from tvmedit import Library
 from interrupt import reachable_pair as _reachable_pair
 from interrupt import run_signalled, tvmedit
 
@@ -21,7 +21,7 @@ def test_sigterm_during_export_leaves_nothing_behind(small_library, tmp_path):
     out = tmp_path / "edited"
     # SIGTERM arrives after the fifth frame file is written.
     result = run_signalled(["export", small_library, a, b, "--loops", "3", "-o", out, "-q"],
-                           at="engine.export:write_ply", after=5, signum=signal.SIGTERM)
+                           at="tvmedit.engine.graph.export:write_ply", after=5, signum=signal.SIGTERM)
     assert result.returncode == 128 + signal.SIGTERM, result.stderr
     assert "Traceback" not in result.stderr
     assert list(tmp_path.iterdir()) == []  # neither the export nor its temporary folder

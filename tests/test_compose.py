@@ -8,8 +8,9 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from engine.compose import Playhead, ScheduleEntry, compose, play_length
-from engine.errors import NoPath, TvmError, UnknownMotion
+from tvmedit.engine.graph.compose import ScheduleEntry, compose, play_length
+from tvmedit.engine.playback import Playhead
+from tvmedit.engine.errors import NoPath, TvmError, UnknownMotion
 
 
 def texton_graph(textons, edges):

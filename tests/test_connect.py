@@ -1,4 +1,4 @@
-"""Connectivity (engine.connect): optimal against brute force, and every pair reachable on real takes.
+"""Connectivity (tvmedit.engine.graph.connect): optimal against brute force, and every pair reachable on real takes.
 
 Brute force enumerates every subset of the edges pruning removed on small random weight
 matrices: the least largest added weight of any subset that makes the graph strongly
@@ -12,12 +12,12 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from engine import connect as connection
-from engine.connect import connect, strongly_connected
-from engine.database import Node
-from engine.errors import NoPath
-from engine.graph import graph_from, prune
-from engine.library import Library
+from tvmedit.engine.graph import connect as connection
+from tvmedit.engine.graph.connect import connect, strongly_connected
+from tvmedit.engine.graph.database import Node
+from tvmedit.engine.errors import NoPath
+from tvmedit.engine.graph.motiongraph import graph_from, prune
+from tvmedit.engine.store.library import Library
 
 from interrupt import refused, tvmedit
 
@@ -130,7 +130,7 @@ def test_forbidden_motion_that_cuts_a_pair_off_is_named():
     unpruned = {(0, 1): 1.0, (1, 2): 1.0, (2, 0): 1.0, (0, 2): 9.0, (1, 0): 9.0, (2, 1): 9.0}
     frames = {(i, j): (10 * i, 10 * j) for i, j in unpruned}
     library_graph = graph_from(nodes, unpruned, frames, mu=0.9)
-    from engine.search import best_path
+    from tvmedit.engine.graph.search import best_path
 
     assert best_path(library_graph, 0, 2) == [0, 1, 2]
     with pytest.raises(NoPath) as error:
@@ -169,7 +169,7 @@ def test_gym_library_connects_every_pair(small_library):
 
 @pytest.mark.parametrize("take", ["13_29", "13_30"])
 def test_real_takes_connect_every_pair(take, request, tmp_path):
-    import engine
+    from tvmedit import engine
 
     folder = request.getfixturevalue(f"take_{take}")
     library = engine.build([(take, folder)], tmp_path / f"{take}.tvmlib", workers=2)
@@ -196,7 +196,7 @@ def test_every_pair_exits_0_through_the_cli_and_info_shows_added_edges(paper_lib
 
 
 def test_a_library_of_two_takes_is_connected_across_them(take_13_29, take_13_30, tmp_path):
-    import engine
+    from tvmedit import engine
 
     library = engine.build([("13_29", take_13_29), ("13_30", take_13_30)], tmp_path / "both.tvmlib", workers=2)
     graph = library.graph

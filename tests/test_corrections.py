@@ -1,4 +1,4 @@
-"""Corrections by hand (engine.corrections): a wrong parse made right, and only what changed redone.
+"""Corrections by hand (tvmedit.engine.store.corrections): a wrong parse made right, and only what changed redone.
 
 On real motion (CMU 13_30 turned into meshes): a true boundary removed and a spurious one
 added through ``corrections.json`` give exactly the corrected clusters, the same database
@@ -15,17 +15,17 @@ import jsonschema
 import numpy as np
 import pytest
 
-import engine
-from engine import Library
-from engine.blend import chamfer
-from engine.blendstore import loop_frames
-from engine.corrections import CorrectionError, Corrections, apply_structure
-from engine.errors import ParameterError
-from engine.database import build_database
-from engine.graph import build_graph
-from engine.library import INFO_SCHEMA
-from engine.structure import Structure, StructureParams, parser_view, texton_curve, textons_for
-from engine.wraps import window
+from tvmedit import engine
+from tvmedit import Library
+from tvmedit.engine.inbetween.blend import chamfer
+from tvmedit.engine.store.inbetweens import loop_frames
+from tvmedit.engine.store.corrections import CorrectionError, Corrections, apply_structure
+from tvmedit.engine.errors import ParameterError
+from tvmedit.engine.graph.database import build_database
+from tvmedit.engine.graph.motiongraph import build_graph
+from tvmedit.engine.store.library import INFO_SCHEMA
+from tvmedit.engine.parse.structure import Structure, StructureParams, parser_view, texton_curve, textons_for
+from tvmedit.engine.inbetween.loops import window
 from tvmedit.cli import main
 
 NAME = "t30"
@@ -160,7 +160,7 @@ def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_c
 
 
 def _check_closings(library):
-    """Every loop-closing frame (engine.wraps) stands for its texton frame: nearer it than the
+    """Every loop-closing frame (tvmedit.engine.inbetween.loops) stands for its texton frame: nearer it than the
     texton's wrap jumps, or on the way from it to the frame it is warped onto (its distances
     to the two add up to little more than theirs). A closing shown for a frame far from its
     own would be neither (one reused for the next frame may pass). (Nearer than the jump alone failed where the texton's end lies near its start
@@ -282,8 +282,8 @@ def test_texton_starts_representatives_and_drops(base):
     spans = [(t.start, t.end) for t in fixed.textons_of(cluster)]
     assert spans[:3] == [(first.start, second.start), (second.start + 1, third.start), (third.start + 1, third.end)]
     assert len(fixed.textons) == len(parse.textons)
-    from engine.atoms import atom_window
-    from engine.confidence import texton_confidence
+    from tvmedit.engine.parse.atoms import atom_window
+    from tvmedit.engine.parse.confidence import texton_confidence
 
     edited = fixed.textons_of(cluster)[1]                 # its confidence is measured anew
     # on the view the parser measured every texton on (azimuth smoothed)
@@ -370,7 +370,7 @@ def test_any_corrections_give_a_sound_parse_or_one_sentence(small_library):
     from hypothesis import HealthCheck, given, settings
     from hypothesis import strategies as st
 
-    from engine.corrections import apply_database, apply_structures
+    from tvmedit.engine.store.corrections import apply_database, apply_structures
 
     library = Library.open(small_library)
     name = library.sequences[0].name

@@ -4,7 +4,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from engine.database import Node, build_database, select_textons
+from tvmedit.engine.graph.database import Node, build_database, select_textons
 
 
 def texton(start, end, cluster, distance):

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine import Library, NoPath
-from engine.load import load_sequence
+from tvmedit import Library, NoPath
+from tvmedit.engine.capture.load import load_sequence
 from interrupt import reachable_pair as _reachable_pair
 from interrupt import refused, tvmedit
 

@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from engine.errors import InputError, ParameterError
-from engine.features import (
+from tvmedit.engine.errors import InputError, ParameterError
+from tvmedit.engine.features import (
     BinSizes,
     FeatureAccumulator,
     distance_matrix,
@@ -202,7 +202,7 @@ def test_axis_and_diagonal_vertices_fall_in_the_bin_they_start():
 
 
 def test_edge_count_table_matches_searchsorted_on_and_beside_every_edge():
-    from engine.features import _EdgeCount, _edge_counters
+    from tvmedit.engine.features import _EdgeCount, _edge_counters
 
     rng = np.random.default_rng(3)
     theta, phi = _edge_counters(BinSizes(theta=math.radians(7), phi=math.radians(13)))

@@ -29,9 +29,9 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from engine.database import Node
-from engine.errors import TvmError, UnknownMotion
-from engine.graph import (MIN_INTENSITY, build_graph, graph_from, node_by_key, nodes_of, prune,
+from tvmedit.engine.graph.database import Node
+from tvmedit.engine.errors import TvmError, UnknownMotion
+from tvmedit.engine.graph.motiongraph import (MIN_INTENSITY, build_graph, graph_from, node_by_key, nodes_of, prune,
                           rename)
 
 VECTORS = {

@@ -1,9 +1,9 @@
-"""The heading followed (engine.heading): turns found and undone, and where nothing is followed."""
+"""The heading followed (tvmedit.engine.parse.heading): turns found and undone, and where nothing is followed."""
 
 import numpy as np
 import pytest
 
-from engine.heading import heading_track, turned
+from tvmedit.engine.parse.heading import heading_track, turned
 
 BINS = 72
 THETA = slice(3, 3 + BINS)

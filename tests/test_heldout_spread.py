@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from engine.evaluate import Score
+from tvmedit.engine.lab.evaluate import Score
 
 
 def result(found, true=2, false=0):
@@ -24,14 +24,14 @@ def suite(found_a, found_b):
 
 
 def test_a_suite_without_errors_has_no_spread(devsuite):
-    import accuracy
+    from tvmedit.engine.lab import accuracy
     takes, by_setting = suite([2, 2, 2], [2, 2, 2])
     draws = accuracy.bootstrap(takes, by_setting, [t.group for t in takes], n=50)
     assert draws.shape == (50, 3) and np.all(draws == 1.0)
 
 
 def test_the_spread_follows_the_takes_and_holds_the_figure(devsuite, capsys):
-    import accuracy
+    from tvmedit.engine.lab import accuracy
     # One take of group b finds none of its two changes: recall 4/6 there, 10/12 pooled.
     takes, by_setting = suite([2, 2, 2], [2, 2, 0])
     labels = [t.group for t in takes]
@@ -54,7 +54,7 @@ def test_the_spread_follows_the_takes_and_holds_the_figure(devsuite, capsys):
 
 
 def test_each_group_is_drawn_from_its_own_takes(devsuite):
-    import accuracy
+    from tvmedit.engine.lab import accuracy
     # Group a finds every change and group b none: drawn within each group, as many takes as
     # each has, every draw holds three of each, so recall is one half in every draw.
     takes, by_setting = suite([2, 2, 2], [0, 0, 0])
@@ -63,7 +63,7 @@ def test_each_group_is_drawn_from_its_own_takes(devsuite):
 
 
 def test_the_settings_are_chosen_anew_on_each_draw(devsuite):
-    import accuracy
+    from tvmedit.engine.lab import accuracy
     takes = [SimpleNamespace(group=g, name=f"{g}{k}") for g in "abc" for k in range(2)]
     labels = [t.group for t in takes]
     # In groups a and b, setting 1 misses take b1's changes and setting 2 take a0's; neither

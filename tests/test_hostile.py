@@ -21,7 +21,7 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from engine import Library
+from tvmedit import Library
 from interrupt import reachable_pair, run_signalled
 from tvmedit.cli import main
 
@@ -305,11 +305,11 @@ def test_damaged_frames(world, data, tmp_path_factory):
 
 
 #: Points inside the commands where a signal lands: (command, module:function, calls before it).
-MOMENTS = [("build", "engine.featcache:stat_list", 1), ("build", "engine.libformat:link_meshes", 1),
-           ("build", "engine.blendstore:blend_library", 1),
-           ("build", "engine.libformat:write_manifest", 1), ("build", "engine.atomic:mark", 1),
-           ("export", "engine.export:write_ply", 3), ("export", "engine.atomic:mark", 1),
-           ("render", "player.headless:_draw", 2), ("rename", "engine.atomic:write_text", 1)]
+MOMENTS = [("build", "tvmedit.engine.store.featurecache:stat_list", 1), ("build", "tvmedit.engine.store.layout:link_meshes", 1),
+           ("build", "tvmedit.engine.store.inbetweens:blend_library", 1),
+           ("build", "tvmedit.engine.store.layout:write_manifest", 1), ("build", "tvmedit.engine.safewrite:mark", 1),
+           ("export", "tvmedit.engine.graph.export:write_ply", 3), ("export", "tvmedit.engine.safewrite:mark", 1),
+           ("render", "tvmedit.player.headless:_draw", 2), ("rename", "tvmedit.engine.safewrite:write_text", 1)]
 
 
 @settings(SWEEP, max_examples=max(EXAMPLES // 10, 8))

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from engine import Library
-from engine.timeline import COLOURS, timeline
-from player.inspect import InspectorApp, graph_summary
+from tvmedit import Library
+from tvmedit.engine.parse.timeline import COLOURS, timeline
+from tvmedit.player.inspect import InspectorApp, graph_summary
 from test_player_window import xdisplay  # noqa: F401 - the session's Xvfb
 
 NAME = "gym"

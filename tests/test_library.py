@@ -14,17 +14,17 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from engine import Library, LibraryError, UnknownMotion, build
-from engine.blendstore import loop_frames
-from engine.builder import expand_inputs
-from engine.featcache import cache_dir
-from engine.normals import vertex_normals
-from engine.database import build_database
-from engine.errors import InputError, OutputError, ParameterError, TvmError
-from engine.features import BinSizes, FeatureAccumulator
-from engine.graph import build_graph, nodes_of
-from engine.load import open_sequence, read_frame
-from engine.parallel import Workers
+from tvmedit import Library, LibraryError, UnknownMotion, build
+from tvmedit.engine.store.inbetweens import loop_frames
+from tvmedit.engine.store.builder import expand_inputs
+from tvmedit.engine.store.featurecache import cache_dir
+from tvmedit.engine.capture.normals import vertex_normals
+from tvmedit.engine.graph.database import build_database
+from tvmedit.engine.errors import InputError, OutputError, ParameterError, TvmError
+from tvmedit.engine.features import BinSizes, FeatureAccumulator
+from tvmedit.engine.graph.motiongraph import build_graph, nodes_of
+from tvmedit.engine.capture.load import open_sequence, read_frame
+from tvmedit.engine.store.parallel import Workers
 from tvmedit.options import as_flags
 
 
@@ -52,7 +52,7 @@ def built(take_13_30, tmp_path_factory):
 
 def _in_memory(take):
     """The whole analysis in memory, the obvious way, to compare a library with."""
-    from engine.structure import StructureParams, parse
+    from tvmedit.engine.parse.structure import StructureParams, parse
 
     sequences = [open_sequence(source, name=name) for name, source in _inputs(take)]
     features = {}
@@ -96,14 +96,14 @@ def test_reopened_library_matches_the_analysis_in_memory(built, take_13_30):
         assert _plain(library.structure(sequence.name).to_json()) == _plain(structures[sequence.name].to_json())
 
     assert library.nodes == nodes_of(graph)
-    # The stored graph adds only how many in-between frames each transition has (engine.blend).
+    # The stored graph adds only how many in-between frames each transition has (tvmedit.engine.inbetween.blend).
     plain = [(i, j, {k: v for k, v in d.items() if k != "blend"}) for i, j, d in library.graph.edges(data=True)]
     assert sorted(plain) == sorted(graph.edges(data=True))
     assert library.graph.graph["unpruned"] == graph.graph["unpruned"]
     assert library.graph.graph["transitions"] == graph.graph["transitions"]
 
     # Exactly the texton frames of the database are stored, and the neighbouring repetitions'
-    # frames their loops are closed onto (engine.wraps), each as it was read.
+    # frames their loops are closed onto (tvmedit.engine.inbetween.loops), each as it was read.
     by_name = {s.name: s for s in sequences}
     wanted = {(n.sequence, f) for n in library.nodes for f in range(n.start, n.end + 1)}
     rooms = {n.id: library.structure(n.sequence).clusters[n.cluster] for n in library.nodes}
@@ -132,7 +132,7 @@ def test_centred_rows_of_sequences_that_stay_stand_beside_one_that_strays(take_1
     # library says; a library from before step 23 (no features_centred.npy) opens and parses.
     import trimesh
 
-    from engine.structure import StructureParams, parse
+    from tvmedit.engine.parse.structure import StructureParams, parse
 
     stray = tmp_path / "stray"
     stray.mkdir()

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from engine.errors import InputError
-from engine.load import (NEUTRAL_COLOUR, SkippedFramesWarning, UnsupportedFilesWarning, frame_paths,
+from tvmedit.engine.errors import InputError
+from tvmedit.engine.capture.load import (NEUTRAL_COLOUR, SkippedFramesWarning, UnsupportedFilesWarning, frame_paths,
                          load_sequence, open_sequence, read_frame)
 
 
@@ -197,7 +197,7 @@ def test_a_file_of_another_format_among_the_frames_is_reported(tmp_path):
 
 @pytest.mark.parametrize("kind, scale", [("float", 1.0), ("ushort", 65535.0), ("uchar", 255.0)])
 def test_binary_ply_colours_of_any_type_are_kept(tmp_path, kind, scale):
-    from engine.plyfast import read_ply
+    from tvmedit.engine.capture.plyfast import read_ply
 
     dtypes = {"float": "<f4", "ushort": "<u2", "uchar": "u1"}
     rgb = np.array([[1.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 1.0]])

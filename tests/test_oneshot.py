@@ -10,9 +10,10 @@ from types import SimpleNamespace
 import networkx as nx
 import numpy as np
 
-from engine.compose import Playhead, compose
-from engine.database import Node, build_database
-from engine.graph import build_graph, entry_range, exit_range, nodes_of
+from tvmedit.engine.graph.compose import compose
+from tvmedit.engine.playback import Playhead
+from tvmedit.engine.graph.database import Node, build_database
+from tvmedit.engine.graph.motiongraph import build_graph, entry_range, exit_range, nodes_of
 
 
 def _features():

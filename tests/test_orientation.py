@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-import engine
-from engine.load import iter_frames, open_sequence
-from engine.orientation import SNAP_DEGREES, Orientation, detect, parse_up
-from engine.plyfast import write_ply
+from tvmedit import engine
+from tvmedit.engine.capture.load import iter_frames, open_sequence
+from tvmedit.engine.capture.orientation import SNAP_DEGREES, Orientation, detect, parse_up
+from tvmedit.engine.capture.plyfast import write_ply
 
 from conftest import CACHE, synth_take
-from engine.evaluate import sequence_features
-from engine.structure import parse
+from tvmedit.engine.lab.evaluate import sequence_features
+from tvmedit.engine.parse.structure import parse
 
 
 def _axis_rotation(seed):
@@ -173,7 +173,7 @@ def test_up_and_units_given_are_taken_as_they_are(tmp_path):
     assert np.linalg.det(np.asarray(o.matrix)) == pytest.approx(-1.0)
     frame = next(iter_frames(sequence.paths[:1], orientation=o))[1]
     # A mirror re-winds the triangles, so their normals still face out.
-    from engine.normals import vertex_normals
+    from tvmedit.engine.capture.normals import vertex_normals
     plain = next(iter_frames(sequence.paths[:1]))[1]
     outward = lambda f: float(((f.positions - f.positions.mean(axis=0)) * vertex_normals(f.positions, f.faces)).sum(axis=1).mean())  # noqa: E731
     assert np.sign(outward(frame)) == np.sign(outward(plain))

@@ -10,10 +10,10 @@ import sys
 import numpy as np
 import pytest
 
-from engine import synth
-from engine.evaluate import score
-from engine.features import FeatureAccumulator, follow_picks, moves_across
-from engine.structure import Structure, parse
+from tvmedit.engine.lab import synth
+from tvmedit.engine.lab.evaluate import score
+from tvmedit.engine.features import FeatureAccumulator, follow_picks, moves_across
+from tvmedit.engine.parse.structure import Structure, parse
 
 
 def _take(drift=(0.0, 0.0), vertices=6000, **plan):

@@ -1,4 +1,4 @@
-"""The kernel change-point partition (engine.partition) and its use as the parser's step 1."""
+"""The kernel change-point partition (tvmedit.engine.parse.partition) and its use as the parser's step 1."""
 
 import itertools
 
@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 
 from conftest import needs_mocap
-from engine.partition import energy_partition
-from engine.structure import StructureParams, parse
+from tvmedit.engine.parse.partition import energy_partition
+from tvmedit.engine.parse.structure import StructureParams, parse
 
 
 def _cost(x, starts, penalty):
-    # The criterion of engine.partition, written out: each segment's sum over ordered pairs of
+    # The criterion of tvmedit.engine.parse.partition, written out: each segment's sum over ordered pairs of
     # distances divided by its length, plus the penalty per change.
     d = np.linalg.norm(x[:, None] - x[None], axis=2)
     bounds = [0, *starts, len(x)]
@@ -55,8 +55,8 @@ def test_up_downs_after_squats_are_told_apart(devsuite):
     # novelty peaks at 0.71 of the threshold, so the novelty's peaks (partition=0, step 1 as
     # it was before step 36) miss the change. Over whole segments the two differ, and the
     # partition finds it within 1 s (every other change of the take too).
-    import fresh
-    from engine.evaluate import score
+    from tvmedit.engine.lab import fresh
+    from tvmedit.engine.lab.evaluate import score
     take = fresh.take("mocap6-rest", "m6-c-20fps")
     change = take.truth["segments"][1]["start"]
     assert [s["label"] for s in take.truth["segments"][:2]] == ["squats", "up-down"]
@@ -78,7 +78,7 @@ def test_a_slow_exercise_is_not_cut_where_the_novelty_stays_low(devsuite):
     # threshold 0.9). Read on the novelty (``partition_floor``), those cuts are no boundaries;
     # a slow transition the placing left 1.5 s long joins its neighbour (step 5b). Every
     # change is found within 1 s and none is false.
-    from engine.evaluate import score
+    from tvmedit.engine.lab.evaluate import score
     needs_mocap()
     take = devsuite.cmu_take("13_29@0.7x")
 

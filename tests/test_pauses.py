@@ -1,8 +1,8 @@
-"""Pauses between repetitions (engine.pauses): periods and textons on the frames that move."""
+"""Pauses between repetitions (tvmedit.engine.parse.pauses): periods and textons on the frames that move."""
 
 import numpy as np
 
-from engine.structure import StructureParams, parse
+from tvmedit.engine.parse.structure import StructureParams, parse
 
 
 def _repetitions(pauses, cycle=14, noise=0.003, seed=0):

@@ -1,9 +1,9 @@
-"""engine.periods: the mirror test where the person turns between repetitions."""
+"""tvmedit.engine.parse.periods: the mirror test where the person turns between repetitions."""
 
 import numpy as np
 
-from engine.heading import turned
-from engine.periods import mirror_ratio
+from tvmedit.engine.parse.heading import turned
+from tvmedit.engine.parse.periods import mirror_ratio
 
 BINS = 72
 
@@ -31,7 +31,7 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     # the actor turns. A plane chosen anew every lag is free enough to pass one cycle off as the
     # mirror image of the one before, and the texton read two cycles (2.0 s); chosen every
     # two lags (three until step 35), it stays one cycle.
-    from engine.structure import parse
+    from tvmedit.engine.parse.structure import parse
     take = devsuite.take("synth-drift", "turns")
     assert take.truth["segments"][0]["label"] == "jumping-jacks"
     structure = parse(take.vectors, take.fps, theta=take.theta, centred=take.centred)
@@ -43,8 +43,8 @@ def _texton_and_period(name, segment, label):
     # The median texton of the cluster that holds the middle of a true segment of a take of the
     # fresh batch "mocap6-rest", and that segment's true period, in seconds (the calling test
     # asks for the devsuite fixture, which puts benchmarks/ on the path).
-    import fresh
-    from engine.structure import parse
+    from tvmedit.engine.lab import fresh
+    from tvmedit.engine.parse.structure import parse
     take = fresh.take("mocap6-rest", name)
     true = take.truth["segments"][segment]
     assert true["label"] == label

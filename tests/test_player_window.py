@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from engine.errors import NoPath
-from engine.search import best_path
-from player.source import ArraySource
-from player.window import MAX_LAG_S, PlayerApp, motion_keys
+from tvmedit.engine.errors import NoPath
+from tvmedit.engine.graph.search import best_path
+from tvmedit.player.source import ArraySource
+from tvmedit.player.window import MAX_LAG_S, PlayerApp, motion_keys
 
 
 def _tiny_source_and_graph():
@@ -313,7 +313,7 @@ class _Window:
 
 def test_keys_pressed_in_a_real_window_queue_motions_along_best_paths(xdisplay, paper_library, tmp_path):
     # The paper's graph (--connect off) still cuts motions off: refusals are checked on it.
-    from engine.library import Library
+    from tvmedit.engine.store.library import Library
 
     library = Library.open(paper_library)
     graph = library.graph
@@ -424,7 +424,7 @@ def test_an_unwritable_log_is_one_sentence(small_library, tmp_path):
 
 
 def test_without_keys_the_player_starts_on_the_first_motion_not_forbidden(xdisplay, small_library, tmp_path):
-    from engine import Library
+    from tvmedit import Library
 
     order = [node.id for node in Library.open(small_library).nodes]
     log = tmp_path / "play.jsonl"
@@ -439,7 +439,7 @@ def test_without_keys_the_player_starts_on_the_first_motion_not_forbidden(xdispl
 
 def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdisplay, small_library, tmp_path):
     """Issue 12's bar: on the demo library (connected by default) no key is refused."""
-    from engine import Library
+    from tvmedit import Library
 
     order = [node.id for node in Library.open(small_library).nodes]
     with _Window(xdisplay, [small_library, "--seconds", "60", "--size", "320x240", "--fps", "40"],
@@ -453,7 +453,7 @@ def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdispl
     assert [row["node"] for row in rows if row.get("event") == "queued"] == order[1:]
     reached = iter(node for node, _ in _runs(_frames(rows)))
     assert all(any(node == key for node in reached) for key in order)       # in this order
-    # In-between frames (engine.blend) are logged as such, between the two motions of their edge.
+    # In-between frames (tvmedit.engine.inbetween.blend) are logged as such, between the two motions of their edge.
     frames = _frames(rows)
     plain = [k for k, row in enumerate(frames) if "blend" not in row]
     for k, row in enumerate(frames):
@@ -464,7 +464,7 @@ def test_pressing_every_motion_key_in_turn_plays_them_all_with_no_refusal(xdispl
 
 
 def test_shift_key_in_a_real_window_holds_the_motion(xdisplay, small_library, tmp_path):
-    from engine import Library
+    from tvmedit import Library
 
     library = Library.open(small_library)
     order = [node.id for node in library.nodes]

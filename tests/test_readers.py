@@ -19,8 +19,8 @@ import pytest
 import trimesh
 from PIL import Image
 
-from engine.load import open_sequence, load_sequence, read_frame, resample
-from engine.readers import READERS, read_manifest, read_mesh, texture_colours
+from tvmedit.engine.capture.load import open_sequence, load_sequence, read_frame, resample
+from tvmedit.engine.capture.readers import READERS, read_manifest, read_mesh, texture_colours
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
@@ -174,7 +174,7 @@ def card_library(tmp_path_factory):
 
 
 def test_card_builds_upright_with_two_or_more_motions(card_library):
-    from engine import Library
+    from tvmedit import Library
 
     result = _tvmedit("info", card_library, "--json")
     info = json.loads(result.stdout)
@@ -200,9 +200,9 @@ def test_card_builds_upright_with_two_or_more_motions(card_library):
 def test_card_renders_its_texture_not_just_vertex_colours(card_library, tmp_path):
     import dataclasses
 
-    import player
-    from engine import Library
-    from player.camera import Camera
+    from tvmedit import player
+    from tvmedit import Library
+    from tvmedit.player.camera import Camera
 
     library = Library.open(card_library)
     camera = Camera.framing(library.bounds(), 4 / 3, elevation=0)

@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 import trimesh
 
-import player
-from engine.errors import InputError
-from player.camera import Camera
-from player.renderer import ANTIALIAS, BACKGROUND, Renderer, is_software
+from tvmedit import player
+from tvmedit.engine.errors import InputError
+from tvmedit.player.camera import Camera
+from tvmedit.player.renderer import ANTIALIAS, BACKGROUND, Renderer, is_software
 
 pytestmark = pytest.mark.gl
 
@@ -307,7 +307,7 @@ def test_fxaa_on_the_meshs_box_equals_a_pass_over_the_whole_image(ctx, view):
 
 
 def test_the_fxaa_box_holds_every_vertex_and_is_the_whole_image_when_the_mesh_reaches_behind_the_eye():
-    from player.renderer import _screen_box
+    from tvmedit.player.renderer import _screen_box
 
     camera = Camera(target=(0, 0, 1), azimuth=-90, elevation=0, distance=3, aspect=4 / 3)
     matrix = np.asarray(camera.view_matrix()) @ np.asarray(camera.projection_matrix())
@@ -393,7 +393,7 @@ def test_rendering_many_frames_does_not_grow_memory(ctx, tmp_path):
     script.write_text(
         "import resource, sys\n"
         "sys.path.insert(0, %r)\n"
-        "import player\n"
+        "from tvmedit import player\n"
         "from test_render import scene_source\n"
         "source = scene_source()\n"
         "player.render_frame(source, ('figure', 0), size=(1024, 768))\n"

@@ -4,11 +4,11 @@ import numpy as np
 import pytest
 import trimesh
 
-from engine.errors import InputError
-from player.camera import Camera
-from player.font import draw_text, text_mask
-from player.programs import stage_source
-from player.source import ArraySource, vertex_normals
+from tvmedit.engine.errors import InputError
+from tvmedit.player.camera import Camera
+from tvmedit.player.font import draw_text, text_mask
+from tvmedit.player.programs import stage_source
+from tvmedit.player.source import ArraySource, vertex_normals
 
 PERSON = ((-0.3, -0.15, 0.0), (0.3, 0.15, 1.8))
 
@@ -120,7 +120,7 @@ def test_shader_stages_define_their_stage_and_variant_right_after_version():
 def test_a_missing_egl_is_reported_in_one_sentence_naming_the_packages(monkeypatch):
     import moderngl
 
-    from player.context import ContextError, headless_context
+    from tvmedit.player.context import ContextError, headless_context
 
     def no_egl(**options):
         raise Exception("libEGL.so.1: cannot open shared object file: No such file or directory")

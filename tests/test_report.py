@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 from conftest import synth_take
-from engine import build
-from engine.errors import TvmError
-from engine.evaluate import boundary_scores, load_truth, texton_length_accuracy
+from tvmedit import build
+from tvmedit.engine.errors import TvmError
+from tvmedit.engine.lab.evaluate import boundary_scores, load_truth, texton_length_accuracy
 from tvmedit.cli import main
 
 pytestmark = pytest.mark.gl
@@ -60,7 +60,7 @@ def _report(lib, out, capsys, *flags):
 
 @pytest.fixture(scope="module")
 def report(ctx, library, tmp_path_factory):
-    from player.report import write_report
+    from tvmedit.player.report import write_report
 
     out = tmp_path_factory.mktemp("report") / "gym-report"
     write_report(library, out, progress=False)
@@ -180,7 +180,7 @@ def test_pruned_edges_are_hidden_unless_asked_for(tmp_path):
         G.add_node(i, name=f"m/{i}")
     for i, j in [(0, 1), (1, 2), (2, 0)]:
         G.add_edge(i, j, weight=G.graph["unpruned"][i, j], exit_frame=0, entry_frame=0)
-    from player.report import graph_figure
+    from tvmedit.player.report import graph_figure
 
     hidden = graph_figure(G, tmp_path / "hidden.png")
     shown = graph_figure(G, tmp_path / "shown.png", show_pruned=True)
@@ -192,7 +192,7 @@ def test_pruned_edges_are_hidden_unless_asked_for(tmp_path):
 
 
 def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(ctx, library, tmp_path):
-    from player.report import write_report
+    from tvmedit.player.report import write_report
 
     class Broken:
         def __getattr__(self, name):
@@ -216,7 +216,7 @@ def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(ctx, 
 def test_without_matplotlib_one_sentence_says_what_to_install(monkeypatch):
     import sys
 
-    from player.report import require_matplotlib
+    from tvmedit.player.report import require_matplotlib
 
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     with pytest.raises(TvmError, match=r"pip install 'tvmedit\[report\]'"):
@@ -224,7 +224,7 @@ def test_without_matplotlib_one_sentence_says_what_to_install(monkeypatch):
 
 
 def test_plotting_returns_the_markers_it_draws(tmp_path):
-    from player.report import atom_distance_figure
+    from tvmedit.player.report import atom_distance_figure
 
     curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
     plotted = atom_distance_figure(curve, [(20, 29), (0, 9), (10, 19)], [(0, 29), (30, 59)],
@@ -237,7 +237,7 @@ def test_the_least_sure_boundaries_are_marked_red(tmp_path):
     # Three boundaries, one of them under LOOK_BELOW (0.097: written 0.097, not 0.10): only that
     # one gets the red dashed line, down the curve's axes at its frame; a boundary of unknown
     # confidence (None) gets neither line nor figure.
-    from player.report import UNSURE_COLOUR, atom_distance_figure
+    from tvmedit.player.report import UNSURE_COLOUR, atom_distance_figure
 
     curve = np.abs(np.sin(np.arange(80) * np.pi / 10))
     clusters = [(0, 19), (20, 39), (40, 59), (60, 79)]
@@ -265,7 +265,7 @@ def test_turns_the_parser_cut_no_boundary_at_are_marked_and_named(report, tmp_pa
     assert summary["sequences"][0]["turns_s"] == []
     assert "turning at" not in page
     # Turns are drawn as purple triangles along the top, where the parser read them.
-    from player.report import TURN_COLOUR, _turns_paragraph, atom_distance_figure
+    from tvmedit.player.report import TURN_COLOUR, _turns_paragraph, atom_distance_figure
 
     # On a curve of any scale (here 0-50) they sit at the top, at the turns' frames (the
     # legend's own triangle, upper right, is left out of the count).
@@ -291,8 +291,8 @@ def test_a_take_where_the_actor_turns_names_the_turns_on_its_page(ctx, tmp_path)
     # A real take of the synthetic actor turning to face another way now and then (tvmedit
     # synth --turns 90), built and reported: the page and report.json name the turns the
     # parser read, within a second of where the actor turned, and the parse holds the three exercises.
-    from engine import synth
-    from player.report import write_report
+    from tvmedit.engine.lab import synth
+    from tvmedit.player.report import write_report
 
     take = synth_take("gym", motions=["jumping-jacks", "side-bends", "squats"], turns=90.0, vertices=4000, seed=3)
     truth = json.loads((take / "truth.json").read_text())
@@ -318,8 +318,8 @@ def test_an_actor_turning_right_round_on_its_spot_is_read_as_turning(tmp_path):
     # centre) and turns by 90-180 degrees every 5-10 s. About that origin a turn of a body
     # standing a little off it changes even the heading-free rows, and without the histograms
     # about each frame's own centre two turns became false boundaries (precision 0.5).
-    from engine import synth
-    from player.report import write_report
+    from tvmedit.engine.lab import synth
+    from tvmedit.player.report import write_report
 
     take = synth_take("gym", motions=["walk", "jumping-jacks", "box", "side-bends"], cycles=[10, 8, 8, 4],
                       turns=180.0, vertices=4000, seed=61)
@@ -341,7 +341,7 @@ def test_the_heading_the_parser_followed_is_shown_beside_the_curve(report, tmp_p
     assert summary["sequences"][0]["heading_deg"] == [0.0, 0.0]
     assert "followed no turn" in page
     # A turning take's heading is drawn on an axis of its own, in grey, beside the curve.
-    from player.report import atom_distance_figure
+    from tvmedit.player.report import atom_distance_figure
 
     curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
     grey = []

@@ -9,8 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from engine.errors import NoPath, UnknownMotion
-from engine.search import SearchIndex, best_path, minimum_mu, path_cost
+from tvmedit.engine.errors import NoPath, UnknownMotion
+from tvmedit.engine.graph.search import SearchIndex, best_path, minimum_mu, path_cost
 
 
 def motion_graph(weights, mu=None, nodes=None):
@@ -229,9 +229,9 @@ def test_dense_graph_agrees_with_networkx_minimax():
 
 
 def test_reported_mu_connects_the_graph_the_builder_makes():
-    # The same check through engine.graph.graph_from, which prunes the real library's graph.
-    from engine.database import Node
-    from engine.graph import graph_from
+    # The same check through tvmedit.engine.graph.motiongraph.graph_from, which prunes the real library's graph.
+    from tvmedit.engine.graph.database import Node
+    from tvmedit.engine.graph.motiongraph import graph_from
 
     rng = np.random.default_rng(5)
     n = 8

@@ -10,7 +10,7 @@ import json
 import numpy as np
 import pytest
 
-from engine.structure import (
+from tvmedit.engine.parse.structure import (
     Structure,
     StructureParams,
     atom_distance,
@@ -217,7 +217,7 @@ def test_boundary_between_a_slow_and_a_quick_exercise_lies_where_the_motion_chan
     v = np.vstack([cycles(change, slow, (0, 0, 0), 1.0), cycles(200 - change, quick, (0.8, 0.3, 0.2), 0.6)])
     v = v * 0.2 + rng.normal(0, 0.005, v.shape)
     # Three columns, not a histogram's hundreds: whitened, every axis would be kept and scaled
-    # alike (engine.boundaries.whiten), so the novelty compares the rows as they are here.
+    # alike (tvmedit.engine.parse.boundaries.whiten), so the novelty compares the rows as they are here.
     raw = dict(novelty_components=0)   # threshold 0.05 then
     peaks = parse(v, 10, StructureParams(refine_reach=0, twin_peak=0.9, **raw)).clusters
     settled = parse(v, 10, StructureParams(twin_peak=0.9, **raw))
@@ -245,8 +245,8 @@ def _left_right(half, frames=120, bins=72):
 
 
 def test_the_parser_reads_a_turning_person_as_facing_one_way_and_needs_the_rate_for_it():
-    from engine.heading import heading_track, turned
-    from engine.structure import parser_view
+    from tvmedit.engine.parse.heading import heading_track, turned
+    from tvmedit.engine.parse.structure import parser_view
     rng = np.random.default_rng(0)
     still = np.hstack([rng.random((300, 4)), _left_right(half=8, frames=300)])
     theta = slice(4, 76)
@@ -263,12 +263,12 @@ def test_the_parser_reads_a_turning_person_as_facing_one_way_and_needs_the_rate_
 
 
 def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
-    # engine.transitions.merge_weak (step 6 and step 20 of the energy parser): a weak boundary
+    # tvmedit.engine.parse.joins.merge_weak (step 6 and step 20 of the energy parser): a weak boundary
     # between two clusters of at most one texton each goes when one side shows no period, and
     # stays between two short stretches that both repeat (two alike exercises), as it stays
     # wherever the boundary is not weak.
-    from engine.periods import PeriodReader
-    from engine.transitions import merge_weak
+    from tvmedit.engine.parse.periods import PeriodReader
+    from tvmedit.engine.parse.joins import merge_weak
     v, _ = cyclic_sequence([(30, 12), (30, 12)])
     period = PeriodReader(v, 10, atom_window(10), StructureParams())
     one = lambda cs, ce, P: 1  # noqa: E731  (one whole texton in each)
@@ -281,12 +281,12 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
 
 
 def test_a_transition_joins_what_it_leads_into_and_a_piece_at_the_end_stays():
-    # engine.transitions.absorb_transitions (steps 3 and 27 of the energy parser), on stretches
+    # tvmedit.engine.parse.joins.absorb_transitions (steps 3 and 27 of the energy parser), on stretches
     # that show no period (one-off movements): a short one joins the long one after it (it
     # leads into it); a short one at the take's end, after a long one, leads into nothing and
     # stays (the real capture scvv-card lost its only change when it joined the one before).
-    from engine.periods import PeriodReader
-    from engine.transitions import absorb_transitions
+    from tvmedit.engine.parse.periods import PeriodReader
+    from tvmedit.engine.parse.joins import absorb_transitions
     v = np.random.default_rng(0).random((200, 3))
     period = PeriodReader(v, 10, atom_window(10), StructureParams(min_periodicity=1.0))   # no period anywhere
     none = lambda cs, ce, P: 0  # noqa: E731
@@ -297,13 +297,13 @@ def test_a_transition_joins_what_it_leads_into_and_a_piece_at_the_end_stays():
 
 
 def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
-    # engine.rhythm (step 1b of the energy parser): a novelty peak under the threshold but at
+    # tvmedit.engine.parse.rhythm (step 1b of the energy parser): a novelty peak under the threshold but at
     # least 3/4 of it is a boundary where the longer of the periods before and after it is
     # 1.5 times the shorter or more; not under 1.5, not at a whole multiple (the period
     # step's known failure), not for a peak under 3/4 of the threshold, not for a turn, not
     # within min_cluster of the cluster's ends, and not with the step off.
-    from engine.periods import PeriodReader, cluster_period
-    from engine.rhythm import FLOOR, rhythm_splits
+    from tvmedit.engine.parse.periods import PeriodReader, cluster_period
+    from tvmedit.engine.parse.rhythm import FLOOR, rhythm_splits
     p, w, t = StructureParams(), atom_window(10), np.arange(120)
     weak = 0.8 * p.novelty_threshold
 
@@ -334,14 +334,14 @@ def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
 
 
 def test_a_side_too_short_to_show_the_other_sides_period_splits_nothing():
-    # engine.rhythm, step 26: the period step's lag profile reaches 0.8 of its frames
-    # (engine.periods.longest_lag), so a side that read the shorter period but is shorter
+    # tvmedit.engine.parse.rhythm, step 26: the period step's lag profile reaches 0.8 of its frames
+    # (tvmedit.engine.parse.periods.longest_lag), so a side that read the shorter period but is shorter
     # than the other side's period over 0.8 is taken as no evidence that the tempo changed
     # (CMU 13_29 turning: 2.4 s of toe touches read at 1.3 s beside 2.9 s, and the split was
     # kept while the true boundary was merged away). The cost, asserted too: a true change of
     # tempo that near a cluster's end is not split here.
-    from engine.periods import PeriodReader, cluster_period, longest_lag
-    from engine.rhythm import rhythm_splits
+    from tvmedit.engine.parse.periods import PeriodReader, cluster_period, longest_lag
+    from tvmedit.engine.parse.rhythm import rhythm_splits
     p, w, t = StructureParams(), atom_window(10), np.arange(120)
 
     def split(at, second=25):

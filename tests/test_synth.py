@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from engine import synth
-from engine.errors import InputError
+from tvmedit.engine.lab import synth
+from tvmedit.engine.errors import InputError
 from interrupt import default_sigint
 
 
@@ -267,7 +267,7 @@ def test_a_take_made_at_another_rate_is_built_at_that_rate(tmp_path):
     # PLY frames carry no frame rate: tvmedit synth writes it beside them (sequence.json),
     # where tvmedit build reads it, so a 5 fps take is not read as 10 fps (its periods and
     # playback twice too fast); an overwrite replaces it with the rest of the take.
-    from engine.load import open_sequence
+    from tvmedit.engine.capture.load import open_sequence
     out = tmp_path / "slow"
     synth.generate(out, motions=["squats"], cycles=1, fps=5, vertices=1500, workers=1, progress=False)
     assert open_sequence(out).fps == 5
@@ -361,7 +361,7 @@ def test_a_turning_actor_turns_on_its_feet(tmp_path):
     # through every turn. Turned about each frame's own centre, which moves 0.1-0.2 m with the
     # pose, they slid by up to 0.4 m (synth VERSION 2), and the development suite's turning
     # takes had that artefact.
-    from engine.load import open_sequence, read_frame
+    from tvmedit.engine.capture.load import open_sequence, read_frame
     out = tmp_path / "turning"
     synth.generate(out, motions=["toe-touch"], cycles=4, turns=180.0, vertices=3000, seed=2, progress=False)
     sequence = open_sequence(str(out))

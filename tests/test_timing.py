@@ -1,4 +1,4 @@
-"""Legs of a given length (engine.timing) against brute-force enumeration of every schedule."""
+"""Legs of a given length (tvmedit.engine.graph.timing) against brute-force enumeration of every schedule."""
 
 import functools
 import itertools
@@ -8,9 +8,9 @@ import random
 import networkx as nx
 import pytest
 
-from engine.compose import compose
-from engine.errors import DurationError, DurationWarning, NoPath
-from engine.timing import Timing, TimingIndex, miss, plan_leg
+from tvmedit.engine.graph.compose import compose
+from tvmedit.engine.errors import DurationError, DurationWarning, NoPath
+from tvmedit.engine.graph.timing import Timing, TimingIndex, miss, plan_leg
 
 
 def random_graph(rng):
@@ -201,7 +201,7 @@ def test_a_hold_plays_the_motion_on_and_the_next_leg_starts_there():
 
 
 def test_the_player_holds_a_motion_as_compose_does():
-    from engine.compose import Playhead
+    from tvmedit.engine.playback import Playhead
 
     rng = random.Random(3)
     compared = 0

@@ -7,7 +7,7 @@ import warnings
 import imageio.v2 as iio2
 import pytest
 
-from engine import Library
+from tvmedit import Library
 from interrupt import tvmedit
 
 
@@ -37,7 +37,7 @@ def test_durations_place_the_key_motions_in_the_export_and_the_video(small_libra
     ids = [library.node(key).id for key in keys]
     frames = record["frames"]
     # The key motion begins there: its frame, after the motion before or the in-between
-    # frames of the transition into it (engine.blend).
+    # frames of the transition into it (tvmedit.engine.inbetween.blend).
     for start, key, before in ((second, ids[1], ids[0]), (third, ids[2], ids[1])):
         assert frames[start]["node"] == key and "blend" not in frames[start]
         assert frames[start - 1]["node"] != key or "blend" in frames[start - 1]

@@ -1,13 +1,14 @@
 """A looping motion does not pop where its texton wraps from its last frame to its first
-(engine.wraps), on real takes and the synthetic gym, in edits, the player's playhead and exports."""
+(tvmedit.engine.inbetween.loops), on real takes and the synthetic gym, in edits, the player's playhead and exports."""
 
 import numpy as np
 import pytest
 
 from conftest import built_library
-from engine import Library, blend
-from engine.compose import Playhead
-from engine.wraps import closing, pace, window
+from tvmedit.engine.inbetween import blend
+from tvmedit import Library
+from tvmedit.engine.playback import Playhead
+from tvmedit.engine.inbetween.loops import closing, pace, window
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +85,7 @@ def _check_edit(library, node):
     plain = library.graph.copy()
     for n in plain.nodes:
         plain.nodes[n].pop("wrap", None), plain.nodes[n].pop("wrap_at", None)
-    from engine.compose import compose
+    from tvmedit.engine.graph.compose import compose
 
     bare = compose(plain, [node.id, other.id, node.id], loops=3)
     assert len(edit.schedule) == len(bare.schedule)            # lengths and timing are unchanged
@@ -133,7 +134,7 @@ def test_a_library_without_blending_closes_no_loop(take_13_30, tmp_path):
 def test_the_report_shows_each_closed_loop_as_it_plays_and_as_captured(ctx, libraries, tmp_path):
     import imageio.v3 as iio
 
-    from player.report import write_report
+    from tvmedit.player.report import write_report
 
     library = libraries["13_30"]
     out = tmp_path / "report"
@@ -154,7 +155,7 @@ def test_an_edit_played_for_ever_closes_its_loop_as_the_playhead_does():
     # first cycle cannot close it (no wrap before it), every later one does.
     import networkx as nx
 
-    from engine.compose import compose
+    from tvmedit.engine.graph.compose import compose
 
     g = nx.DiGraph()
     g.add_node(0, name="walk", sequence="a", start=10, end=15)

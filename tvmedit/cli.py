@@ -11,7 +11,7 @@ import signal
 import sys
 import warnings
 
-from engine.errors import TvmError, UnknownMotion
+from tvmedit.engine.errors import TvmError, UnknownMotion
 
 from . import options
 

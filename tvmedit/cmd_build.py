@@ -14,7 +14,7 @@ and the blending; the library is the same whichever is used.
 
 --corrections FILE applies corrections by hand on top of the automatic parse (cluster
 boundaries and texton starts to add, remove or move, representatives to force, motions to
-drop; see ``engine.corrections``) and stores them in the library, so a later rebuild with
+drop; see ``tvmedit.engine.store.corrections``) and stores them in the library, so a later rebuild with
 other parameters applies them again; --no-corrections leaves them out. --keep-frames all
 stores every frame, not only the database motions', so that corrections never read a frame
 file and the library is inspected, corrected and played without the capture folder (a
@@ -48,7 +48,7 @@ def _input(text):
 
 
 def _structure_fields():
-    from engine.structure import StructureParams
+    from tvmedit.engine.parse.structure import StructureParams
 
     return StructureParams, dataclasses.fields(StructureParams)
 
@@ -70,9 +70,9 @@ def _param_help(cls):
 
 
 def add_arguments(parser):
-    from engine.features import BinSizes
-    from engine.graph import MU
-    from engine.settings import KEEP_FRAMES
+    from tvmedit.engine.features import BinSizes
+    from tvmedit.engine.graph.motiongraph import MU
+    from tvmedit.engine.store.settings import KEEP_FRAMES
 
     parser.add_argument("inputs", nargs="+", metavar="INPUT", type=_input,
                         help="sequence folder, quoted glob, or NAME=INPUT")
@@ -148,16 +148,16 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.library import build
-    from engine.features import BinSizes
+    from tvmedit.engine.store.library import build
+    from tvmedit.engine.features import BinSizes
 
     def say(message):
         # -q silences progress and the summary, never a warning (skipped frames, no motions).
         if not args.quiet or message.startswith("warning") or "skipped" in message:
             print(options.as_flags(message, args._parser), file=sys.stderr)
 
-    from engine.features import MAX_ANGLE_BINS
-    from engine.params import number
+    from tvmedit.engine.features import MAX_ANGLE_BINS
+    from tvmedit.engine.checks import number
 
     # Angles are degrees here and radians in the engine, so they are checked here, in degrees.
     number("bin_r", args.bin_r, above=0)

@@ -49,7 +49,7 @@ def _timing(sequence, usable):
 def run(args):
     import numpy as np
 
-    from engine.load import iter_frames, open_sequence, warn_skipped
+    from tvmedit.engine.capture.load import iter_frames, open_sequence, warn_skipped
 
     sequence = open_sequence(args.input, fps=args.fps, up=args.up, units=args.units, mirror=args.mirror,
                              body_frame=args.body_frame)
@@ -65,7 +65,7 @@ def run(args):
             sizes.add(f"{frame.texture.shape[1]}x{frame.texture.shape[0]}")
     warn_skipped(skipped)
     if not counts:
-        from engine.errors import InputError
+        from tvmedit.engine.errors import InputError
         raise InputError(f"no usable frames in {args.input}: all {len(paths)} were bad.")
     counts = np.array(counts)
     if sequence.manifest is not None:
@@ -89,7 +89,7 @@ def run(args):
 
 
 def _formats(paths):
-    from engine.readers import reader_for
+    from tvmedit.engine.capture.readers import reader_for
 
     names = sorted({(reader_for(p) or ("?",))[0] for p in paths})
     return "/".join(names)

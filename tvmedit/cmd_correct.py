@@ -1,6 +1,6 @@
 """Apply corrections by hand to a library's parse and derive its database and graph again.
 
-FILE is a corrections.json (see ``engine.corrections``; ``tvmedit inspect`` writes one): per
+FILE is a corrections.json (see ``tvmedit.engine.store.corrections``; ``tvmedit inspect`` writes one): per
 sequence, cluster boundaries and texton starts to add, remove or move, textons forced as
 their cluster's representative, and motions to drop. It replaces the corrections the
 library holds. Nothing is recomputed from the frames: features and the automatic parse are
@@ -35,7 +35,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.library import Library
+    from tvmedit.engine.store.library import Library
 
     library = Library.open(args.library)
     corrected = library.correct(args.corrections, args.out, force=args.force or None,

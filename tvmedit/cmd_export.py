@@ -19,7 +19,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.export import export_edit
+    from tvmedit.engine.graph.export import export_edit
 
     from .cmd_path import open_edit
 

@@ -3,7 +3,7 @@
 A sequence whose parse was corrected by hand shows its corrections under it (``+F`` adds a
 boundary or texton start at frame F, ``-F`` removes one, ``A>B`` moves one).
 
-With --json the summary is one JSON object (schema: ``engine.library.INFO_SCHEMA``):
+With --json the summary is one JSON object (schema: ``tvmedit.engine.store.library.INFO_SCHEMA``):
 ``format``, ``params``, ``sequences`` (name, frames, fps, clusters and textons as inclusive
 0-based frame ranges, and ``corrections`` where corrected by hand), ``nodes`` (id, name,
 sequence, start, end, texton_distance, intensity), ``edges`` of the graph (from, to, weight,
@@ -71,8 +71,8 @@ def _corrections(entry):
 
 
 def run(args):
-    from engine.database import advice
-    from engine.library import Library
+    from tvmedit.engine.graph.database import advice
+    from tvmedit.engine.store.library import Library
 
     library = Library.open(args.library)
     info = library.info()

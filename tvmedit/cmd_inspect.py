@@ -29,7 +29,7 @@ Needs a display: set DISPLAY, or run under xvfb-run.
 
 import os
 
-from engine.errors import TvmError
+from tvmedit.engine.errors import TvmError
 
 from . import options
 
@@ -51,7 +51,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.library import Library
+    from tvmedit.engine.store.library import Library
 
     if args.seconds is not None and args.seconds <= 0:
         raise TvmError(f"--seconds must be positive, not {args.seconds:g}.")
@@ -64,7 +64,7 @@ def run(args):
         raise TvmError("no display: set DISPLAY or run under xvfb-run; `tvmedit correct` applies a "
                        "corrections file without one")
 
-    from player.inspect import TIMELINE_SHARE, InspectorApp, InspectorWindow
+    from tvmedit.player.inspect import TIMELINE_SHARE, InspectorApp, InspectorWindow
 
     width, height = args.size
     app = InspectorApp(library, args.corrections, out=args.out,

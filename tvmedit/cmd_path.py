@@ -50,7 +50,7 @@ def add_arguments(parser):
 
 def open_edit(args):
     """Open the library and compose the edit the arguments describe."""
-    from engine.library import Library
+    from tvmedit.engine.store.library import Library
 
     timing = options.check_timing(args)
     library = Library.open(args.library)
@@ -76,7 +76,7 @@ def run(args):
     print(f"schedule: {len(edit.schedule)} frames ({len(edit.schedule) / fps:.1f} s at {fps:g} fps)")
     runs, previous = [], None
     for entry in edit.schedule:
-        # A loop's closing frame ([[n, n], i], engine.wraps) stands for its texton frame.
+        # A loop's closing frame ([[n, n], i], tvmedit.engine.inbetween.loops) stands for its texton frame.
         transit = entry.blend is not None and entry.blend[0][0] != entry.blend[0][1]
         if (entry.node, transit) != previous:
             runs.append([entry.node, entry.sequence, [entry.frame], entry.blend if transit else None])

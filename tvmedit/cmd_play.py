@@ -32,7 +32,7 @@ import os
 import sys
 import time
 
-from engine.errors import TvmError
+from tvmedit.engine.errors import TvmError
 
 from . import options
 
@@ -61,7 +61,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.library import Library
+    from tvmedit.engine.store.library import Library
 
     if args.fps is not None and not 0 < args.fps <= 240:
         raise TvmError(f"The playback rate must be above 0 and at most 240 fps, not {args.fps:g}.")
@@ -89,7 +89,7 @@ def run(args):
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
 
-    from player.window import PlayerApp, Window
+    from tvmedit.player.window import PlayerApp, Window
 
     try:
         log = open(args.log, "w", encoding="utf-8") if args.log else None

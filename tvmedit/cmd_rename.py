@@ -15,7 +15,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.library import Library
+    from tvmedit.engine.store.library import Library
 
     library = Library.open(args.library)
     before = library.node(args.node)

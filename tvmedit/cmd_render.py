@@ -53,7 +53,7 @@ def add_arguments(parser):
 
 def camera_for(library, size, camera_arg, orbit=0.0, bounds=None):
     """The automatic framing, with --camera's angles and distance applied."""
-    from player.camera import Camera
+    from tvmedit.player.camera import Camera
 
     azimuth, elevation, distance = camera_arg or (-90.0, 10.0, 0.0)
     camera = Camera.framing(bounds or library.bounds(), size[0] / size[1], azimuth=azimuth,
@@ -69,9 +69,9 @@ SHEET_TEXTURED = (12, 4, (640, 480))
 def run(args):
     import numpy as np
 
-    from engine.errors import TvmError
-    from engine.library import Library
-    import player
+    from tvmedit.engine.errors import TvmError
+    from tvmedit.engine.store.library import Library
+    from tvmedit import player
 
     timing = options.check_timing(args) if args.node is None and len(args.keys) >= 2 else {}
     library = Library.open(args.library)

@@ -29,7 +29,7 @@ HELP = "make a synthetic TVM take with a procedural actor (walk, gym)"
 
 
 def add_arguments(parser):
-    from engine.synth import MOTIONS, PRESETS
+    from tvmedit.engine.lab.synth import MOTIONS, PRESETS
 
     parser.add_argument("--preset", choices=sorted(PRESETS), default="gym",
                         help="take to make (default: gym)")
@@ -56,7 +56,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from engine.synth import generate
+    from tvmedit.engine.lab.synth import generate
 
     motions = None if args.motions is None else [m.strip() for m in args.motions.split(",") if m.strip()]
     fps = int(args.fps) if float(args.fps).is_integer() else args.fps

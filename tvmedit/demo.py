@@ -21,7 +21,7 @@ DEMO = Path("demo")
 
 def demo_data(root=DEMO, progress=True):
     """The gym data set of the synthetic actor in ``root/gym``, generated the first time."""
-    from engine.synth import generate
+    from tvmedit.engine.lab.synth import generate
 
     data = Path(root) / "gym"
     if not (data / "truth.json").exists():
@@ -34,13 +34,13 @@ def demo_library(root=DEMO, progress=True):
 
     Example scripts call this so that they run on a fresh checkout.
     """
-    import engine
+    from tvmedit import engine
 
     data = demo_data(root, progress)
     out = Path(root) / "gym.tvmlib"
     # Rebuild when the data or the analysis code is newer than the library; features come
     # from the cache, so a rebuild after a code change takes seconds.
-    newest = max(p.stat().st_mtime for p in [data / "truth.json", *Path(engine.__file__).parent.glob("*.py")])
+    newest = max(p.stat().st_mtime for p in [data / "truth.json", *Path(engine.__file__).parent.rglob("*.py")])
     try:
         engine.Library.open(out)
         if (out / "manifest.json").stat().st_mtime > newest:
@@ -53,7 +53,7 @@ def demo_library(root=DEMO, progress=True):
 
 def three_keys(library):
     """Three distinct key motions with a path between each neighbouring pair, cheapest first."""
-    from engine.errors import NoPath
+    from tvmedit.engine.errors import NoPath
 
     best = None
     for keys in itertools.permutations([n.id for n in library.nodes], 3):
@@ -71,9 +71,9 @@ def three_keys(library):
 
 
 def main():
-    import engine
-    import player
-    from player.report import write_report
+    from tvmedit import engine
+    from tvmedit import player
+    from tvmedit.player.report import write_report
 
     start = time.perf_counter()
     print("1. data: the synthetic actor's gym take (six exercises)")

@@ -62,7 +62,7 @@ def finite(text):
 
 def cycles(text):
     """A whole number of cycles, 1 or more, for --loops."""
-    from engine.params import MAX_LOOPS
+    from tvmedit.engine.checks import MAX_LOOPS
 
     try:
         value = int(text)
@@ -75,7 +75,7 @@ def cycles(text):
 
 
 def _second(text, what):
-    from engine.timing import MAX_SECONDS
+    from tvmedit.engine.graph.timing import MAX_SECONDS
 
     value = _number(text)
     if not (math.isfinite(value) and 0 <= value <= MAX_SECONDS):
@@ -110,7 +110,7 @@ def hold(text):
 
 
 def add_timing(parser):
-    """--durations, --at, --hold and --strict: lengths in seconds (engine.timing), for path, export and render."""
+    """--durations, --at, --hold and --strict: lengths in seconds (tvmedit.engine.graph.timing), for path, export and render."""
     group = parser.add_argument_group("lengths (seconds at the library's frame rate)")
     lengths = group.add_mutually_exclusive_group()
     lengths.add_argument("--durations", type=durations, metavar="S,S,...",
@@ -128,7 +128,7 @@ def add_timing(parser):
 
 def check_timing(args):
     """The counts of --durations and --at and the keys of --hold, against the KEYs given."""
-    from engine.errors import TvmError
+    from tvmedit.engine.errors import TvmError
 
     legs = len(args.keys) - 1
     if legs < 1:
@@ -232,7 +232,7 @@ def as_flags(message, parser=None):
 
 
 def _build_command(match):
-    """``build(['a'], 'lib', force=True)`` (see ``engine.errors.build_call``) as a command."""
+    """``build(['a'], 'lib', force=True)`` (see ``tvmedit.engine.errors.build_call``) as a command."""
     sources = "INPUT..." if match.group(1) == "inputs" else " ".join(re.findall(r"'(.*?)'", match.group(1)))
     force = " --force" if match.group(3) else ""
     return f"`tvmedit build {sources} -o {match.group(2)}{force}`"

@@ -1,0 +1,216 @@
+"""Closing a motion's loop: the wrap from a texton's last frame back to its first, without a pop.
+
+Section 8 plays a texton as a cycle: after its last frame ``end`` comes its first, ``start``.
+The texton is one period of a repeated motion found on the features (eq. 5-9), so ``end``
+and ``start`` are close poses, but the period is a whole number of frames and no two
+repetitions are the same: measured as the symmetric mean Chamfer distance
+(:func:`tvmedit.engine.inbetween.blend.chamfer`) over the larger of the library's natural step and the
+capture's own step across the same phase (:func:`pace`), the wrap jumps up to 1.87 on CMU
+13_29 and 1.52 on 13_30, once per cycle, and a looping motion is where an edit spends most
+of its time. Closed, the largest step around a wrap is 1.53 and 1.37; a closing is kept
+only where it makes the largest step smaller than the wrap's (it does for 8 of 11 motions;
+the synthetic gym's wraps, at most 0.72, need none).
+
+Method: a cross-fade with the neighbouring repetition, as loops of captured motion are
+closed. The frame before ``start`` in the capture, ``start - 1``, is the previous repetition's
+last frame, and follows into ``start`` by a natural step; so the texton's last ``k`` frames,
+``end - m`` for ``m = k - 1 .. 0``, are each warped a growing share ``(k - m) / k`` of the way
+onto the surface of the previous repetition's frame of the same phase, ``start - 1 - m``
+(:func:`tvmedit.engine.inbetween.blend.align`), and the last one lies on ``start - 1``. Where the texton is the
+first of its cluster, the next repetition is used instead, at the other end: its first ``k``
+frames, ``start + m``, are warped onto ``end + 1 + m`` by ``(k - m) / k``, so ``end`` leads into
+them as into ``end + 1``. What counts as a pop is a step beyond both the natural step and
+the capture's own step across the same phase (:func:`pace`): a fast motion, such as CMU
+13_29's jumping jacks, steps up to 2.6 natural steps between captured frames. Every frame stays one captured frame's own mesh, colours and
+motion, moved; none is left out and none added, so a schedule's length, the play length
+rule, edits of a given length (:mod:`tvmedit.engine.graph.timing`) and the player's counts are unchanged.
+``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most a third of the texton and as many as
+the cluster holds beyond it) whose steps around the wrap all stay at or below that, else the
+one with the smallest largest step; 0 where the wrap is already no larger, or where no
+closing makes the largest step smaller than the wrap's.
+
+The warped frames are shown only where a visit plays the whole window and wraps next to it
+(:func:`closing`): a visit that leaves the texton inside the window, or enters inside it,
+shows the captured frames, so transitions (whose in-between frames start from captured
+frames) are as they were.
+"""
+
+__all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "pace"]
+
+#: Most texton frames a loop's closing warps.
+MAX_CLOSING = 4
+
+
+def plan(start, end, cluster):
+    """Where texton ``start..end`` of a cluster ``(first, last)`` frames is closed, and how far.
+
+    Returns
+    -------
+    (str, int)
+        ``"end"`` (the last frames are warped onto the previous repetition's) or ``"start"``
+        (the first onto the next one's), and the most frames that may be warped (0: the
+        loop is not closed).
+
+    >>> plan(20, 31, (0, 60)), plan(0, 11, (0, 60)), plan(0, 11, (0, 11))
+    (('end', 4), ('start', 4), ('end', 0))
+    """
+    most = min(MAX_CLOSING, (end - start + 1) // 3)
+    before, after = start - cluster[0], cluster[1] - end
+    if before >= min(most, after):
+        return "end", min(most, before)
+    return "start", min(most, after)
+
+
+def window(start, end, at, count):
+    """Texton frames the closing warps, in play order, and the frame each is warped onto.
+
+    >>> window(20, 31, "end", 2), window(20, 31, "start", 2)
+    (([30, 31], [18, 19]), ([20, 21], [32, 33]))
+    """
+    if at == "end":
+        return list(range(end - count + 1, end + 1)), list(range(start - count, start))
+    return list(range(start, start + count)), list(range(end + 1, end + 1 + count))
+
+
+def closing(frames, start, end, count, at="end", rests=False):
+    """Which frames of one visit of a texton are replaced by its loop's closing frames.
+
+    Parameters
+    ----------
+    frames : list of int
+        The texton frames a visit shows, in order (cyclic from its entry frame).
+    start, end : int
+        The texton.
+    count : int
+        Frames the texton's closing warps (``k``; 0: none).
+    at : {"end", "start"}
+        Which end of the texton they are (:func:`plan`).
+    rests : bool
+        The visit goes on after ``frames`` (the player resting in its last motion).
+
+    Returns
+    -------
+    list of int or None
+        Per frame, the index of the closing frame shown instead (0 .. count - 1, in play
+        order), or None: a frame is replaced where the visit shows the whole window and
+        wraps right after it (``at="end"``) or right before it (``at="start"``).
+
+    >>> closing([10, 11, 12, 13, 10, 11, 12, 13], 10, 13, 2)
+    [None, None, 0, 1, None, None, None, None]
+    >>> closing([12, 13, 10, 11, 12, 13], 10, 13, 2, rests=True)
+    [None, None, None, None, 0, 1]
+    >>> closing([12, 13, 10, 11, 12, 13], 10, 13, 2, at="start")
+    [None, None, 0, 1, None, None]
+    """
+    return [closed_at(i, frame, start, end, count, at, None if rests else len(frames) - i)
+            for i, frame in enumerate(frames)]
+
+
+def closed_at(shown, frame, start, end, count, at, left):
+    """The index of the closing frame shown instead of texton frame ``frame``, or None: the one
+    rule :func:`closing` and the realtime playhead (:class:`tvmedit.engine.graph.compose.Playhead`) apply.
+
+    ``shown`` frames of the visit came before it; ``left`` are still to show, this one
+    included (None: the visit goes on). The frame is replaced where the visit shows the whole
+    window (its first frame comes after the visit's entry) and wraps right after the window
+    (``at="end"``) or has wrapped right before it (``at="start"``).
+
+    >>> closed_at(2, 12, 10, 13, 2, "end", 6), closed_at(2, 12, 10, 13, 2, "end", 2)
+    (0, None)
+    """
+    index = frame - (end - count + 1 if at == "end" else start)
+    if not (count and 0 <= index < count and shown > index):
+        return None
+    if left is not None and left < count - index + (at == "end"):
+        return None
+    return index
+
+
+def close_loop(meshes, start, end, at, limit, natural):
+    """The closing frames of one texton's loop (:func:`plan` gives ``at`` and ``limit``).
+
+    Parameters
+    ----------
+    meshes : callable
+        ``meshes(frame)`` gives ``(positions, colours, faces)`` of a frame of the sequence (the
+        texton's, and the neighbouring repetition's of :func:`window`).
+    start, end : int
+        The texton.
+    at : {"end", "start"}
+    limit : int
+        Most frames to warp.
+    natural : float
+        The library's natural step.
+
+    Returns
+    -------
+    tvmedit.engine.inbetween.blend.BlendRun
+        ``count = len(run)`` warped frames in play order (``side`` is the frame's index; none
+        where the wrap is at most ``max(natural, pace)``, or where no closing lowers its
+        largest step below the wrap's); ``jump`` is the wrap's own step (``end`` to
+        ``start``), ``steps`` those from the last captured frame before the window (or ``end``)
+        through the window to ``start`` (or the first captured frame after it).
+    """
+    import numpy as np
+
+    from .blend import BlendRun, align, chamfer, kdtree
+    from ..capture.normals import vertex_normals
+
+    cache = {}
+
+    def mesh(frame):  # each frame read once, with its k-d tree built once
+        if frame not in cache:
+            positions, colours, faces = meshes(frame)
+            positions = np.asarray(positions)
+            cache[frame] = (positions, colours, faces, kdtree(positions))
+        return cache[frame]
+
+    def step(a, b):
+        return chamfer(a[0], b[0], a[3], b[3], stride=4)
+
+    jump = step(mesh(end), mesh(start))
+    if natural <= 0 or limit <= 0:
+        return BlendRun([], [jump], jump)
+    goal = max(natural, pace(lambda frame: mesh(frame)[:3], start, end, at))
+    if jump <= goal:
+        return BlendRun([], [jump], jump)
+    fields, best = {}, None
+    for count in range(1, limit + 1):
+        frames, targets = window(start, end, at, count)
+        run = []
+        for index, (frame, target) in enumerate(zip(frames, targets)):
+            if frame not in fields:
+                fields[frame] = align(mesh(frame)[0], mesh(target)[0])
+            share = (index + 1) / count if at == "end" else (count - index) / count
+            positions, colours, faces, _ = mesh(frame)
+            positions = (np.asarray(positions, np.float32) + np.float32(share) * fields[frame]).astype(np.float32)
+            run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
+        ends = (frames[0] - 1, start) if at == "end" else (end, frames[-1] + 1)
+        points = [mesh(ends[0]), *run, mesh(ends[1])]
+        steps = [0.0] * (len(points) - 1)
+        stop = None if best is None else 0.95 * max(best.steps)
+        # The step at the wrap first: a count that would not help is told by it alone.
+        for i in sorted(range(len(steps)), reverse=at == "end"):
+            steps[i] = step(points[i], points[i + 1])
+            if stop is not None and steps[i] >= stop:
+                break
+        if stop is not None and max(steps) >= stop:
+            break  # more frames would not help
+        best = BlendRun([(p, c, f, None, i) for i, (p, c, f, _) in enumerate(run)], steps, jump)
+        if max(steps) <= goal:
+            break
+    if max(best.steps) >= jump:  # the warps' own residual outweighs the wrap: keep the cut
+        return BlendRun([], [jump], jump)
+    best.frames = [(p, c, f, vertex_normals(p, f), i) for p, c, f, _, i in best.frames]
+    return best
+
+
+def pace(meshes, start, end, at):
+    """The step the capture itself makes where the loop wraps: from the neighbouring repetition
+    into the texton's first frame (``start - 1`` to ``start``, ``at="end"``) or out of its last
+    (``end`` to ``end + 1``). A fast motion steps more than the library's natural step in every
+    frame; its wrap pops only where it jumps more than the capture does there."""
+    from .blend import chamfer
+
+    pair = (start - 1, start) if at == "end" else (end, end + 1)
+    return chamfer(meshes(pair[0])[0], meshes(pair[1])[0], stride=4)

@@ -1,0 +1,289 @@
+"""The in-between frames of a whole library: the build stage that makes and stores them.
+
+:mod:`tvmedit.engine.inbetween.blend` makes one transition's run from two frames; this stage does it for every
+edge of the motion graph of a library being written (and closes every motion's loop,
+:mod:`tvmedit.engine.inbetween.loops`): it measures the library's natural step on its texton frames, copies
+from the library being replaced every run that would come out the same, makes the others on
+the workers, and stores them in flat arrays beside the texton frames (``blend_*.npy``,
+``blends.json``, written through :class:`tvmedit.engine.store.layout.MeshWriter`).
+"""
+
+import numpy as np
+
+from ..inbetween.blend import blend, frame_count, natural_step, side, texton_steps
+from ..inbetween.loops import close_loop, plan, window
+
+__all__ = ["blend_library", "NATURAL_PAIRS"]
+
+#: Consecutive texton frame pairs a build measures the natural step on, at most (spread
+#: evenly over the textons): the median of 240 is as good as of all, and a 60 fps take
+#: stores a thousand pairs.
+NATURAL_PAIRS = 240
+
+
+def _stored(folder, rows):
+    """``(positions, colours, faces)`` of the stored texton frames ``rows`` of the library
+    being written in ``folder`` (its meshes are written, the rest perhaps not yet)."""
+    from .layout import frame_offsets, mesh_arrays
+
+    arrays = mesh_arrays(folder)
+    offsets = frame_offsets(folder, arrays)
+    meshes = []
+    for row in rows:
+        v0, nv, f0, nf = offsets[row].tolist()
+        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["colours"][v0:v0 + nv]),
+                       np.asarray(arrays["faces"][f0:f0 + nf])))
+    return meshes
+
+
+def _steps_task(task):
+    """Steps between consecutive texton frames of the library being written:
+    ``(folder, [[row, next row, ...], ...])`` -> list of float, the steps of each run of rows
+    one after another (as :func:`texton_steps`; a frame's k-d tree serves both its pairs)."""
+    folder, runs = task
+    return [step for run in runs for step in texton_steps([mesh[0] for mesh in _stored(folder, run)])]
+
+
+def _runs(pairs):
+    """``pairs`` of ``(sequence, frame)`` (each the first frame of a pair) grouped into runs of
+    consecutive frames: lists of ``(sequence, frame)`` one frame longer than their pairs."""
+    runs = []
+    for sequence, frame in pairs:
+        if runs and runs[-1][-1] == (sequence, frame):
+            runs[-1].append((sequence, frame + 1))
+        else:
+            runs.append([(sequence, frame), (sequence, frame + 1)])
+    return runs
+
+
+def _natural(folder, rows, graph, pool, known):
+    """The natural step of the library being written, over at most :data:`NATURAL_PAIRS`
+    pairs of consecutive texton frames spread evenly over them, and ``{(sequence, frame):
+    step}`` of those pairs. A pair in ``known`` (the library being replaced measured it, on
+    the same frame files) is not measured again: a correction of a few motions measures only
+    the pairs of their new textons, not the 240 of every texton (1.3 s of the 2,033-frame gym's
+    correction on one core, before)."""
+    pairs = [(data["sequence"], f) for _, data in sorted(graph.nodes(data=True))
+             for f in range(data["start"], data["end"])]
+    pairs = pairs[::max(1, -(-len(pairs) // NATURAL_PAIRS))]
+    todo = [p for p in pairs if p not in known]
+    chunks = [[]]
+    for run in _runs(todo):
+        for k in range(0, len(run) - 1, 8):  # pieces of 8 pairs, tasks of 16 pairs at most
+            if sum(len(r) - 1 for r in chunks[-1]) + len(run[k:k + 9]) - 1 > 16:
+                chunks.append([])
+            chunks[-1].append(run[k:k + 9])
+    chunks = [chunk for chunk in chunks if chunk]
+    tasks = ((str(folder), [[rows[q] for q in run] for run in chunk]) for chunk in chunks)
+    measured = dict(zip(todo, (step for steps in pool.map(_steps_task, tasks) for step in steps)))
+    steps = {p: known[p] if p in known else measured[p] for p in pairs}
+    return natural_step([list(steps.values())]), steps
+
+
+def _blend_task(task):
+    """One edge's run, ``("edge", folder, exit row, entry row, natural, count)``, or one
+    texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit), natural)``
+    (the rows of the texton's frames and of its neighbours' that it may be closed onto) ->
+    ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
+    import time
+
+    started = time.process_time()
+    if task[0] == "edge":
+        _, folder, exit_row, entry_row, natural, count = task
+        run = blend(*_stored(folder, (exit_row, entry_row)), natural, count)
+    else:
+        _, folder, rows, (start, end, at, limit), natural = task
+        run = close_loop(lambda frame: _stored(folder, (rows[frame],))[0], start, end, at, limit, natural)
+    return run.frames, run.steps, run.jump, time.process_time() - started
+
+
+def _loops(graph, count, rooms):
+    """``(node, (sequence, start, end), (at, limit))`` of every texton whose loop may be closed
+    (:mod:`tvmedit.engine.inbetween.loops`): cycles, not one-shots, with ``rooms[node]`` the frames of its cluster;
+    none where ``count`` is 0 (the paper's cut)."""
+    if count == 0:
+        return []
+    loops = []
+    for node, data in sorted(graph.nodes(data=True)):
+        at, limit = plan(data["start"], data["end"], rooms.get(node, (data["start"], data["end"])))
+        if data.get("kind") != "once" and limit > 0:
+            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit)))
+    return loops
+
+
+def loop_frames(graph, count, rooms):
+    """``(sequence, frame)`` of the neighbouring repetitions' frames that closing the loops of
+    ``graph``'s textons warps onto (a build stores them with the texton frames)."""
+    frames = set()
+    for _, (seq, start, end), (at, limit) in _loops(graph, count, rooms):
+        frames.update((seq, f) for f in window(start, end, at, limit)[1])
+    return frames
+
+
+def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, keep_natural=False, rooms=None):
+    """Make and store the in-between frames of every edge of ``graph`` and the closing frames
+    of every texton's loop (:mod:`tvmedit.engine.inbetween.loops`; a build's stage after the meshes):
+    ``blend_*.npy`` in ``folder`` (see :mod:`tvmedit.engine.store.layout`).
+
+    Parameters
+    ----------
+    folder : Path
+        The library being written; its texton frames are stored.
+    names : list of str
+        The sequences in manifest order (``frame_keys.npy`` indexes them).
+    graph : networkx.DiGraph
+        The final motion graph; nodes carry ``sequence``, ``start``, ``end``, edges
+        ``exit_frame`` and ``entry_frame``.
+    count : int or None
+        In-between frames per transition; None: as many as each needs (:func:`blend`).
+    keys : dict
+        ``sequence -> feature key`` (which frame files it was read from).
+    pool : tvmedit.engine.store.parallel.Workers
+        Where the work runs: tasks of 16 pairs of texton frames, then one per edge.
+    bar : callable or None
+        ``bar(total, desc, unit=...)`` makes a progress bar, advanced once per edge.
+    old : tvmedit.engine.store.library.Library or None
+        The library being replaced: a run it holds for the same frames of the same files, the
+        same natural step and count, is copied instead of made again.
+    rooms : dict
+        ``node -> (first, last)`` frame of its cluster: how far beyond its texton the capture
+        repeats it, for closing its loop (:mod:`tvmedit.engine.inbetween.loops`).
+    keep_natural : bool
+        Keep ``old``'s natural step rather than measure it on the new motions (a rebuild from
+        corrections by hand: the capture's pace is what it was, and a correction then makes
+        anew only the runs of the transitions it changed; measured again, the median moves a
+        little with the motions and every run that could not reach it is made again, all
+        nine of a 60 fps take's after one motion was dropped).
+
+    Returns
+    -------
+    dict
+        ``data``: what ``blends.json`` holds; ``frames``: the in-between frames stored;
+        ``seconds``: CPU seconds the runs took in all; ``made``: the runs made (not copied),
+        transitions and loop closings; ``bounds`` and ``max_counts`` of them.
+    """
+    from .layout import MeshWriter, frame_keys, frame_offsets, mesh_arrays
+
+    arrays = mesh_arrays(folder)
+    offsets = frame_offsets(folder, arrays).tolist()
+    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    data = _old_data(old, keys)
+    known = {(name, frame): step for name, frame, step in data.get("pair_steps", [])}
+    if keep_natural and data.get("natural_step", 0) > 0:
+        natural, measured = float(data["natural_step"]), known
+    else:
+        natural, measured = _natural(folder, rows, graph, pool, known)
+    textures = _textures(folder, len(arrays["positions"]), len(offsets))
+    reuse = _old_runs(data, natural, count)
+    edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
+             for u, v, d in sorted(graph.edges(data=True))]
+    loops = _loops(graph, count, rooms or {})
+    fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
+    tasks = [("edge", str(folder), rows[a], rows[b], natural, count) for a, b in fresh]
+    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit, end + limit + 1) if (seq, f) in rows},
+               (start, end, at, limit), natural)
+              for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end, at, limit) not in reuse]
+    plans = {u: limit for u, _, (_, limit) in loops}
+    made = pool.map(_blend_task, tasks)
+    progress = bar(len(edges) + len(loops), "blends", unit="run") if bar is not None else None
+    records, closings, seconds = [], [], 0.0
+    jobs = [(u, v, a, b) for u, v, a, b in edges] + [(u, u, at, texton) for u, texton, (at, _) in loops]
+    try:
+        with MeshWriter(folder, prefix="blend_") as writer:
+            for u, v, a, b in jobs:
+                wrap = u == v
+                key = ("wrap", *b, a, plans[u]) if wrap else (a, b)
+                frames, steps, jump, cpu = _copied(old, reuse[key], wrap) if key in reuse else next(made)
+                if wrap:  # a loop's closing: the texton frames it warps, in play order
+                    seq, at, warped = b[0], a, window(b[1], b[2], a, len(frames))[0]
+                    a, b = (seq, b[2]), (seq, b[1])  # the wrap itself, end -> start
+                first = writer.frames
+                for index, (positions, colours, faces, normals, side_) in enumerate(frames):
+                    source = rows[seq, warped[index]] if wrap else rows[(a, b)[side_]]
+                    uv, texture_row = (None, None) if textures is None else (
+                        textures[0][offsets[source][0]:offsets[source][0] + offsets[source][1]], textures[2][source])
+                    writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_row=texture_row)
+                record = {"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
+                          "steps": steps, "exit": list(a), "entry": list(b)}
+                if wrap:
+                    record.update(at=at, limit=plans[u],
+                                  texton=[seq, graph.nodes[u]["start"], graph.nodes[u]["end"]])
+                (records if u != v else closings).append(record)
+                seconds += cpu
+                if progress is not None:
+                    progress.update()
+    finally:
+        if progress is not None:
+            progress.close()
+    data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records,
+            "wraps": closings, "pair_steps": [[name, frame, step] for (name, frame), step in measured.items()]}
+    return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(tasks),
+            "bounds": writer.bounds, "max_counts": writer.max_counts}
+
+
+def _textures(folder, vertices, frames):
+    """The texton frames' ``(uvs, texels, rows)`` (memory-mapped), or None when untextured."""
+    from pathlib import Path
+
+    from .layout import texture_arrays
+
+    return texture_arrays(folder, vertices, frames) if (Path(folder) / "uvs.npy").exists() else None
+
+
+def _old_data(old, keys):
+    """What ``old``'s ``blends.json`` holds about the sequences read from the same frame files
+    (``keys``: sequence -> feature key) as the library being written: its ``edges`` between
+    such sequences and its measured ``pair_steps`` of them; ``{}`` when there is nothing."""
+    from ..errors import TvmError
+
+    try:
+        data = old.blend_data() if old is not None else {}
+    except TvmError:  # a damaged library being replaced lends nothing
+        return {}
+    if not data:
+        return {}
+    same = {name for name, key in data.get("feature_keys", {}).items() if keys.get(name) == key}
+    return dict(data, edges=[e for e in data["edges"] if e["exit"][0] in same and e["entry"][0] in same],
+                wraps=[w for w in data.get("wraps", []) if w["entry"][0] in same],
+                pair_steps=[row for row in data.get("pair_steps", []) if row[0] in same])
+
+
+def _old_runs(data, natural, count):
+    """``{(exit, entry): (first row, count, jump, steps)}`` of the runs of the old library's
+    ``data`` (:func:`_old_data`) that a new build would make the same: same count option, and
+    a run :func:`blend` gives again at this natural step (:func:`_same_run`; a correction that
+    changes the motions changes the natural step a little, and should not make every run again)."""
+    if not data or data.get("blend_frames") != count:
+        return {}
+    runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
+            for e in data["edges"] if count is not None or _same_run(e, data["natural_step"], natural)}
+    if data["natural_step"] == natural:  # a loop's closing is kept at the same natural step only
+        # The same texton closed at the same end and as far: a correction that moves its
+        # cluster's edge may change where it is closed, and then it is closed anew.
+        runs.update({("wrap", *w["texton"], w["at"], w["limit"]): (w["first"], w["count"], w["jump"], w["steps"])
+                     for w in data.get("wraps", []) if "limit" in w})
+    return runs
+
+
+def _same_run(run, was, natural):
+    """Whether :func:`blend` at ``natural`` returns the stored ``run`` (a ``blends.json`` edge,
+    made at natural step ``was`` with no count given): its fields and warps depend on the two
+    frames alone, so it does when its first guess of the count is this run's and the run's
+    steps already stay within ``natural``, or when it was and stays a plain cut."""
+    if natural == was:
+        return True
+    if run["count"] == 0:
+        return run["jump"] <= natural
+    return (run["jump"] > natural and max(frame_count(run["jump"], natural), 1) == run["count"]
+            and max(run["steps"]) <= natural)
+
+
+def _copied(old, run, wrap=False):
+    """A run of ``old`` as :func:`_blend_task` returns one (no CPU time spent)."""
+    first, count, jump, steps = run
+    frames = []
+    for index in range(count):
+        positions, colours, faces, normals = old.blend_row(first + index)
+        frames.append((np.array(positions), np.array(colours), np.array(faces), np.array(normals),
+                       index if wrap else side(index, count)))
+    return frames, steps, jump, 0.0

@@ -1,0 +1,128 @@
+"""The meshes a library stores: which frames, and whether they are linked, copied or read.
+
+Only the frames of database motions can ever be played, so by default only they are stored,
+with the few frames of the neighbouring repetitions their loops are closed onto
+(:mod:`tvmedit.engine.inbetween.loops`), or every frame with ``keep_frames="all"``
+(:class:`tvmedit.engine.store.layout.MeshWriter` writes the flat arrays). Which ones is known only
+after the database is made, and reading them is what a build costs after the features, so
+a build or a rebuild takes them from the library being replaced wherever it can:
+
+* every frame needed is stored there already, under the same sequence, and it stores at
+  most :data:`SPARE_SHARE` more: its arrays are kept as they are (hard links), in no time;
+* otherwise the stored frames are copied from it (byte for byte, in runs of consecutive
+  frames) and only the others are read from their files (:func:`tvmedit.engine.capture.load.read_frame`) on
+  the workers, with their vertex normals.
+
+``run.read_frames`` then says how many frame files were read.
+"""
+
+import time
+
+from . import layout
+from ..errors import InputError
+from ..capture.load import read_frame
+from ..capture.normals import vertex_normals
+
+__all__ = ["reusable", "write", "MESH_CHUNK", "SPARE_SHARE"]
+
+#: Frames per mesh task; each frame is about 1 MB on its way back, so chunks stay small.
+MESH_CHUNK = 4
+#: Frames a library may store besides those of its motions, as a share of them, when its
+#: meshes are kept as they are by a rebuild rather than copied: a correction that drops a
+#: motion keeps its frames (disk) rather than copying all others (time), up to twice the size.
+SPARE_SHARE = 1.0
+
+
+def _mesh_task(paths):
+    """Meshes of a chunk of ``(path, orientation)`` with their normals and textures:
+    ``(meshes, read_s, compute_s)``."""
+    meshes, read_s, compute_s = [], 0.0, 0.0
+    for path, orientation in paths:
+        t0 = time.perf_counter()
+        frame = read_frame(path, orientation)
+        t1 = time.perf_counter()
+        normals = vertex_normals(frame.positions, frame.faces)
+        meshes.append((frame.positions, frame.colours, frame.faces, normals, frame.uv, frame.texture))
+        read_s += t1 - t0
+        compute_s += time.perf_counter() - t1
+    return meshes, read_s, compute_s
+
+
+def reusable(old, computed):
+    """``{(sequence index, frame): (old name, frame)}`` for every frame the library ``old`` stores
+    from the same frame files (the same feature key) as ``computed[index]``."""
+    if old is None:
+        return {}
+    names = {record.get("feature_key"): record["name"] for record in old.manifest["sequences"]}
+    index = {names[entry.key]: s for s, entry in enumerate(computed) if entry.key in names}
+    return {(index[name], frame): (name, frame) for name, frame in old.stored_frames() if name in index}
+
+
+def _linkable(old, keys, stored):
+    """Whether ``old``'s arrays can be kept as they are for the frames ``keys``."""
+    return (old is not None and len(stored) == len(old.stored_frames())
+            and all(stored.get(k) == (old.sequences[k[0]].name, k[1]) for k in keys)
+            and len(stored) <= (1 + SPARE_SHARE) * len(keys))
+
+
+def _next_read(results, missing):
+    """The next chunk of frames read; a frame that cannot be read says why it was needed."""
+    try:
+        return next(results)
+    except InputError as error:
+        raise InputError(f"{str(error).rstrip('.')}; the library needs {missing} frame(s) it did not "
+                         "store before (of motions that changed, or that their loops are closed onto), "
+                         "so put the sequence's frame files back where it was built from.") from None
+
+
+def write(tmp, needed, pool, run, old=None, stored=None):
+    """Store the ``needed`` frames ``(sequence index, frame, path, orientation)`` in the library
+    folder ``tmp``: linked or copied from ``old`` where ``stored`` (:func:`reusable`) has them,
+    else read on ``pool``. Returns the :class:`tvmedit.engine.store.layout.MeshWriter` (or what
+    :func:`tvmedit.engine.store.layout.link_meshes` returns)."""
+    stored = stored or {}
+    run.read_frames = 0
+    if _linkable(old, [item[:2] for item in needed], stored):
+        return layout.link_meshes(old, tmp)
+    bar = run.bar(len(needed), "meshes")
+    missing = [item for item in needed if item[:2] not in stored]
+    chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
+    tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
+    read = iter(())
+    # Untextured stored frames are copied in runs of consecutive rows, byte for byte.
+    rows = {key: r for r, key in enumerate(old.stored_frames())} if old is not None and not old.textured else {}
+    pending = []
+
+    def flush():
+        if pending:
+            writer.copy_frames(old, [r for r, _ in pending], [k for _, k in pending])
+            pending.clear()
+
+    try:
+        with layout.MeshWriter(tmp) as writer:
+            results = pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)
+            for seq_index, frame, _, _ in needed:
+                key = stored.get((seq_index, frame))
+                if key in rows:
+                    if pending and pending[-1][0] != rows[key] - 1:
+                        flush()
+                    pending.append((rows[key], (seq_index, frame)))
+                elif key is not None:
+                    flush()
+                    texture = old.frame_texture(key)
+                    writer.add(seq_index, frame, *old.frame_mesh(key), *(texture or (None, None)))
+                else:
+                    flush()
+                    mesh = next(read, None)
+                    if mesh is None:
+                        meshes, read_s, compute_s = _next_read(results, len(missing))
+                        run.add_times(read_s, compute_s)
+                        read = iter(meshes)
+                        mesh = next(read)
+                    writer.add(seq_index, frame, *mesh)
+                bar.update()
+            flush()
+    finally:
+        bar.close()
+    run.read_frames = len(missing)
+    return writer

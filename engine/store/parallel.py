@@ -1,0 +1,185 @@
+"""Running independent tasks on local worker processes or a dask.distributed cluster.
+
+A library build reads and summarises thousands of frame files, each independently of the
+others once a sequence's origin is known. :class:`Workers` spreads such tasks and hands the
+results back *in submission order*, so a parallel build stacks exactly what a serial one
+does and the two libraries are identical.
+
+Only a bounded number of tasks is in flight at a time: results (a chunk of histograms, or
+a chunk of meshes on their way to disk) are consumed in order as they arrive, so memory stays
+flat however long the input.
+
+Dask is optional and imported only when a build asks for it (``dask="tcp://host:8786"`` or
+``dask="local"``). Workers of a remote cluster must see the frame files under the same paths
+(a shared file system) and have tvmedit installed.
+"""
+
+import os
+from collections import deque
+
+from ..errors import TvmError
+from ..checks import whole
+
+#: Most local worker processes a pool may start.
+MAX_WORKERS = 512
+
+__all__ = ["Workers", "default_workers"]
+
+
+def _watch_parent(parent):
+    """Worker initializer: exit when the build process is gone (killed, it cannot say so).
+
+    Signals are the parent's business: a forked worker would otherwise inherit its SIGTERM
+    handler and print a KeyboardInterrupt traceback of its own on Ctrl-C.
+    """
+    import signal
+    import threading
+    import time
+
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
+def default_workers():
+    """All the cores this process may run on."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class Workers:
+    """Where tasks run: in this process, on local processes, or on a dask cluster.
+
+    Parameters
+    ----------
+    workers : int or None
+        Local worker processes; ``None`` means all cores and ``1`` runs every task in this
+        process (no pool at all). With ``dask="local"`` it is the LocalCluster's size.
+    dask : str or None
+        Address of a running dask.distributed scheduler, or ``"local"`` to start a
+        ``LocalCluster`` for the duration of the build.
+
+    Use as a context manager; :meth:`map` yields results in the order of the tasks.
+
+    >>> with Workers(1) as pool:
+    ...     list(pool.map(abs, [-1, 2, -3]))
+    [1, 2, 3]
+    """
+
+    def __init__(self, workers=None, dask=None):
+        if workers is not None:
+            workers = whole("workers", workers, at_least=1, at_most=MAX_WORKERS,
+                            hint=" worker processes")
+        self.workers = default_workers() if workers is None else workers
+        self.dask = dask
+        self._executor = None
+        self._client = None
+        self._cluster = None
+
+    @property
+    def kind(self):
+        """``"serial"``, ``"processes"`` or ``"dask"``: what :meth:`map` will use."""
+        if self.dask:
+            return "dask"
+        return "serial" if self.workers == 1 else "processes"
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def _start(self):
+        if self.dask and self._client is None:
+            try:
+                from distributed import Client, LocalCluster
+            except ImportError:
+                raise TvmError(f"dask={self.dask} needs dask.distributed, which is not installed; "
+                               "install it with: pip install 'tvmedit[dask]'") from None
+            try:
+                if self.dask == "local":
+                    self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
+                                                 processes=True, dashboard_address=None)
+                    self._client = Client(self._cluster)
+                else:
+                    _check_address(self.dask)
+                    self._client = Client(self.dask, timeout=10)
+            except ValueError as error:
+                # "missing port number", "unknown address scheme", a port that is not a number.
+                raise TvmError(f"dask={self.dask} is not a scheduler address ({error}); give one "
+                               "such as tcp://host:8786, or local to start one here.") from None
+            except (OSError, TimeoutError) as error:
+                raise TvmError(f"cannot reach the dask scheduler at {self.dask} ({error}); "
+                               "start one with `dask scheduler` or use dask=local.") from None
+        elif not self.dask and self.workers > 1 and self._executor is None:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            # fork starts workers in milliseconds with numpy already imported; elsewhere the
+            # platform's default start method is used.
+            methods = multiprocessing.get_all_start_methods()
+            context = multiprocessing.get_context("fork" if "fork" in methods else None)
+            self._executor = ProcessPoolExecutor(self.workers, mp_context=context,
+                                                 initializer=_watch_parent, initargs=(os.getpid(),))
+
+    def map(self, fn, tasks, window=None):
+        """Yield ``fn(task)`` for every task, in order, running up to ``window`` at a time.
+
+        ``fn`` must be a module-level function (it is pickled to the workers). Exceptions
+        raised by ``fn`` propagate to the caller unchanged.
+        """
+        tasks = iter(tasks)
+        if self.kind == "serial":
+            for task in tasks:
+                yield fn(task)
+            return
+        self._start()
+        window = window or 4 * self.workers
+        submit = (self._client.submit if self._client is not None else self._executor.submit)
+        pending = deque()
+        try:
+            for task in tasks:
+                pending.append(submit(fn, task, pure=False) if self._client is not None
+                               else submit(fn, task))
+                if len(pending) >= window:
+                    yield pending.popleft().result()
+            while pending:
+                yield pending.popleft().result()
+        finally:
+            for future in pending:
+                future.cancel()
+
+    def close(self):
+        """Stop the pool or disconnect from the cluster (a LocalCluster is shut down)."""
+        if self._executor is not None:
+            self._executor.shutdown(wait=True, cancel_futures=True)
+            self._executor = None
+        if self._client is not None:
+            self._client.close()
+            self._client = None
+        if self._cluster is not None:
+            self._cluster.close()
+            self._cluster = None
+
+
+def _check_address(address):
+    """Raise ValueError for a scheduler address that cannot be one, before any connection.
+
+    A ``Client`` finds out only once its event loop runs, which takes a second and has been
+    seen to hang; distributed's own parsers answer at once, with its own messages.
+    """
+    from distributed.comm.addressing import parse_address, parse_host_port
+    from distributed.comm.registry import get_backend
+
+    scheme, location = parse_address(address)
+    get_backend(scheme)
+    if scheme in ("tcp", "tls"):
+        parse_host_port(location)
