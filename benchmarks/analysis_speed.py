@@ -22,7 +22,6 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 
 from tvmedit.engine.features import BinSizes, FeatureAccumulator  # noqa: E402
 from tvmedit.engine.capture.load import frame_paths, iter_frames, open_sequence  # noqa: E402

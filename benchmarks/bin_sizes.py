@@ -10,11 +10,9 @@ frame) that the distance works on.
 
 import argparse
 import math
-import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
-sys.path.insert(0, str(ROOT))
 
 from accuracy import CACHE, VARIANTS, take_folder  # noqa: E402
 

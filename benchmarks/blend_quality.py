@@ -32,7 +32,6 @@ import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
-sys.path.insert(0, str(ROOT))
 
 from tvmedit import engine # noqa: E402
 from tvmedit.engine.inbetween import blend  # noqa: E402

@@ -23,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
 SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
 CARD = SHARED / "data" / "scvv-card"
 LIMIT = 2.0

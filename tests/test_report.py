@@ -73,7 +73,7 @@ def _images(page):
             for m in re.finditer(r"<img src='([^']+)' width='(\d+)' height='(\d+)'", page)]
 
 
-def test_the_cli_prints_the_page_it_wrote_and_draws_pruned_edges_on_request(ctx, library, tmp_path, capsys):
+def test_the_cli_prints_the_page_and_draws_pruned_edges_on_request(ctx, library, tmp_path, capsys):
     page, summary = _report(library, tmp_path / "out", capsys, "--show-pruned")
     assert all(f">{title}</h2>" in page for title in SECTIONS)
     assert not list(tmp_path.glob(".out.*"))
@@ -180,7 +180,7 @@ def test_pruned_edges_are_hidden_unless_asked_for(tmp_path):
         G.add_node(i, name=f"m/{i}")
     for i, j in [(0, 1), (1, 2), (2, 0)]:
         G.add_edge(i, j, weight=G.graph["unpruned"][i, j], exit_frame=0, entry_frame=0)
-    from tvmedit.player.report import graph_figure
+    from tvmedit.player.figures import graph_figure
 
     hidden = graph_figure(G, tmp_path / "hidden.png")
     shown = graph_figure(G, tmp_path / "shown.png", show_pruned=True)
@@ -216,7 +216,7 @@ def test_a_failed_report_leaves_nothing_and_other_folders_are_not_replaced(ctx, 
 def test_without_matplotlib_one_sentence_says_what_to_install(monkeypatch):
     import sys
 
-    from tvmedit.player.report import require_matplotlib
+    from tvmedit.player.figures import require_matplotlib
 
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     with pytest.raises(TvmError, match=r"pip install 'tvmedit\[report\]'"):
@@ -224,7 +224,7 @@ def test_without_matplotlib_one_sentence_says_what_to_install(monkeypatch):
 
 
 def test_plotting_returns_the_markers_it_draws(tmp_path):
-    from tvmedit.player.report import atom_distance_figure
+    from tvmedit.player.figures import atom_distance_figure
 
     curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
     plotted = atom_distance_figure(curve, [(20, 29), (0, 9), (10, 19)], [(0, 29), (30, 59)],
@@ -237,7 +237,7 @@ def test_the_least_sure_boundaries_are_marked_red(tmp_path):
     # Three boundaries, one of them under LOOK_BELOW (0.097: written 0.097, not 0.10): only that
     # one gets the red dashed line, down the curve's axes at its frame; a boundary of unknown
     # confidence (None) gets neither line nor figure.
-    from tvmedit.player.report import UNSURE_COLOUR, atom_distance_figure
+    from tvmedit.player.figures import UNSURE_COLOUR, atom_distance_figure
 
     curve = np.abs(np.sin(np.arange(80) * np.pi / 10))
     clusters = [(0, 19), (20, 39), (40, 59), (60, 79)]
@@ -265,7 +265,8 @@ def test_turns_the_parser_cut_no_boundary_at_are_marked_and_named(report, tmp_pa
     assert summary["sequences"][0]["turns_s"] == []
     assert "turning at" not in page
     # Turns are drawn as purple triangles along the top, where the parser read them.
-    from tvmedit.player.report import TURN_COLOUR, _turns_paragraph, atom_distance_figure
+    from tvmedit.player.figures import TURN_COLOUR, atom_distance_figure
+    from tvmedit.player.report import _turns_paragraph
 
     # On a curve of any scale (here 0-50) they sit at the top, at the turns' frames (the
     # legend's own triangle, upper right, is left out of the count).
@@ -304,8 +305,7 @@ def test_a_take_where_the_actor_turns_names_the_turns_on_its_page(ctx, tmp_path)
     assert row["turns_s"] and all(np.abs(turning - t).min() <= 1.0 for t in row["turns_s"]), (row["turns_s"], turning)
     # The parse holds the three exercises, none split at a turn, the change into side bends
     # right. The change into squats, which start from an upright pose as the side bends' own,
-    # is placed 1.2 s late since step 29 of docs/parsing.md (the pace weighed twice in the
-    # novelty; 0.4 s late before it, 1.2 s late in tvmedit's axes with either weight).
+    # is placed about 1.2 s late (the novelty weighs the pace twice).
     starts = [cs / truth["fps"] for cs, _ in row["clusters"]]
     true = [seg["start"] / truth["fps"] for seg in truth["segments"]]
     assert len(starts) == 3 and abs(starts[1] - true[1]) <= 1.0 and abs(starts[2] - true[2]) <= 1.5, (starts, true)
@@ -341,7 +341,7 @@ def test_the_heading_the_parser_followed_is_shown_beside_the_curve(report, tmp_p
     assert summary["sequences"][0]["heading_deg"] == [0.0, 0.0]
     assert "followed no turn" in page
     # A turning take's heading is drawn on an axis of its own, in grey, beside the curve.
-    from tvmedit.player.report import atom_distance_figure
+    from tvmedit.player.figures import atom_distance_figure
 
     curve = np.abs(np.sin(np.arange(60) * np.pi / 10))
     grey = []

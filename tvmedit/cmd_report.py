@@ -40,7 +40,8 @@ def add_arguments(parser):
 
 def run(args):
     from tvmedit.engine.store.library import Library
-    from tvmedit.player.report import require_matplotlib, write_report
+    from tvmedit.player.figures import require_matplotlib
+    from tvmedit.player.report import write_report
 
     require_matplotlib()  # says how to install matplotlib before any work is done
     library = Library.open(args.library)
