@@ -62,7 +62,7 @@ def main(argv=None):
     try:
         # Building the parser imports the command (and for some, numpy): Ctrl-C may come here.
         parser = _parser(argv)
-        args = parser.parse_args(argv)
+        args = _parse(parser, argv)
         if args.command is None:
             parser.print_help()
             return 0
@@ -86,6 +86,16 @@ def main(argv=None):
         print(f"error: cannot use{where} ({error.strerror or error}); check the path, its "
               "permissions and the free disk space.", file=sys.stderr)
         return 2
+
+
+def _parse(parser, argv):
+    """The arguments; KEYs written after options (``path LIB --wander 60 walk/01``) are KEYs
+    too, which argparse alone leaves over once an optional positional has taken none."""
+    args, extra = parser.parse_known_args(argv)
+    if extra and isinstance(getattr(args, "keys", None), list) and not any(a.startswith("-") for a in extra):
+        args.keys += extra
+        return args
+    return parser.parse_args(argv)
 
 
 def _sentence(message):

@@ -24,6 +24,12 @@ a loop's closing frames], "transitions":
 asked a length also has "goal_frames" and "loops" (extra cycles of each motion on its path).
 An unknown motion is refused with the list of known names; an unreachable pair exits with
 status 3 and says at which --mu a path would exist.
+
+--wander SECONDS plays a walk in place of key motions: each motion loops about as many cycles
+as the capture shows (at most a few seconds), then a transition is drawn, cheap ones likeliest
+(--temperature), toward the motions played least, never the one taken the last time the motion
+was left. --seed makes it reproducible, --only and --forbid keep it to some motions; a KEY, if
+given, is where it starts. Its JSON is the same, one leg per transition.
 """
 
 import json
@@ -36,11 +42,12 @@ HELP = "best paths between key motions and the frame schedule of the edit"
 def add_edit_arguments(parser):
     """LIB, KEY..., --forbid and --loops, shared by path, export and render."""
     parser.add_argument("library", metavar="LIB", help="library directory made by tvmedit build")
-    parser.add_argument("keys", metavar="KEY", nargs="+", help="key motions, by id or name, in order")
+    parser.add_argument("keys", metavar="KEY", nargs="*", help="key motions, by id or name, in order")
     options.add_forbid(parser)
     parser.add_argument("--loops", type=options.cycles, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
     options.add_timing(parser)
+    options.add_wander(parser)
 
 
 def add_arguments(parser):
@@ -52,9 +59,10 @@ def open_edit(args):
     """Open the library and compose the edit the arguments describe."""
     from tvmedit.engine.store.library import Library
 
-    timing = options.check_timing(args)
+    options.check_wander(args)
+    timing = {} if args.wander else options.check_timing(args)
     library = Library.open(args.library)
-    return library, library.edit(args.keys, forbid=args.forbid, loops=args.loops, **timing)
+    return library, options.edit_of(library, args, timing)
 
 
 def run(args):

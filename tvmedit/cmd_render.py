@@ -35,6 +35,7 @@ def add_arguments(parser):
     parser.add_argument("--loops", type=options.cycles, default=1, metavar="N",
                         help="cycles of the last key motion (default 1)")
     options.add_timing(parser)
+    options.add_wander(parser)
     parser.add_argument("--size", type=options.size, default=None, metavar="WxH",
                         help="frame size (default 640x480); with --node the size of each tile "
                              "(default 160x120; 640x480 for a textured capture)")
@@ -73,7 +74,8 @@ def run(args):
     from tvmedit.engine.store.library import Library
     from tvmedit import player
 
-    timing = options.check_timing(args) if args.node is None and len(args.keys) >= 2 else {}
+    options.check_wander(args)
+    timing = options.check_timing(args) if args.node is None and len(args.keys) >= 2 and not args.wander else {}
     library = Library.open(args.library)
     try:
         if args.node is not None:
@@ -97,9 +99,10 @@ def run(args):
             shown = "" if len(frames) == node.n_frames else f", {len(frames)} of them shown"
             print(f"wrote the contact sheet of {node.name} ({node.n_frames} frames{shown}) to {args.out}")
             return 0
-        if len(args.keys) < 2:
-            raise TvmError("give two or more key motions to render an edit, or --node NAME for a contact sheet.")
-        edit = library.edit(args.keys, forbid=args.forbid, loops=args.loops, **timing)
+        if len(args.keys) < 2 and not args.wander:
+            raise TvmError("give two or more key motions to render an edit, --wander SECONDS for a walk, "
+                           "or --node NAME for a contact sheet.")
+        edit = options.edit_of(library, args, timing)
         fps = args.fps or edit.fps
         size = args.size or (640, 480)
         camera = camera_for(library, size, args.camera, args.orbit) if args.camera else None

@@ -126,6 +126,69 @@ def add_timing(parser):
                             "not a warning and the nearest length")
 
 
+def seconds(text):
+    """A length in seconds above 0, for --wander."""
+    value = _second(text, "the walk's length")
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"should be the walk's length in seconds above 0, not {text!r}")
+    return value
+
+
+def add_wander(parser, length=True):
+    """--wander [SECONDS], --seed, --only and --temperature: a walk over the library
+    (:mod:`tvmedit.engine.playback.wander`) in place of key motions."""
+    group = parser.add_argument_group("wandering (a walk that plays itself, in place of key motions)")
+    if length:
+        group.add_argument("--wander", type=seconds, metavar="SECONDS",
+                           help="play a walk this long over the library's motions, each chosen at random, cheap "
+                                "transitions likeliest, none repeated back to back; a KEY, if given, is where "
+                                "it starts")
+    else:
+        group.add_argument("--wander", action="store_true",
+                           help="when nothing is queued, walk on to motions chosen at random (cheap transitions "
+                                "likeliest) instead of looping the current one; a key pressed is played, then "
+                                "the walk goes on")
+    group.add_argument("--seed", type=int, default=None, metavar="N", help="seed of the walk: the same seed, the same walk")
+    group.add_argument("--only", metavar="KEY", nargs="+", action="extend", default=None,
+                       help="the motions the walk may play (default: all but --forbid)")
+    group.add_argument("--temperature", type=positive, default=1.0, metavar="T",
+                       help="how freely the walk takes costly transitions, as a multiple of the median "
+                            "transition weight (default 1; smaller keeps to the cheapest)")
+
+
+def check_wander(args):
+    """With --wander: at most one KEY (where it starts) and no lengths; without, no walk options."""
+    from tvmedit.engine.errors import TvmError
+
+    if not args.wander:
+        for flag, value in (("--seed", args.seed), ("--only", args.only)):
+            if value is not None:
+                raise TvmError(f"{flag} shapes a walk: add --wander, or leave {flag} out.")
+        return
+    if len(args.keys) > 1:
+        raise TvmError(f"a walk chooses its own motions: give at most one KEY with --wander, where it starts "
+                       f"(got {len(args.keys)}).")
+    for flag, value in (("--durations", getattr(args, "durations", None)), ("--at", getattr(args, "at", None)),
+                        ("--hold", getattr(args, "hold", None))):
+        if value:
+            raise TvmError(f"{flag} times key motions; a walk has none: use --wander SECONDS for its length.")
+
+
+def edit_of(library, args, timing):
+    """The edit the arguments describe: a walk with --wander, else the key motions' edit."""
+    if args.wander:
+        from tvmedit.engine.playback.wander import library_walk
+
+        return library_walk(library, args.wander, seed=args.seed, only=args.only, forbid=args.forbid,
+                            temperature=args.temperature, start=args.keys[0] if args.keys else None)
+    if len(args.keys) < 2:
+        from tvmedit.engine.errors import TvmError
+
+        raise TvmError(f"an edit goes through two or more key motions (got {len(args.keys)}): name them, "
+                       f"or give --wander SECONDS for a walk that chooses its own.")
+    return library.edit(args.keys, forbid=args.forbid, loops=args.loops, **timing)
+
+
 def check_timing(args):
     """The counts of --durations and --at and the keys of --hold, against the KEYs given."""
     from tvmedit.engine.errors import TvmError
