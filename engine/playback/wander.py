@@ -43,7 +43,7 @@ from ..graph.motiongraph import node_by_key
 from ..graph.search import motion_label
 from ..inbetween.loops import closing
 
-__all__ = ["Wander", "Visit", "RECENT", "VISIT_S", "capture_cycles", "library_walk"]
+__all__ = ["Wander", "Walker", "Visit", "RECENT", "VISIT_S", "capture_cycles", "library_walk"]
 
 #: Longest stay a visit draws its cycles around, seconds: an idle character changes motion
 #: every few seconds, however long the capture held one.
@@ -137,37 +137,34 @@ class Wander:
                            f"without motions it may not play: {groups}. Allow the motions between them, "
                            f"or keep the walk to one group.")
 
+    def walker(self):
+        """A fresh :class:`Walker` of this walk: its draws from the start, by its seed."""
+        return Walker(self)
+
     def visits(self):
         """The walk's visits, for ever: one :class:`Visit` per motion played."""
-        rng = np.random.default_rng(self.seed)
         graph = self.graph
-        node = self.start if self.start is not None else self.allowed[int(rng.integers(len(self.allowed)))]
+        walker = self.walker()
+        node = walker.first()
         entry = texton_span(graph, node)[1]
-        played = dict.fromkeys(self.allowed, 0)
-        recent = deque(maxlen=min(RECENT, len(self.allowed) - 1) or 1)
-        left_by = {}
-        goal = None
         while True:
             sequence, start, end = texton_span(graph, node)
             length = end - start + 1
-            if goal is None or goal == node:
-                goal = self._draw_goal(rng, node, played, recent)
-            target = self._draw_step(rng, node, goal, recent, left_by.get(node))
+            target = walker.next(node)
             if target is None:  # a single motion: it plays on for ever
                 yield Visit(node, _texton_entries(graph, node, sequence, start, end, entry, length, True), None)
                 continue
             w, exit_frame, entry_frame = checked_edge(graph, node, target, self.weight)
             once = plays_once(graph, node)
-            extra = 0 if once else self._draw_extra(rng, node, played)
+            extra = 0 if once else walker.extra_cycles(node)
             count = play_length(start, end, entry, exit_frame, once) + extra * length
             entries = _texton_entries(graph, node, sequence, start, end, entry, count, False)
-            played[node] += count
+            walker.played(node, count)
             blend = blend_entries(graph, node, target)
             transition = Transition(len(entries) + len(blend), node, target, w, exit_frame, entry_frame,
                                     len(blend))
             yield Visit(node, entries + blend, transition)
-            left_by[node] = target
-            recent.append(node)
+            walker.left(node, target)
             node, entry = target, entry_frame
 
     def __iter__(self):
@@ -195,39 +192,73 @@ class Wander:
         starts = [0] + [t.index for t in transitions]
         return Composition(keys, legs, schedule, transitions, loops=1, starts=starts)
 
-    def _draw_goal(self, rng, node, played, recent):
-        others = [m for m in self.allowed if m != node]
+class Walker:
+    """The draws and the memory of one walk: where to go from a motion, and how many cycles to
+    play there. :meth:`Wander.visits` plays its choices; the realtime playhead asks it when
+    nothing is queued and tells it what was played (:class:`~tvmedit.engine.playback.Playhead`)."""
+
+    def __init__(self, wander):
+        self.wander = wander
+        self.rng = np.random.default_rng(wander.seed)
+        self.frames = dict.fromkeys(wander.allowed, 0)    # texton frames played per motion
+        self.recent = deque(maxlen=min(RECENT, len(wander.allowed) - 1) or 1)
+        self.left_by = {}                                 # motion -> where it was last left for
+        self.goal = None
+
+    def first(self):
+        """The motion the walk starts at."""
+        w = self.wander
+        return w.start if w.start is not None else w.allowed[int(self.rng.integers(len(w.allowed)))]
+
+    def next(self, node):
+        """The motion to go to from ``node`` (None: ``node`` is the only one allowed)."""
+        if self.goal is None or self.goal == node:
+            self.goal = self._draw_goal(node)
+        return self._draw_step(node)
+
+    def played(self, node, frames):
+        """``frames`` of ``node``'s texton were shown."""
+        if node in self.frames:
+            self.frames[node] += frames
+
+    def left(self, node, target):
+        """The walk left ``node`` for ``target``."""
+        self.left_by[node] = target
+        self.recent.append(node)
+
+    def _draw_goal(self, node):
+        w = self.wander
+        others = [m for m in w.allowed if m != node]
         if not others:
             return node
-        fresh = [m for m in others if m not in recent] or others
-        mean = max(1.0, sum(played.values()) / len(played))
-        odds = np.array([math.exp(-6.0 * played[m] / mean) for m in fresh])
-        return fresh[int(rng.choice(len(fresh), p=odds / odds.sum()))]
+        fresh = [m for m in others if m not in self.recent] or others
+        mean = max(1.0, sum(self.frames.values()) / len(self.frames))
+        odds = np.array([math.exp(-6.0 * self.frames[m] / mean) for m in fresh])
+        return fresh[int(self.rng.choice(len(fresh), p=odds / odds.sum()))]
 
-    def _draw_step(self, rng, node, goal, recent, last):
-        graph = self.graph
-        choices = sorted(v for v in graph.successors(node) if v in self._hops[node] and v != node
-                         and v in self.cycles)
-        if len(choices) > 1 and last in choices:
-            choices.remove(last)
+    def _draw_step(self, node):
+        w, goal = self.wander, self.goal
+        choices = sorted(v for v in w.graph.successors(node) if v in w._hops[node] and v != node and v in w.cycles)
+        if len(choices) > 1 and self.left_by.get(node) in choices:
+            choices.remove(self.left_by[node])
         if not choices:
             return None
-        here = self._hops[node].get(goal, 0)
-        odds = np.array([math.exp(-float(graph.edges[node, v][self.weight]) / self.temperature)
-                         * math.exp(-2.0 * (self._hops[v].get(goal, here + 1) - here + 1))
-                         * (0.25 if v in recent and v != goal else 1.0) for v in choices])
+        here = w._hops[node].get(goal, 0)
+        odds = np.array([math.exp(-float(w.graph.edges[node, v][w.weight]) / w.temperature)
+                         * math.exp(-2.0 * (w._hops[v].get(goal, here + 1) - here + 1))
+                         * (0.25 if v in self.recent and v != goal else 1.0) for v in choices])
         if not odds.sum() > 0:
             odds = np.ones(len(choices))
-        return choices[int(rng.choice(len(choices), p=odds / odds.sum()))]
+        return choices[int(self.rng.choice(len(choices), p=odds / odds.sum()))]
 
-    def _draw_extra(self, rng, node, played):
+    def extra_cycles(self, node):
         """Whole cycles a visit adds to the one it plays at least: drawn around the capture's
         count, scaled down for a motion that has played more than its even share so far and
         up for one that has played less (motions every path passes through stay in bounds)."""
-        mean = sum(played.values()) / len(played)
-        share = played[node] / mean if mean > 0 else 1.0
-        shown = self.cycles[node] * min(2.0, max(0.0, 2.0 - share))
-        return max(0, int(round(rng.normal(shown, max(0.5, shown / 3)))) - 1)
+        mean = sum(self.frames.values()) / len(self.frames)
+        share = self.frames.get(node, 0) / mean if mean > 0 else 1.0
+        shown = self.wander.cycles.get(node, 2.0) * min(2.0, max(0.0, 2.0 - share))
+        return max(0, int(round(self.rng.normal(shown, max(0.5, shown / 3)))) - 1)
 
 
 def _texton_entries(graph, node, sequence, start, end, entry, count, rests):
