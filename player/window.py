@@ -384,6 +384,7 @@ class Window:
             glfw.KEY_LEFT: "left", glfw.KEY_RIGHT: "right", glfw.KEY_UP: "up", glfw.KEY_DOWN: "down",
             glfw.KEY_KP_ADD: "kp_add", glfw.KEY_KP_SUBTRACT: "kp_subtract"}
         self.redraws = 0
+        self.elapsed = None       # seconds played, once run() ends
         self._redraw_s = 0.0        # how long a camera redraw takes (80th percentile of recent ones)
         self._redraw_times = []     # recent camera redraws, seconds
         self._swap_s = 0.0          # how long a swap takes (moving average)
@@ -464,9 +465,10 @@ class Window:
                 next_redraw = max(began + 1 / MAX_REDRAW_HZ, shown)
         finally:
             now = self.clock()
-            app.write_footer(now, self.redraws, now - start, time.process_time() - cpu)
+            self.elapsed = now - start
+            app.write_footer(now, self.redraws, self.elapsed, time.process_time() - cpu)
             self.close()
-        return self.redraws, now - start
+        return self.redraws, self.elapsed
 
     def _wait_until(self, moment):
         while (left := moment - self.clock()) > 0:

@@ -481,3 +481,12 @@ def test_shift_key_in_a_real_window_holds_the_motion(xdisplay, small_library, tm
     held = next(frames for node, frames in _runs(_frames(rows)) if node == order[1])
     texton = library.node(order[1])
     assert len(held) >= 60 + texton.end - texton.start + 1    # 1.5 s at 40 fps, then the whole texton
+
+
+def test_stats_are_printed_when_the_player_is_ended_by_sigterm(xdisplay, small_library, tmp_path):
+    with _Window(xdisplay, [small_library, "--stats", "--size", "320x240"], tmp_path) as window:
+        time.sleep(1.0)
+        window.player.terminate()
+        out, err = window.player.communicate(timeout=20)
+    assert "redraws per second" in err, err
+    assert window.rows()[-1].get("event") == "stop"

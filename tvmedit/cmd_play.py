@@ -105,11 +105,14 @@ def run(args):
             app.queue(node, time.perf_counter())
         window = Window(app, size=args.size, title=f"tvmedit - {os.path.basename(os.path.normpath(args.library))}",
                         clock=time.perf_counter)
-        redraws, seconds = window.run(args.seconds)
+        try:
+            window.run(args.seconds)
+        finally:
+            # Also when ended by SIGTERM or Ctrl-C, which unwind through here.
+            if args.stats and window.elapsed is not None:
+                print(f"{app.frames_shown} sequence frames and {window.redraws} redraws in {window.elapsed:.1f} s: "
+                      f"{window.redraws / max(window.elapsed, 1e-9):.1f} redraws per second", file=sys.stderr)
     finally:
         if log is not None:
             log.close()
-    if args.stats:
-        print(f"{app.frames_shown} sequence frames and {redraws} redraws in {seconds:.1f} s: "
-              f"{redraws / max(seconds, 1e-9):.1f} redraws per second", file=sys.stderr)
     return 0
