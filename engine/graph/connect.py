@@ -35,7 +35,7 @@ choosing them in two steps.
    that size and up are enumerated, smallest total weight first among the fewest, as long as
    at most :data:`EXACT_BUDGET` sets are tried. Beyond that the answer is the greedy one
    (rounds of Eswaran and Tarjan's pairing of sinks with sources, lightest edge first), marked
-   ``fewest=False`` unless it meets the lower bound. Step 1's guarantee holds either way.
+   ``fewest=False`` unless it meets the lower bound. The least threshold holds either way.
 
 Everything runs on dense (N, N) arrays with scipy's strongly connected components, so a
 1,000-motion graph connects in a fraction of a second (``benchmarks/connect_speed.py``).
@@ -175,7 +175,7 @@ def _condense(w, kept, labels, count):
 
 
 def _least_threshold(between, best):
-    """Step 1: the least candidate weight t* at which the condensation is strongly connected."""
+    """The least candidate weight t* at which the condensation is strongly connected."""
     values = np.unique(best[np.isfinite(best)])
     if not len(values) or not strongly_connected(between | (best <= values[-1])):
         raise ValueError("even the complete motion graph is not strongly connected "
@@ -198,7 +198,7 @@ def _pairs_up_to(between, best, threshold):
 
 
 def _fewest(between, pairs, best, threshold):
-    """Step 2: the fewest pairs that connect the condensation, exact within the budget."""
+    """The fewest pairs that connect the condensation, exact within the budget."""
     greedy = _greedy(between, np.where(best <= threshold, best, np.inf))
     k = len(between)
     outgoing, incoming = between.any(axis=1), between.any(axis=0)

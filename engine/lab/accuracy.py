@@ -48,29 +48,10 @@ BARS = (0.95, 0.95, 0.90)
 BOOTSTRAP = 500
 
 #: Settings cross-validation chooses from (the default among them); the first of equals is
-#: taken, i.e. the step left out. Held at their defaults, because every fold of the
-#: cross-validations that had them among the settings chose them (README, *Held back*): the
-#: novelty window at 4 s (steps 4-17), transitions joined (step 18's, both frames), and,
-#: from step 20 on, pauses left out of periods, the heading followed, boundaries between
-#: whole periods and at the onset (step 19's, 768 settings, in the body's axes: on step 19
-#: the 48 of step 20, this grid without ``rhythm_ratio`` and ``novelty_pace``, give the same held-out figures,
-#: and on the 46 takes of step 20 too). Step 21
-#: (weak peaks where the rhythm changes) came in among them: 96 settings. In tvmedit's axes
-#: (``TVMEDIT_DEV_FRAME=stored``) the synthetic folds choose neither the heading nor
-#: boundaries between whole periods, so there those three steps stay among the settings
-#: (768). Step 29 (the pace's weight in the novelty rows, 2 instead of 1) came in among them,
-#: the lighter weight first, so that a fold whose training groups score both alike takes 1:
-#: 192 settings in the body's axes (1536 in tvmedit's). Step 30 (the earlier-twin rule,
-#: ``twin_peak`` 0.9, left out: 1) was measured with both among these (384): held out
-#: exactly as with either alone, the synth, synth-drift and cmu folds choosing 0.9 by one
-#: HDM05 cluster's texton length (docs/parsing.md, step 30); it is held at its default.
-#: Step 31 (textons cut at half the period, ``comb`` 0.5; 0 leaves it out) too: held out by
-#: group as with either alone, three folds choosing 0.5 and the hdm05 fold's training groups
-#: scoring both alike; by person 0.919 with both, 0.923 with 0.5 alone. Held at its default.
-#: Step 33 (the settling on both views, ``settle_free`` 1; 0 leaves it out) moves no suite
-#: boundary in the body's axes at the defaults or the folds' settings; the grid run with it at
-#: 1 throughout gave the same held-out figures as at 0, every fold choosing as before. Held at
-#: its default, not among the settings.
+#: taken, i.e. the rule left out. The parameters not in the grid are held at their defaults,
+#: because every fold of the cross-validations that had them among its settings chose them.
+#: In tvmedit's axes (``TVMEDIT_DEV_FRAME=stored``) the synthetic folds choose neither the
+#: heading nor boundaries between whole periods, so there those rules stay among the settings.
 GRID = [{"novelty_pace": w, "novelty_components": c, "novelty_threshold": t, "turn_ratio": v, "shoulder": m,
          "weak_boundary": b, "period_tolerance": q, "rhythm_ratio": h}
         for w in (1.0, 2.0)

@@ -42,7 +42,7 @@ BATCHES = {
         ("dg", "squat1Reps:6,depositFloorR:4,elbowToKnee1RepsLelbowStart:5,grabHighR:4,kickLFront1Reps:4", 34,
          {"seed": 34, "build": 1.2}),
     ],
-    # The synthetic actor turning to face another way now and then (step 22: boundaries
+    # The synthetic actor turning to face another way now and then (a parser change: boundaries
     # behind a turn), made before the step was tried on them.
     "step22": [
         ("synth", "turns-a", dict(motions=["arm-circles", "jumping-jacks", "twist", "squats"], cycles=[6, 8, 5, 5],
@@ -52,9 +52,9 @@ BATCHES = {
         ("synth", "turns-c-rests", dict(motions=["squats", "toe-touch", "jumping-jacks", "arm-circles"],
                                         cycles=[5, 4, 8, 6], turns=60.0, rest=0.8, seed=53)),
     ],
-    # Not a step's check but a failure found after step 22, recorded so that it can be rerun:
+    # Not a step's check but a failure found after a parser change, recorded so that it can be rerun:
     # turns of 90-180 degrees by an actor who stays on its spot (the features' origin stays at
-    # the first frame's centre). Step 23 (tvmedit.engine.parse.boundaries, *Turns about the body's own
+    # the first frame's centre). A parser change (tvmedit.engine.parse.boundaries, *Turns about the body's own
     # axis*) was designed on these two, so they are no check of it: "step23" is.
     "turns180": [
         ("synth", "probe-walk-180", dict(motions=["walk", "jumping-jacks", "box", "side-bends"], cycles=[10, 8, 8, 4],
@@ -63,7 +63,7 @@ BATCHES = {
                                               cycles=[12, 5, 6, 5], turns=150.0, wander=0.8, seed=62)),
     ],
     # Turns of 60-180 degrees by a person who stays on their spot, made before the turn veto
-    # read the features about each frame's own centre (step 23), and never looked at before:
+    # read the features about each frame's own centre (a parser change), and never looked at before:
     # the synthetic actor, and CMU 13_29 and 13_30 turned about the body's own axis.
     "step23": [
         ("synth", "spin-a", dict(motions=["squats", "arm-circles", "run", "twist"], cycles=[5, 6, 12, 5],
@@ -75,7 +75,7 @@ BATCHES = {
         ("cmu", "13_29", {"turns": 150.0, "seed": 74}),
         ("cmu", "13_30", {"turns": 120.0, "seed": 75}),
     ],
-    # Changes of exercise 1-2.5 s after a turn starts (step 23's misses), chosen by their design
+    # Changes of exercise 1-2.5 s after a turn starts (misses of the parser then), chosen by their design
     # alone, before anything was tried on them: the first four of random synthetic plans (seeds
     # from 81 on) and the first turning seeds of CMU 13_29 and 13_30 (from 100 on) with such a
     # change somewhere; never parsed before a step for them was written.
@@ -149,8 +149,8 @@ BATCHES = {
     ],
     # People who turn steadily as they exercise (the CMU takes and the synthetic actor at
     # 4-8 degrees a second either way, a rate the heading tracker follows only in whole
-    # bins) and three more HDM05 takes of exercises at other tempos: made after step 25, before
-    # the rhythm step's short-side rule (docs/parsing.md, step 26) was tried on them.
+    # bins) and three more HDM05 takes of exercises at other tempos: made after a parser change, before
+    # the rhythm step's short-side rule  was tried on them.
     "steady-turns": [
         ("cmu", "13_29", {"turn": -4.0}),
         ("cmu", "13_30", {"turn": 8.0}),
@@ -169,7 +169,7 @@ BATCHES = {
     # Everyday movement more than exercise, as the held-out CMU takes of everyday activities
     # are (walk, jump, punch, kick): HDM05's people sneaking and jogging in a circle across
     # the floor, throwing, kicking, lying down on the floor and getting up, hopping. Made
-    # after step 26 to see how the parser holds on such takes, before anything was tried on it.
+    # after a parser change to see how the parser holds on such takes, before anything was tried on it.
     "everyday": [
         ("bd", "sneak2StepsLStart:3,throwBasketball:3,jogLeftCircle4StepsRstart:2,kickLFront1Reps:4,lieDownFloor:2",
          51, {"seed": 51, "palette": "c"}),
@@ -203,8 +203,8 @@ BATCHES = {
     # People who turn slowly or sway as they exercise (CMU 13_29 and 13_30 at 2-5 degrees a
     # second, two of them swaying too; the synthetic actor turning 4-6 degrees a second or
     # swaying, one wandering): turns under the 30 degrees a second the heading tracker follows,
-    # which step 24's test, reading the rows about each frame's own centre, still sees in full.
-    # Made before step 28 (the least turn step 24 tests for) was tried on them.
+    # which the turned-away test, reading the rows about each frame's own centre, still sees in full.
+    # Made before a parser change (the least turn the turned-away test needs) was tried on them.
     "slow-turns": [
         ("cmu", "13_29", {"turn": 3.0}),
         ("cmu", "13_29", {"turn": -5.0}),
@@ -242,7 +242,7 @@ BATCHES = {
     # A generalisation check, not a step's: exercise sets of the three HDM05 people in orders,
     # repetition counts, palettes and builds no batch had (as the review's takes of people from
     # another lab are), and the synthetic actor with rests, drift, noise and 25 fps, or slow
-    # transitions and a slow turn at 12 fps. Made after step 28, committed and scored once
+    # transitions and a slow turn at 12 fps. Made after a parser change, committed and scored once
     # before anything was tried on it.
     "review": [
         ("bd", "elbowToKnee1RepsLelbowStart:6,squat1Reps:5,rotateArmsBothBackward1Reps:3,kickLFront1Reps:5,"
@@ -316,7 +316,7 @@ BATCHES = {
                                           seed=209)),
         ("cmu", "13_29", {"turns": 90.0, "seed": 210}),
     ],
-    # For step 31 (textons two repetitions long), made and committed before it was run on
+    # For a parser change (textons two repetitions long), made and committed before it was run on
     # them: HDM05 blocks of kicks and hops, whose consecutive clips differ, among other exercises.
     "review-5": [
         ("dg", "kickLFront1Reps:5,squat1Reps:5,hopBothLegs1hops:7,grabHighR:4,elbowToKnee1RepsLelbowStart:5", 98,
@@ -362,7 +362,7 @@ BATCHES = {
         ("synth", "kick-hop-still-15fps", dict(motions=["kick", "hop", "knee-raises", "run"], cycles=[6, 8, 5, 8],
                                                rest=1.5, transition=0.5, noise=0.004, fps=15, seed=214)),
     ],
-    # For step 33 (the settling read on both views), made and committed after the step was in
+    # For a parser change (the settling read on both views), made and committed after the step was in
     # and before it was run on them either way: people who turn steadily at rates no batch had
     # (CMU 13_29 and 13_30, the synthetic actor) or sway, and two HDM05 exercise sets.
     "settle-views": [
@@ -405,7 +405,7 @@ BATCHES = {
         ("synth", "m6-h-slow", dict(motions=["toe-touch-both", "side-bends", "side-reach", "squats"],
                                     periods_s=[3.6, 3.2, 3.0, 2.8], cycles=[4, 4, 4, 4], transition=2.0, seed=408)),
     ],
-    # After step 35 and the boundary confidence read at the novelty peak (tvmedit.engine.parse.confidence),
+    # After a parser change and the boundary confidence read at the novelty peak (tvmedit.engine.parse.confidence),
     # to check both out of sample: three HDM05 exercise sets in orders no take had, CMU 13_30
     # turning to face other ways and 13_29 turning slowly the other way while swaying, and the
     # synthetic actor mixing its newer motions with rests, turns and wandering. Made and
@@ -445,7 +445,7 @@ BATCHES = {
         ("synth", "r7-b-15fps", dict(motions=["walk", "up-down", "twist", "pick-up", "run"], cycles=[6, 5, 5, 4, 10],
                                      transition=2.5, still=0.5, sway=60.0, fps=15, build=1.1, seed=712)),
     ],
-    # After step 36 (the partition of the whole take for step 1's boundaries, whose penalty and
+    # After a parser change (the partition of the whole take for the boundaries, whose penalty and
     # onset reach were read off the suite and the batches above), to check it out of sample:
     # four HDM05 exercise sets in orders and seeds no batch had, CMU 13_30 turning to face other
     # ways and 13_29 turning slowly while swaying, and the synthetic actor's exercises of alike

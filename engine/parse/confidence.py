@@ -5,26 +5,16 @@ Both figures are in [0, 1], higher is surer, and come from quantities the parser
 
 * **Boundary confidence** (one per cluster, of the boundary that starts it): how strong the
   change is and how sure its place. The strength is the two-block novelty (energy distance,
-  :func:`tvmedit.engine.parse.atoms.novelty`) at the novelty's peak by the boundary relative to the
-  threshold a boundary must pass, as ``1 - threshold / height``: 0 for a peak just at the
+  :func:`tvmedit.engine.parse.atoms.novelty`) at the novelty's peak by the boundary relative to
+  the threshold a boundary must pass, as ``1 - threshold / height``: 0 for a peak just at the
   threshold, 0.5 for one twice as high, towards 1 for a sharp change of exercise. The place:
-  the parser's later steps move a boundary off its peak, to whole periods and to the onset
-  of the change (:mod:`tvmedit.engine.parse.onsets`), and a boundary they moved d seconds keeps
-  ``exp(-d / MOVED_S)`` of its peak's figure. The peak is the novelty's highest point within
-  the reach of those steps either side (``refine_reach + onset_reach``), never past halfway
-  to a neighbouring boundary. The first cluster's start (frame 0) is no decision and gets 1.
-
-  Why the place counts (measured after step 35 on the development suite and the 24 fresh
-  batches, 691 boundaries, 31 wrong): most wrong boundaries are true changes placed 1-2.6 s
-  off, where the novelty is as high as at a right one; a boundary over 0.5 s from its peak is
-  wrong 17 % of the time (19 of 115), one nearer 2 % (12 of 576). A right boundary ranked
-  above a wrong one (ties counted half) in 64 % of pairs with the novelty where the boundary
-  lies, in 57 % with its peak's alone, 78 % with the distance from the peak alone (which
-  would rank a false split inside an exercise, at its own peak, as sure as any), and 75 %
-  with the peak's discounted by the distance (``MOVED_S`` 0.5 s, half the scorer's
-  tolerance; 0.3 s ranks 76 %, 1 s 73 %). In-sample: 0.5 s was chosen on those boundaries. On
-  a batch made afterwards (``--batch review-7``: 32 boundaries, 5 wrong, three of them at or
-  near their own peak), 44 % of pairs ranked right, 38 % with the novelty where a boundary lies.
+  the parser moves a boundary off its peak, to whole periods and to the onset of the change
+  (:mod:`tvmedit.engine.parse.onsets`), and a boundary moved d seconds keeps
+  ``exp(-d / MOVED_S)`` of its peak's figure, because most wrong boundaries are true changes
+  placed a second or two off, where the novelty is as high as at a right one. The peak is the
+  novelty's highest point within the reach of those rules either side
+  (``refine_reach + onset_reach``), never past halfway to a neighbouring boundary. The first
+  cluster's start (frame 0) is no decision and gets 1.
 * **Texton confidence**: how closely the motion returns to the texton's first pose when the
   next texton starts, against how far it went in between:
   ``1 - d_A(start, end + 1) / mean_t d_A(start, t)`` over the texton's frames (atom distance,
@@ -39,14 +29,11 @@ from .atoms import atom_distance, atom_distances_to
 __all__ = ["boundary_confidence", "boundary_confidences", "texton_confidence", "MOVED_S", "LOOK_BELOW"]
 
 #: Seconds over which a boundary's confidence falls to 1/e of its novelty peak's as the
-#: parser's later steps move it off that peak (the module docstring).
+#: parser's placing rules move it off that peak (the module docstring).
 MOVED_S = 0.5
 
 #: Boundaries under this confidence are the ones to look at first (the report marks them in
-#: red). On the development suite and the 24 fresh batches after step 35, the 15 % of
-#: boundaries under it held 17 of the 31 wrong ones (5.6 % of all boundaries are wrong).
-#: On a batch made afterwards (``benchmarks/fresh.py --batch review-7``), 10 of 32 boundaries
-#: were under it, holding 2 of the 5 wrong ones.
+#: red): a small share of all boundaries, holding a large share of the wrong ones.
 LOOK_BELOW = 0.1
 
 

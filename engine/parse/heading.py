@@ -1,53 +1,29 @@
 """Which way a person faces as they exercise: the slow turn tracked, and undone for the parser.
 
 A person seldom keeps facing one way through a take: they turn a little between repetitions,
-turn back, drift round while jogging or kicking, or turn on purpose (HDM05's clips, stitched
-each facing as the last one ended, drift 15-75 degrees over a take; CMU subject 13 turns
-10-40 degrees over 13_29 and 13_30, as far as this tracker reads). Every azimuth (theta)
-histogram then shifts around the circle with the heading, although the motion does not
-change, and the parser, which compares histograms as they stand, saw it three ways: novelty
-peaks inside an exercise (a turn looks like a change of pose), repetitions farther apart than
-they are (a period missed or doubled), and a boundary moved early by the onset step (the old
-exercise's poses, seen turned, look left behind).
+drift round while jogging, or turn on purpose. Every azimuth (theta) histogram then shifts
+around the circle with the heading although the motion does not change, and a parser that
+compares histograms as they stand reads a turn as a change of pose, misses repetitions, and
+moves boundaries early.
 
 :func:`heading_track` follows the slow part of the heading: the mean theta histogram of each
 ``window`` seconds of frames (whole repetitions, so the motion's own phase averages out),
 taken every :data:`HOP` seconds, is compared with the next one turned by every whole number
 of bins up to :data:`MOST` degrees either way; the turn that brings them nearest is the
 heading's change over that hop, and the heading is their running sum, linear between window
-centres. Whole bins only, so a turn is followed in steps of a bin (5 degrees) a second: 6
-degrees a second is followed as 5, 3 as 5, and successive windows that match best unturned
-(the synthetic actor on its spot) are left exactly as they are. The rounding is not made up
-later, so what is left drifts by up to half a bin a second, and a change of exercise can
-leave a lasting offset of a bin or a few (a synthetic take that never turns ends 5 degrees
-off); the parser compares frames a few seconds apart, for which either is small. Windows
-shorter than a repetition let the motion's own phase through in 5 degree steps. Summing
-fractions of a bin and rounding the sum instead scored less on the suite (below).
-:func:`turned` shifts each frame's theta histogram by an angle, a fraction of a bin shared
-linearly between the two bins it falls between (a turn about the vertical changes no r or
-phi histogram); :func:`tvmedit.engine.parse.structure.parser_view` reads every frame turned back by the
-tracked heading (``StructureParams.heading_window``), so every step of the parser compares
-poses as if the person had kept facing one way. The stored features stay eq. (1)'s.
+centres. Whole bins only, so windows that match best unturned are left exactly as they are;
+what is left drifts by at most half a bin a second, small over the few seconds the parser
+compares. :func:`turned` shifts each frame's theta histogram by an angle, a fraction of a bin
+shared linearly between the two bins it falls between (a turn about the vertical changes no r
+or phi histogram); :func:`tvmedit.engine.parse.structure.parser_view` reads every frame turned
+back by the tracked heading (``StructureParams.heading_window``). The stored features stay
+eq. (1)'s.
 
-Measured on the development suite (``benchmarks/accuracy.py``, 42 takes; precision / recall /
-texton length, the defaults): in the body's axes pooled 0.953 / 0.940 / 0.874 -> 0.979 /
-0.934 / 0.898. Gained: CMU 13_29 turning 6 degrees a second (its meshes rotated) lost its
-false boundary inside an exercise and a wrong texton, the synthetic actor swaying over +/- 90
-degrees a half-period texton of its side bends; HDM05 three false boundaries and a missed
-one (around a block of floor deposits, at a take's start) and four wrong texton lengths.
-Lost: two true boundaries (CMU 13_30 at 1.4x, an HDM05 take). Still wrong: CMU 13_30 swaying
-over +/- 90 degrees keeps half-period textons of its one-hand toe touches. In tvmedit's axes
-(``TVMEDIT_DEV_FRAME=stored``) 0.959 / 0.934 / 0.888 -> 0.959 / 0.927 / 0.894 (13_29 turning:
-five errors -> one; HDM05 gained and lost about as much). Windows of 3-6 s score alike
-(body's axes 0.966-0.979 / 0.934-0.940 / 0.898-0.904, tvmedit's 0.959-0.966 / 0.927-0.947 /
-0.889-0.909); at 2 s the motion's own phase moves the window means (0.946 / 0.927 / 0.889).
-The default is the novelty's own 4 s block. Summing fractions of a bin (read off
-the fit's parabola) and rounding the sum: 0.966 / 0.927 / 0.914 in the body's axes, 0.959 /
-0.934 / 0.884 in tvmedit's; turning the view by the fractions too: 0.965 / 0.921 / 0.914.
-
-Written with numpy alone: the match is a circular shift of a 72-bin histogram, 13 shifts per
-hop; a library (scipy.signal's correlation, scikit-image's phase correlation) would do the
-same arithmetic on arrays this small.
+Two views of the azimuth histograms serve the parser too. :func:`azimuth_smoothed` convolves
+each theta histogram with (1/4, 1/2, 1/4) around the circle, so a body turned a fraction of a
+5 degree bin moves a fraction of its vertices across a bin edge, not whole shares.
+:func:`azimuth_spectrum` keeps only what no turn changes (the magnitudes of the histogram's
+Fourier coefficients about the circle): the heading-free rows of the turn veto.
 """
 
 from __future__ import annotations

@@ -1,95 +1,31 @@
 """Where a change of exercise starts: boundaries placed between whole periods, then moved to the onset.
 
-Two steps of the ``energy`` parser (:mod:`tvmedit.engine.parse.structure`) place each boundary the novelty
-peaks gave:
+Two rules of the ``energy`` parser (:mod:`tvmedit.engine.parse.structure`) place each boundary
+the novelty gave:
 
 * **Whole periods on each side** (:func:`settle`). The two-block novelty
-  (:func:`tvmedit.engine.parse.atoms.novelty`) compares blocks of ``novelty_window`` seconds whatever the
-  motion's tempo, so a block holds a period and a part of one, and its peak moves with the
-  phase at which the blocks cut the cycles: of two nearly equal peaks 1.1 s apart the earlier
-  one won (CMU 13_30 at 1.4x), and between a slow kick and quick hops the peak lay 0.6 s early
-  and the onset step below then took it 1.4 s early (an HDM05 take). Once the clusters and
-  their periods are known, each boundary moves, by up to ``refine_reach`` seconds and never
-  nearer a neighbour than ``min_cluster``, to where the energy distance between the frames
-  before and after it is largest, each block a whole number of its own cluster's periods
-  (the novelty window rounded to whole periods, at least two; the window itself where a
-  cluster shows no period). Held-out pooled precision / recall 0.90 / 0.93 -> 0.92 / 0.95
-  on the development suite (one more CMU and one more HDM05 boundary; no other change).
-* **Both views** (step 33 of docs/parsing.md). The parser's rows are turned back by the
-  heading :mod:`tvmedit.engine.parse.heading` tracks, which follows a steady turn only in whole bins a
-  second and can be a bin or a few off after a change of exercise (its windows straddle
-  two exercises there), just where this step reads. Such an offset is a difference between
-  the frames before and after any place near the change, so the energy distance lay broad
-  and its top wandered: CMU 13_29 turning 7 degrees a second had its change at 16.0 s
-  settled to 14.9 s, the top of a profile within 10 % of it over 14.1-16.6 s, while on the
-  heading-free rows (:func:`tvmedit.engine.parse.heading.azimuth_spectrum`, which no heading can put off)
-  it tops sharply at 16.3 s (within 10 % over 15.9-16.5 s). Those rows cannot tell a pose
-  from its mirror image, so neither view is read alone (the heading-free rows alone for
-  every boundary: docs/parsing.md, tried after step 32, not kept): each view's energy
-  distances over the boundary's reach, negative ones taken as none, are scaled to their
-  largest, and the boundary goes where the sum is largest. Where one view tops sharply and
-  the other broadly, that is at the sharp top (16.3 s above). The suite does not move
-  (body axes, the defaults and the folds' settings); on the 22 fresh batches it finds six
-  changes and loses three (416 -> 419 of 459, 28 -> 25 false). In tvmedit's axes the suite's
-  HDM05 group finds two more (0.90 / 0.88 -> 0.94 / 0.91), and the fresh batches ten more for
-  one lost (412 -> 421). The batch made for it after it was in (``--batch settle-views``)
-  does not confirm it in the body's axes (1.00 / 0.94 / 0.93 -> 0.97 / 0.91 / 0.90: a change
-  out of CMU 13_29's toe touches, which both views place late, is no longer taken back within
-  1 s by the onset step). In tvmedit's axes it does (0.94 / 0.91 / 0.90 -> 1.00 / 0.94 /
-  0.93). The first form tried; after a review, negative distances are taken as none (a view
-  without contrast could outweigh the other), which moved no figure.
+  (:func:`tvmedit.engine.parse.atoms.novelty`) compares blocks of ``novelty_window`` seconds
+  whatever the tempo, so a block holds a period and a part of one, and its peak moves with
+  the phase at which the blocks cut the cycles. Once the clusters and their periods are
+  known, each boundary moves, by up to ``refine_reach`` seconds and never nearer a neighbour
+  than ``min_cluster``, to where the energy distance between the frames before and after it
+  is largest, each block a whole number of its own cluster's periods (at least two; the
+  window itself where a cluster shows no period).
+* **Both views** (``settle_free``). The parser's rows are turned back by a heading tracked
+  in whole bins, which can be a bin or a few off just after a change of exercise; such an
+  offset spreads the energy distance broad and its top wanders. The heading-free rows
+  (:func:`tvmedit.engine.parse.heading.azimuth_spectrum`) cannot be put off by a heading but
+  cannot tell a pose from its mirror image, so neither is read alone: each view's distances
+  over the reach (negative ones as none) are scaled to their largest, and the boundary goes
+  where the sum is largest, which lies at the sharper of the two tops.
 * **The onset of a slow transition** (:func:`onset`). The novelty peaks where the pose
-  distribution changes most, which for a slow transition (a 3 s change of pose from one
-  exercise to the next) is its middle or end, 1-2 s after the person stopped the old
-  exercise. The boundary a person would draw is where the motion leaves the old exercise:
-  the earliest frame from which every frame up to the peak lies farther from the old
-  exercise's poses than those poses lie from one another.
-* **Not a turn** (:func:`turned_away`). The old exercise's poses, seen turned, look left
-  behind too: a person who turns to face another way 1-2.5 s before changing exercise had
-  the boundary taken back to the turn's start (1.2-2 s early; the heading tracker of
-  :mod:`tvmedit.engine.parse.heading` follows only 30 degrees a second, and the turn veto of
-  :mod:`tvmedit.engine.parse.boundaries` sees no turn of its own where the turn's peak and the change's
-  merge). Where the frames the onset left behind are the old poses turned, the parser also
-  reads the onset on the heading-free rows (as it does near a vetoed turn) and takes the later
-  of the two; :func:`settle` reads the heading-free rows
-  for a boundary it would move back over such frames (a change 1.7 s after a
-  turn, whose peak was right, was settled onto the turn once the synthetic actor turned on
-  its feet instead of sliding them). They are the
-  old poses turned when, matched with the old poses turned about the vertical by every whole
-  number of azimuth bins (on the rows about each frame's own centre where the person stays
-  on their spot, as the turn veto reads them: about an origin they stand away from, a turn
-  changes the other histograms too), three things hold: the last third of them faces at
-  least :data:`TURN_DEGREES` away; some frame faces about half that way (the body turned
-  through the angles between: a new pose that resembles an old one seen from another side
-  jumps there); and turning brings the last third at least a fifth nearer the old poses
-  (:data:`TURN_EXPLAINS`). Measured on fresh turning takes, below.
-* **A slow turn counts too** (step 28, :data:`TURN_DEGREES`). The least turn this test took was
-  30 degrees, the most the heading tracker (:mod:`tvmedit.engine.parse.heading`) follows in a second, on the
-  view that the parser never sees slower turns: the tracker turns the parser's view back. But
-  this test reads the rows about each frame's own centre, which nothing turns back (on the
-  parser's view only for a take without them), so a slow turn shows there in full: CMU 13_29
-  turning 6 degrees a second had its change at 16.0 s taken back to 14.9 s, over frames that
-  are the toe touches of the seconds before them turned 25 degrees and more (the onset on the
-  heading-free rows: 16.1 s). The least turn is now two of the features' 5 degree bins, 10
-  degrees, rather than one, the finest step the test reads. Under 30 degrees the half-way
-  condition always holds (its tolerance is 15 degrees), so there turning must bring the frames
-  a fifth nearer the old poses and nothing else decides: that take's frames come 0.76 as near
-  against the limit 0.8. An earlier trial of 15 or 20 degrees was not kept: it found that
-  take's change and moved no fresh batch, a gain in-sample only. This time a batch was made for
-  it and committed before it was tried (``benchmarks/fresh.py --batch slow-turns``: CMU 13_29
-  and 13_30 turning 2-5 degrees a second either way, two of them swaying, the synthetic actor
-  turning or swaying). In the body's axes it scores 0.97 / 0.97 / 0.93 with the step and
-  without it: its one missed change (13_29 turning 5 degrees a second the other way) has its
-  novelty peak 0.7 s early and is settled 1.3 s early by step 4 (placed 1.4 s early), which
-  this step does not touch. In tvmedit's axes the step finds that change (0.94 / 0.94 / 0.96 ->
-  0.97 / 0.97 / 0.96), and one false boundary of an older fresh HDM05 take goes (with a least
-  turn of 5-10 degrees; 15-25 change nothing there). Across the suite and the fresh batches
-  (127 takes, body axes) the test now holds for six more stretches (15-27.5 degrees); no take's
-  score moves but the suite's 13_29 turning (any least turn of 5-25 degrees does the same; a
-  boundary of another 13_29 turning take moves by 0.1 s). Suite pooled 0.973 / 0.967 / 0.923 ->
-  0.978 / 0.973 / 0.923, cmu 0.98 / 0.98 -> 1.00 / 1.00; held out 0.945 / 0.934 / 0.906 ->
-  0.950 / 0.940 / 0.906, every fold choosing as before: in-sample, since the value was chosen
-  looking at that take.
+  distribution changes most, in the middle of a slow transition, a second or two after the
+  old exercise stopped. Each boundary moves back, by up to ``onset_reach`` seconds, to where
+  the motion left the old exercise's poses: the first frame from which every later frame up
+  to the boundary is farther from the old cluster's frames than they are from each other.
+  Where the frames it would leave behind are only the old poses turned
+  (:func:`turned_away`), the onset is read on the heading-free rows too and the later one
+  taken, so a turn shortly before a change does not pull the boundary back to it.
 """
 
 import numpy as np
@@ -100,9 +36,8 @@ from ..features import distance_matrix
 __all__ = ["onset", "settle", "energy_distance", "turned_away", "TURN_DEGREES", "TURN_EXPLAINS"]
 
 #: Least turn, in degrees, for which :func:`turned_away` holds: two azimuth bins at the
-#: features' default 5 degrees. It was 30, the most the heading tracker follows in a second
-#: (:data:`tvmedit.engine.parse.heading.MOST`), though the rows the test reads are never turned back by it
-#: (step 28, *A slow turn counts too*, above).
+#: features' default 5 degrees: a slow turn counts too, not only one faster than the heading
+#: tracker follows (:data:`tvmedit.engine.parse.heading.MOST`).
 TURN_DEGREES = 10.0
 
 #: Greatest ratio of the turned frames' distance to the old poses, turned back, to their

@@ -1,41 +1,29 @@
-"""Where a take changes, read over whole blocks: the kernel change-point partition (step 1).
+"""Where a take changes, read over whole blocks: the kernel change-point partition.
 
-The novelty of :mod:`tvmedit.engine.parse.boundaries` compares the ``novelty_window`` seconds before each
-frame with those after it, and a boundary is a local maximum of that curve. Two exercises of
-alike poses (HDM05 kicks beside elbow to knee, or throwing beside jogging) differ little
-within 4 s, and their novelty peaked under the threshold; where one exercise of a take (lying
-on the floor) holds much of the take's spread, the changes between the others did too.
-A change point is a property of the take as a whole, not of two 4 s windows: the partition
-here compares every stretch with every other and keeps the cuts that pay for themselves.
+The novelty of :mod:`tvmedit.engine.parse.boundaries` compares the ``novelty_window`` seconds
+before each frame with those after it. Two exercises of alike poses differ little within a
+few seconds, and their novelty peaks under the threshold. A change point is a property of
+the take as a whole: the partition here compares every stretch with every other and keeps
+the cuts that pay for themselves.
 
 **What it minimises.** For rows x_1..x_T (the novelty's whitened rows, about 10 a second:
 :func:`tvmedit.engine.parse.boundaries.novelty_rows`), a partition into segments S_1..S_K costs
 
     sum_k (1 / |S_k|) sum_{i, j in S_k} |x_i - x_j|  +  penalty * (K - 1),
 
-the within-segment energy scatter (the mean distance between a segment's rows over all its
-ordered pairs, itself included, times its length) plus a penalty per change. This is the kernel change-point criterion of Arlot,
-Celisse and Harchaoui (JMLR 2019, "A kernel multiple change-point algorithm via model
-selection") with the energy-distance kernel -|x - y| of Matteson and James (JASA 2014,
-"A nonparametric approach for multiple change point analysis of multivariate data"): a cut
-between two segments lowers the scatter by their energy distance weighted by their lengths,
-so it is the novelty's own statistic (:func:`tvmedit.engine.parse.atoms.novelty`) taken over whole
-segments, not two 4 s blocks. Every segment is at least ``min_len`` rows long (the parser's
-``min_cluster``). The minimum is exact (dynamic programming over segment ends), with
-segments at most ``max_len`` rows long (60 s at 10 rows a second: the cost of a long take
-grows with T times ``max_len``, not T squared; an exercise longer than that is cut, and
-the parser then keeps only cuts where the novelty rises: :mod:`tvmedit.engine.parse.boundaries`).
+the within-segment energy scatter plus a penalty per change. This is the kernel change-point
+criterion of Arlot, Celisse and Harchaoui (JMLR 2019, "A kernel multiple change-point
+algorithm via model selection") with the energy-distance kernel -|x - y| of Matteson and
+James (JASA 2014): a cut between two segments lowers the scatter by their energy distance
+weighted by their lengths, the novelty's own statistic taken over whole segments. Every
+segment is at least ``min_len`` rows long (the parser's ``min_cluster``) and at most
+``max_len`` (60 s), so the cost grows with T times ``max_len``, not T squared. The minimum is
+exact: dynamic programming over segment ends.
 
-**Why written here.** ``ruptures`` (the usual Python library for change points) offers
-kernel change-point detection with linear, Gaussian and cosine kernels but not the energy
-kernel, and it is not among tvmedit's dependencies; SciPy has none. The dynamic program is
-twenty lines of NumPy over at most a few thousand rows (milliseconds per take).
-
-Measured (``docs/parsing.md``, step 36): on the development suite and the 26 fresh batches
-(202 takes, 772 changes), change points within 1 s of a true change, one to one, raw (no
-later step): this partition at penalty 24 scores F1 0.862 (precision 0.807, recall 0.924),
-the novelty's peaks at their best threshold (0.9) 0.809 (0.732, 0.904); a linear kernel (means
-only) at its best penalty 0.850.
+**Why written here.** ``ruptures`` (the usual Python library for change points) offers kernel
+change-point detection with linear, Gaussian and cosine kernels but not the energy kernel,
+and it is not among tvmedit's dependencies; SciPy has none. The dynamic program is twenty
+lines of NumPy over at most a few thousand rows (milliseconds per take).
 """
 
 from __future__ import annotations

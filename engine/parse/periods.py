@@ -1,125 +1,34 @@
 """Periods of motion clusters: the lag profile's valleys, and a half period told from a whole one.
 
 A cluster's period is the lag L whose mean atom distance mean_u d_A(u, u + L) (eq. (5),
-:func:`tvmedit.engine.parse.atoms.lag_profile`) dips deepest below the profile's level, taking the shortest
-lag nearly as deep (a multiple of the period is a valley too). Used by :mod:`tvmedit.engine.parse.structure`.
+:func:`tvmedit.engine.parse.atoms.lag_profile`) dips deepest below the profile's level, taking the
+shortest lag nearly as deep (a multiple of the period is a valley too). The rules that move
+L by a factor of two or three:
 
-**Half periods of left-then-right exercises.** Knee raises, side bends or one-hand toe
-touches repeat at half their period only approximately: the second half is the first one's
-mirror image. Left and right poses share their r and phi histograms and differ in the
-azimuth (theta) histogram only, so the lag profile often dips as deep at L/2 as at L. The
-*mirror test* (:func:`mirror_ratio`) tells them apart: it reflects the theta histogram of
-frame u + L about the best vertical plane (one of the bin-aligned reflections j -> c - j);
-when the reflected frame is much closer to frame u than the frame itself, L is half a cycle
-of a mirrored exercise and 2L is taken. It replaced a test that doubled L when the azimuth
-histogram alone showed no valley at L: that one relied on the sideways shift of the body's
-centre (lost when the origin follows the person) and doubled every exercise whose heading
-changed between repetitions.
-
-**About the body's own centre.** A left-right exercise's halves are mirror images about the
-body's own sagittal plane. About the features' origin (the first frame's centre, where the
-person stays put) they are so only while the person stands on it: a person who turned on a
-spot off it, or stands off it, is no mirror image of themself about it, and the test missed
-half periods of toe touches and side bends done after a turn (fresh turning batches). Where
-the builder keeps the features about each frame's own centre (``Features.centred``, step 23
-of :mod:`tvmedit.engine.parse.structure`), the test also reads them, and takes the smaller ratio: about
-the first frame's centre the centre's sideways shift is what tells some exercises' halves
-apart (CMU subject 13). Fresh turning batches' texton lengths 0.886 -> 0.903 (seven batches
-with turns and one made after the synthetic actor turned on its feet, 37 takes); the suite
-does not move.
-
-**A person who turns.** The rows about each frame's own centre turn with the person, and one
-reflection plane fits a whole cluster only if the person kept facing one way. So (step 32 of
-``docs/parsing.md``) they are read turned back by their own slow heading
-(:mod:`tvmedit.engine.parse.heading`), as the parser's rows are, and the plane is chosen anew every
-``WINDOW`` (2) lags, a cycle of a left-then-right exercise: a sudden turn between
-repetitions (over a second) is faster than the slow heading follows. A plane chosen every lag
-is too free (symmetric exercises read as mirrored: the synthetic jumping jacks of the suite's
-turning take doubled, and five fresh batches lose texton lengths); every two lags or more
-holds. Every three lags until step 35 of ``docs/parsing.md``: a stretch's plane fits only
-the part of it on one side of a turn, and in shorter stretches less of it lies on the other
-side (one-hand toe touches across two turns read half their cycle with three lags, mirror
-ratio 0.81 against 0.8; 0.69 with two). A cluster shorter than five lags (two and a half
-cycles) still has one plane. CMU 13_30 swaying up to 90 degrees read half cycles of its
-twists, and walks, side bends and toe touches across sudden turns a half or a third of their
-cycle (fresh turning batches).
-
-**Double periods of alternating repetitions** (:func:`_submultiple`, ``submultiple``). The
-reverse failure: where consecutive repetitions differ a little (HDM05's single-repetition
-clips stitched back to back change heading or side from one clip to the next), the deepest
-valley lies at two repetitions and the shortest-lag rule above misses the one-repetition
-valley, which is nearly as low but less prominent. L gives way to L/3 or L/2 while the
-profile's dip there is at least ``submultiple`` of its dip at L (dips below the profile's
-median); the mirror test then still doubles a half period of a left-then-right exercise.
-Thirds as well as halves: with period tolerance 0.3 an HDM05 hop got a texton of three hops.
-The one-repetition valley is looked for within ``JITTER`` (15 %) of L/2 or L/3, not 10 %:
-repetitions differ in length, so it is seldom at exactly half the two-repetition lag (an
-HDM05 kick: valleys at 20 and 35 frames, one kick of 20 frames and the next of 15).
-The first dip L/parts must reach is ``submultiple`` of the larger of L's dip and the dip at the
-profile's most prominent valley (step 34 of ``docs/parsing.md``): where the shortest-lag rule
-has already gone below that valley, to the half cycle of a left-then-right exercise, L's dip
-can be slight, and 0.7 of a slight dip is no evidence. Slow synthetic side bends (3.2 s a
-cycle) read their half cycle, 1.6 s, 1-8 % of the level below it, and a dent at 0.5 s, a third
-of it, passed: textons of 0.5 s. Against the cycle's dip there, the 0.5 s dent reaches only
-0.21-0.36 of it.
-
-**Half periods whose third multiple is no valley.** A period repeats, so the lag profile
-dips below its level (median) near every multiple of it. Where the chosen L has a valley at
-2L but the profile stays above its level all around 3L, L was half a period the mirror test
-did not recognise (CMU 13_30 played 1.4x: valleys at 12 and 23 frames, none near 36; the
-first exercise's mirror ratio at 12 is 0.87-0.90) and 2L is taken. Only the sign of the dip
-is used, no new threshold.
-
-Measured with ``benchmarks/accuracy.py`` (precision / recall / texton accuracy; every take
-scored as before or better, none worse). Stored axes: pooled 0.97/0.95/0.94 -> 0.97/0.95/0.96,
-HDM05 texton 0.80 -> 0.83, CMU 0.98 -> 1.00. Body frame (``TVMEDIT_DEV_FRAME=body``): pooled
-0.94/0.93/0.90 -> 0.94/0.93/0.92, HDM05 texton 0.69 -> 0.72, CMU 0.96 -> 0.98. Held out (leave
-one group out): stored 0.918/0.947/0.896 -> 0.918/0.947/0.904, body
-0.902/0.874/0.900 -> 0.902/0.874/0.908. Still wrong:
-HDM05 kicks whose clearest valley lies at two kicks while the one-kick valley is a third as
-deep (consecutive clips differ), and clusters holding two exercises (a missed boundary).
-
-**Two repetitions in one texton** (step 31 of ``docs/parsing.md``, :func:`one_repetition`,
-``comb``). The sub-multiple test above asks the one-repetition valley to dip 0.7 as deep as
-the two-repetition one; HDM05 kicks and hops whose consecutive clips differ often dip only
-0.45-0.66 as deep there, and their textons were two clips long (the fresh batches' texton
-lengths: 18 of 80 wrong clusters about double). A period repeats at its multiples and at
-nothing between them: where the period read, P, spans two repetitions, the profile dips
-below its level near P/2 and near 3P/2 as well, and a true period P would show no valley at
-3P/2 (half a cycle off). So the textons are cut at the valley near P/2 where both dip below
-the profile's median, P/2's dip is at least ``comb`` (0.5) of P's, and the mirror test does
-not find P/2 half a cycle of a left-then-right exercise. Two repetitions a and b (P = a + b)
-put the one-repetition valleys at a and P + a: as far from 3P/2 as from P/2, so both are
-looked for within ``JITTER`` of P/2. The 3P/2 condition is what an earlier, looser test in the
-texton step lacked (docs/parsing.md, *Short blocks*): it read six HDM05 blocks at one
-repetition but halved CMU 13_29's one-hand toe touches in two turning takes and a synthetic
-block of one-off movements; this one halves none of them. Applied to the textons only, not
-to the periods the boundary steps read (the transitions and the weak splits count a cluster's
-textons, so it reaches them too; no boundary moved on the suite or the fresh batches).
-Applied to every period read, it changed the periods of the rhythm splits, the transitions
-and step 4, and the development suite lost an HDM05 change (elbow to knee then kicks) and a
-fresh batch another. Measured with the textons only (body axes): the suite's texton length
-0.93 both (hdm05 0.80 -> 0.81: a block of kicks, 3.25 s textons for 1.64 s kicks, right); the
-19 fresh batches made before it 0.839 -> 0.849 (five clusters right: three blocks of kicks,
-one of hops, one of squats; none wrong); ``review-5``, made for it and committed before it
-was run there, 0.89 / 0.80 / 0.64 either way. 0.3, tried first, scores the
-fresh batches alike, loses a cluster of the hdm05 fold's setting, and halves the period of a
-motion whose second harmonic is as strong as its first (``tests/test_structure.py``'s
-synthetic parts: there P/2 dips 0.375 as deep as P, and 3P/2 too); 0.5 was chosen looking at
-the suite and those batches. A motion with a stronger second harmonic would be halved at 0.5
-as well: the threshold is the only thing telling its half cycle from a repetition.
-
-**Broad valleys of slow exercises** (``broad``). A valley's prominence is measured within
-0.3 s of it; a slow exercise's valley (a 3.9 s toe touch) is broader, so it looked shallow
-and the cluster got no textons. When a cluster's textons are made and that finds no clear
-valley, the reach is a quarter of each lag (``BROAD_REACH``). Transitions are still told
-with the 0.3 s reach: with the broad one, short pieces of transition found a period and
-stopped joining their neighbours (CMU and HDM05 precision fell).
-
-**One reader for the parser's steps** (:class:`PeriodReader`). The steps that read periods
-(the rhythm splits, the transitions, the textons) read them all on the same rows, rate, atom
-window, parameters, azimuth columns and mirror rows; a :class:`PeriodReader` holds those and
-reads the period of any stretch.
+* **Half periods of left-then-right exercises** (:func:`mirror_ratio`). Knee raises, side
+  bends or one-hand toe touches repeat at half their period only approximately: the second
+  half is the first one's mirror image, with the same r and phi histograms and a reflected
+  azimuth (theta) histogram, so the profile dips as deep at L/2 as at L. The mirror test
+  reflects frame u + L's theta histogram about the best vertical plane (a bin-aligned
+  reflection j -> c - j); when the reflection is much nearer frame u than the frame itself,
+  L is half a cycle and 2L is taken.
+* **About the body's own centre.** The halves are mirror images about the body's own
+  sagittal plane, which passes through the features' origin only while the person stands on
+  it; where the features about each frame's own centre are kept (``Features.centred``), the
+  test reads those too and takes the smaller ratio.
+* **A person who turns.** Those rows are read turned back by their own slow heading
+  (:mod:`tvmedit.engine.parse.heading`), and the plane is chosen anew every :data:`WINDOW`
+  lags (a cycle of a left-then-right exercise): a turn between repetitions is faster than
+  the heading follows. A plane chosen every lag is too free (symmetric exercises read as
+  mirrored); a cluster shorter than five lags keeps one plane.
+* **Double periods of alternating repetitions** (:func:`_submultiple`, ``submultiple``).
+  Where consecutive repetitions differ a little, the deepest valley lies at two repetitions;
+  L gives way to L/3 or L/2 while the profile's dip there (within :data:`JITTER` of it) is
+  at least ``submultiple`` of the larger of L's dip and that of the profile's most prominent
+  valley (0.7 of a slight dip is no evidence).
+* **Half periods whose third multiple is no valley.** A period repeats, so the profile dips
+  below its median near every multiple of it; where L has a valley at 2L but none around 3L,
+  L was half a period the mirror test missed, and 2L is taken.
 """
 
 from dataclasses import dataclass, field, replace
@@ -144,9 +53,7 @@ __all__ = ["cluster_period", "one_repetition", "PeriodReader", "mirror_ratio", "
 MIRROR_RATIO = 0.8
 
 #: The mirror test's reflection plane is chosen anew every this many lags (a person who turns
-#: between repetitions turns the plane). 1 is too free: symmetric exercises read as mirrored
-#: (five fresh batches lose texton lengths against 3); 2, 3, 5 and 8 hold, and 2 gains the most
-#: (3 until step 35; tvmedit.engine.parse.periods, *A person who turns*).
+#: between repetitions turns the plane); 1 is too free: symmetric exercises read as mirrored.
 WINDOW = 2
 
 #: Share of a stretch's length that its lag profile runs to (:func:`longest_lag`): the
@@ -277,7 +184,7 @@ def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
     >>> int(lags[_submultiple(36, cand, lags, prof, 1.0, 0.7, clearest=1.0)])
     10
     >>> cand, prof = dips(L33=0.5, L16=0.05, L5=0.04)      # a half cycle that barely dips, at 16
-    >>> before = _submultiple(12, cand, lags, prof, 1.0, 0.7)         # as the test was before step 34
+    >>> before = _submultiple(12, cand, lags, prof, 1.0, 0.7)         # against L's slight dip alone
     >>> int(lags[before]), int(lags[_submultiple(12, cand, lags, prof, 1.0, 0.7, clearest=0.5)])
     (5, 16)
     """

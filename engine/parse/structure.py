@@ -4,153 +4,41 @@ A *motion atom* is a short window of frames centred on one frame; the *atom dist
 (eq. (5)) is a weighted sum of frame distances over two such windows. A *motion texton* is
 one period of a cyclic motion, and a *motion cluster* a run of similar textons (one
 exercise, say). :func:`parse` turns a sequence's feature vectors (rows of
-:attr:`tvmedit.engine.features.Features.vectors`) into clusters and textons.
-
-Two methods are provided.
+:attr:`tvmedit.engine.features.Features.vectors`) into clusters and textons, by one of two
+methods:
 
 ``method="paper"``
-    The procedure of section 4 as printed. Atoms are visited in order; a texton starts at a
-    local minimum of d_A(t, t_first) (t_first: the current texton's first atom) once the
-    curve has fallen by at least ``texton_contrast`` of its maximum since t_first and by
-    ``texton_drop`` in absolute terms (noise makes shallow minima). The paper leaves
-    "large enough" open; these two thresholds, and a shortest texton of ``min_texton``
-    seconds, are this implementation's reading of it. After two textons of a cluster, its
-    atoms from the first to the last one of the previous texton form the reference range
-    of eq. (7), and two successive atoms farther than ``beta`` from every reference atom
+    Section 4 as printed: a texton starts at a local minimum of d_A(t, t_first) that has
+    fallen far enough (``texton_contrast``, ``texton_drop``, at least ``min_texton`` s, this
+    implementation's reading of "large enough"); after two textons their atoms are the
+    reference range of eq. (7), and two successive atoms farther than ``beta`` from it
     (eq. (8)) start a new cluster.
-
 ``method="energy"`` (the default)
-    Measured on real motion (CMU takes turned into meshes), the printed procedure misses
-    most exercise boundaries: its eq. (8) test runs only after two textons were found, a
-    cluster that starts on a transitional pose never closes its first texton, and a single
-    threshold on nearest-atom distances either fires within a cluster (10 fps phase offsets
-    put the best earlier match 0.15-0.4 away on normalised histograms) or never. This
-    method keeps the paper's quantities and changes how the decisions are taken:
+    The paper's quantities, decisions taken over whole stretches, because on real motion
+    the printed procedure misses most exercise boundaries (eq. (8) runs only after two
+    textons, and one threshold on nearest-atom distances fires inside a cluster at 10 fps
+    phase offsets, or never). The rules, in order:
 
-    0. **Azimuth histograms smoothed** (:func:`tvmedit.engine.parse.heading.azimuth_smoothed`): the
-       parser reads each theta histogram convolved with (1/4, 1/2, 1/4) around the circle.
-       A body turned a fraction of a 5 degree bin (its own frame's front, or a capture
-       turned a little) moved whole shares of vertices across hard bin edges and moved
-       boundaries (see that function for the figures). **Heading followed**
-       (:mod:`tvmedit.engine.parse.heading`): each theta histogram is then turned back by the person's
-       slow heading, tracked over ``heading_window`` seconds, so a person who turns as they
-       exercise is read as if they kept facing one way (false boundaries inside exercises,
-       repetitions apart by a turn, onsets moved early).
-    1. **Clusters by novelty** (:mod:`tvmedit.engine.parse.boundaries`). On a copy of the sequence
-       reduced to about 10 fps (block means of frames), a two-block statistic is evaluated
-       at every frame t: the energy distance between the frames of the ``novelty_window``
-       seconds before t and after t, 2 E|X - Y| - E|X - X'| - E|Y - Y'| on frame distances,
-       i.e. a checkerboard kernel along the diagonal of the frame-distance matrix with its
-       within-block diagonals left out. It is near zero inside an exercise whatever its phase (both blocks hold
-       whole cycles of the same poses) and peaks where the pose distribution changes. Each
-       row holds the block mean's histograms and, weighted by ``novelty_pace``, how fast
-       each bin changes (exercises of alike poses at another pace were missed; weight 2
-       since step 29 of docs/parsing.md, so that pace takes a third of the axes below, not a
-       tenth: HDM05 changes of tempo between alike poses), and the rows are compared on the
-       take's ``novelty_components`` principal axes of change, each scaled to its spread
-       (exercises that differ along a direction of little variance were missed;
-       ``novelty_threshold`` is then in units of that spread).
-       Until step 36 of docs/parsing.md, local maxima above ``novelty_threshold`` and at
-       least ``min_cluster`` seconds apart were the boundaries (of two close peaks, the higher
-       since step 30, the earlier of nearly equal ones before; not the ``shoulder`` of a
-       stronger peak, a bump on its slowly falling flank). **Changes of the whole take**
-       (step 36, :mod:`tvmedit.engine.parse.partition`, ``partition``): the boundaries are now the changes
-       of the partition of the same rows of least within-segment energy scatter plus a
-       penalty per change, each read on the novelty within 0.5 s (none under
-       ``partition_floor`` of the threshold); two exercises of alike poses differ little
-       within 4 s but over whole segments (fresh batches: 547 of 580 changes found rather
-       than 525, 31 false boundaries rather than 33). Either way no boundary
-       where the person only turned: a peak under which the novelty of the same rows taken
-       whichever way the body faces (:func:`tvmedit.engine.parse.heading.azimuth_spectrum`) stays below
-       ``turn_ratio`` of it is vetoed (false boundaries in exercises done while turning).
-       **Behind a turn** (step 1c): within ``novelty_window`` of a vetoed turn, the
-       heading-free novelty's own peaks over the threshold are boundaries (a change of
-       exercise a few seconds after a turn lay on the turn's slope, no peak of its own), and
-       steps 4 and 5 place the boundaries near a turn on the heading-free rows (on the
-       others the turn is the greatest change about them, and they moved onto it).
-       **Where the rhythm changes** (step 1b, :mod:`tvmedit.engine.parse.rhythm`): a peak under the
-       threshold but at least 3/4 of it, not a turn, is a boundary where the periods before
-       and after it differ by ``rhythm_ratio`` or more and not by a whole multiple (two
-       exercises of alike poses at another tempo were missed: five of HDM05's nine misses).
-    2. **Textons by period** (:mod:`tvmedit.engine.parse.periods`). In each cluster the period P is the
-       lag with the deepest mean atom distance mean_u d_A(u, u + L), the shortest lag
-       nearly as deep, unless 2L is the true period of a left-then-right exercise: the
-       *mirror test* (frame u + L nearer the mirror image of frame u than frame u itself;
-       fixes half-period textons of knee raises, side bends, toe touches, twists) decides,
-       about a vertical plane chosen anew every two lags, on rows turned back by the
-       heading (a person who turns turns the plane: half cycles of exercises done swaying or
-       across turns).
-       Symmetrically, L gives way to L/3 or L/2 when the profile dips nearly as low there
-       (``submultiple``; fixes textons two repetitions long where repetitions alternate a
-       little, as HDM05's stitched clips do), as low measured against the most prominent
-       valley's dip too where L is shorter than that valley (step 34: slow side bends read
-       their half cycle, which barely dipped, and then a third of it). A cluster whose
-       valleys are too broad for a 0.3 s reach (a slow exercise) is measured again with a
-       reach of a quarter of each lag before it is left without textons (a 3.9 s toe touch had none); transitions are
-       still told with the 0.3 s reach alone. **Two repetitions in one texton** (step 31,
-       ``comb``): the textons are cut at P/2 where the lag profile also dips below its level
-       near P/2 and near 3P/2 (a period repeats at its multiples, so a dip at one and a half
-       times P says P spans two repetitions: HDM05 kicks and hops whose consecutive clips
-       differ had textons two clips long, their one-clip valley too shallow for
-       ``submultiple``); for the textons only, not for the periods steps 1b, 3 and 4 read
-       (step 3 and the weak splits count textons: no boundary moved on the suite).
-       Textons start at the most repeatable
-       atom of the first period and each next one at the minimum of d_A(t, t_first) within
-       P +/- 25 %, as in the paper. Partial periods at the cluster's ends are not textons.
-       **Pauses between repetitions** (:mod:`tvmedit.engine.parse.pauses`, ``pause_share``): where a
-       cluster's frames often hold still, its period and textons are found on the frames
-       that move and each texton keeps the pause after it (textons fell short of
-       repetitions, and long pauses became textons of their own).
-    3. **Transitions join the exercise they lead into** (:mod:`tvmedit.engine.parse.joins`).
-       Standing still or a slow change of pose between two exercises made a cluster of its
-       own (precision 0.50 on the suite's take with 2 s of standing still). A cluster of at
-       most ``max_transition`` seconds that shows no period, or changes pose at under half
-       the pace of its neighbour, joins the next cluster when that one repeats or is longer
-       than ``max_transition`` (an exercise of one-off movements shows no period), else the
-       previous one where that one repeats.
-    4. **Boundaries between whole periods** (:func:`tvmedit.engine.parse.onsets.settle`). Novelty blocks
-       cut cycles at any phase, so its peak wanders with the tempo; each boundary moves, by
-       up to ``refine_reach`` s, to where whole periods of its two clusters differ most,
-       read on the parser's rows and on the heading-free rows together (``settle_free``;
-       step 33: where the tracked heading is a bin or a few off, as after a change of
-       exercise in a take that turns, the first alone lay broad and its top wandered early).
-    5. **Boundaries at the onset** (:mod:`tvmedit.engine.parse.onsets`). The novelty peaks in the middle
-       of a slow transition, 1-2 s after the old exercise stopped (boundaries missed on the
-       suite's takes with 3 s transitions); each boundary moves back, by up to
-       ``onset_reach`` seconds (1 s since step 36, whose changes already lie nearer the
-       onset; 2 s before), to where the motion left the old exercise's poses. Where the
-       frames it would leave behind are the old poses turned
-       (:func:`tvmedit.engine.parse.onsets.turned_away`), the onset is also read on the heading-free rows
-       and the later of the two taken (a person who turned 1-2.5 s before changing exercise
-       had the boundary taken back to the turn; since step 28 also frames turned only 10
-       degrees or more from the old poses: CMU 13_29 turning 6 degrees a second);
-       step 4 reads the heading-free rows where it would move a boundary back over such frames.
-       **5b. Clusters the placing left too short** (:func:`tvmedit.engine.parse.joins.join_short`,
-       step 36, with ``partition`` only): steps 4 and 5 move each boundary on its own, and
-       an inner cluster they leave shorter than step 1's spacing (``min_cluster``) joins the
-       neighbour across its weaker boundary (a slow transition between two changes of the
-       partition stayed a 1.5 s cluster).
-    6. **Weak splits of non-repeating stretches undone** (:mod:`tvmedit.engine.parse.joins`). An
-       exercise of one-off movements (putting something on the floor) makes novelty
-       fluctuate and split it; a boundary of confidence under ``weak_boundary`` between two
-       clusters of at most one texton each, one at least showing no period, is dropped.
+    1. *Rows*: azimuth histograms smoothed and turned back by the person's slow heading
+       (:mod:`.heading`), so turning is not read as a change of pose.
+    2. *Clusters* where the whole take changes (:mod:`.partition`, kernel change points on
+       the novelty's rows, :mod:`.boundaries`), none where the person only turned, plus
+       changes of rhythm under the threshold (:mod:`.rhythm`) and changes just behind a turn.
+    3. *Textons* one period long (:mod:`.periods`: the lag profile's deepest valley, the
+       mirror test for left-right exercises, pauses between repetitions in :mod:`.pauses`).
+    4. *Transitions* join the exercise they lead into, and weak splits of one-off movements
+       are undone (:mod:`.joins`).
+    5. *Boundaries placed* between whole periods, then back at the onset of the change
+       (:mod:`.onsets`); clusters left shorter than ``min_cluster`` join a neighbour.
 
-The features' origin (:mod:`tvmedit.engine.features`) is the first frame's centroid, as in the
-paper, unless the person strays over half a metre from it, when it follows the person (about
-a fixed origin an exercise done while drifting split every 2-3 s: precision 0.20 on the
-suite's drifting takes). Each boundary and texton gets a confidence (:mod:`tvmedit.engine.parse.confidence`).
+    Each boundary and texton gets a confidence (:mod:`.confidence`).
 
-Within K frames of either end of the sequence, the atom window is cut at the end and the
-remaining weights are rescaled to the full window's total, so an atom distance keeps its
-scale (the frames that would be needed do not exist).
-
-Clusters are inclusive frame ranges that cover the sequence. A cluster with fewer than two
-textons (a non-cyclic stretch, or an exercise shorter than two periods) is kept, with its
-zero or one texton; the motion database decides what to do with it.
-
-Time-like parameters are in seconds so that a 30 fps capture is parsed like a 10 fps one:
-the atom window keeps its 0.5 s span (its taps are resampled), and periods and minimum
-lengths scale with the frame rate.
+The features' origin is the first frame's centroid, as in the paper, unless the person strays
+over half a metre from it; then it follows the person. Near the sequence's ends the atom
+window is cut and its weights rescaled, so a distance keeps its scale. Clusters are inclusive
+frame ranges that cover the sequence; one with fewer than two textons is kept, and the
+database decides what to do with it. Times are in seconds, so a 30 fps capture is parsed like
+a 10 fps one.
 """
 
 from __future__ import annotations
@@ -309,7 +197,7 @@ def _textons_by_period(v, cs, ce, P, w, ci):
 
 
 def _cluster_textons(period, cs, ce, P, ci):
-    # Step 2 for one cluster: whole periods of P (read by ``period``, a PeriodReader, where
+    # The textons of one cluster: whole periods of P (read by ``period``, a PeriodReader, where
     # None). Where its repetitions pause (tvmedit.engine.parse.pauses), the period and textons come from its
     # moving frames and each texton keeps the pause after it.
     v, w = period.rows, period.window
@@ -328,7 +216,7 @@ def _cluster_textons(period, cs, ce, P, ci):
 
 
 def _textons_of_clusters(period, clusters, periods=None):
-    # Step 2: each cluster's period (given, or read by ``period``), then its textons.
+    # Each cluster's period (given, or read by ``period``), then its textons.
     v, w = period.rows, period.window
     textons = []
     for ci, (cs, ce) in enumerate(clusters):
@@ -379,19 +267,19 @@ def _period_reader(v, fps, p, w, theta, centred_rows=None):
 
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     # The rows about each frame's own centre, smoothed once for the turn veto, the mirror test
-    # and step 24.
+    # and the test of frames only turned.
     centred_rows = _centred_rows(centred, len(v))
     free, turn_free = _heading_free(v, fps, p, theta, centred_rows)
     clusters, turns = novelty_boundaries(v, fps, p, n, step, turn_free)
-    # Boundaries near a vetoed turn are placed (steps 4 and 5) on the heading-free rows: on
+    # Boundaries near a vetoed turn are placed (settle and onset) on the heading-free rows: on
     # the others the turn itself is the greatest change about them (tvmedit.engine.parse.boundaries).
     near_turn = lambda b: any(abs(b - t) <= p.novelty_window * fps for t in turns)  # noqa: E731
     period = _period_reader(v, fps, p, w, theta, centred_rows)
-    # Step 1b: weak peaks where the period changes (tvmedit.engine.parse.rhythm).
+    # Weak peaks where the period changes (tvmedit.engine.parse.rhythm).
     clusters = rhythm_splits(period, clusters, n, step, turn_free)
     periods = None
     count = lambda cs, ce, P: len(_cluster_textons(period, cs, ce, P, 0))  # noqa: E731
-    # Frames a boundary would move back over that are only the old poses turned (step 24),
+    # Frames a boundary would move back over that are only the old poses turned,
     # read about each frame's own centre where given (a turn about the body's own axis only
     # shifts their azimuth histograms), else on the parser's view.
     turn_rows = (centred_rows or (v, theta)) if free is not None else None
@@ -400,9 +288,9 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     if p.max_transition > 0:
         clusters, periods = absorb_transitions(period, clusters, count)
     if p.refine_reach > 0 and len(clusters) > 1:
-        # Step 4: each boundary between whole periods of its two clusters (tvmedit.engine.parse.onsets); on
+        # Each boundary between whole periods of its two clusters (tvmedit.engine.parse.onsets); on
         # the heading-free rows near a turn, vetoed or one it would move back onto, elsewhere
-        # on those rows and the parser's together (step 33).
+        # on those rows and the parser's together (``settle_free``).
         periods = periods or [period(cs, ce) for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
         starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
@@ -415,7 +303,7 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
     if p.onset_reach > 0:
-        # Step 5: each boundary moves back from its novelty peak to where the motion left the
+        # Each boundary moves back from its novelty peak to where the motion left the
         # old exercise (tvmedit.engine.parse.onsets), never onto the old cluster's first frame; read on the
         # heading-free rows near a turn, vetoed or left behind by the onset.
         def start_of(i, cs):
@@ -432,8 +320,8 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
             clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
             periods = None
     if p.partition > 0:
-        # Step 5b (with step 36's partition; partition 0 parses as before it): a piece steps
-        # 4 and 5 left shorter than step 1's spacing joins a neighbour (tvmedit.engine.parse.joins).
+        # With the partition only: a cluster that settling and onsets left shorter than the
+        # boundaries' least spacing joins a neighbour (tvmedit.engine.parse.joins).
         least = spacing(p, fps / step) * step
         joined = join_short(clusters, lambda cs: boundary_confidences(n, step, cs, p.novelty_threshold), least)
         if joined != clusters:
@@ -446,7 +334,7 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
 
 def textons_for(vectors, clusters, fps=PAPER_FPS, params: StructureParams | None = None, theta=None,
                 centred=None) -> list:
-    """The textons of given clusters, found as step 2 of ``method="energy"`` finds them.
+    """The textons of given clusters, found as ``method="energy"`` finds them.
 
     For clusters drawn by hand (:mod:`tvmedit.engine.store.corrections`): each cluster's period from its
     lag profile, then whole periods from its most repeatable atom.
