@@ -51,7 +51,7 @@ def run_signalled(args, *, at, signum, after=1, env=None):
     """Run ``tvmedit ARGS``, sending ``signum`` to itself after ``after`` calls of ``at``.
 
     ``at`` is ``"module:attribute"``, e.g. ``"tvmedit.engine.graph.export:write_ply"`` or
-    ``"tvmedit.engine.store.layout:NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
+    ``"tvmedit.engine.store.arrays:NpyStream.append"``. Returns the ``subprocess.CompletedProcess``.
     """
     module, attribute = at.split(":")
     command = [sys.executable, "-c", _CHILD, module, attribute, str(after), str(int(signum)),

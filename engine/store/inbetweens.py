@@ -5,7 +5,7 @@ edge of the motion graph of a library being written (and closes every motion's l
 :mod:`tvmedit.engine.inbetween.loops`): it measures the library's natural step on its texton frames, copies
 from the library being replaced every run that would come out the same, makes the others on
 the workers, and stores them in flat arrays beside the texton frames (``blend_*.npy``,
-``blends.json``, written through :class:`tvmedit.engine.store.layout.MeshWriter`).
+``blends.json``, written through :class:`tvmedit.engine.store.arrays.MeshWriter`).
 """
 
 import numpy as np
@@ -24,7 +24,7 @@ NATURAL_PAIRS = 240
 def _stored(folder, rows):
     """``(positions, colours, faces)`` of the stored texton frames ``rows`` of the library
     being written in ``folder`` (its meshes are written, the rest perhaps not yet)."""
-    from .layout import frame_offsets, mesh_arrays
+    from .arrays import frame_offsets, mesh_arrays
 
     arrays = mesh_arrays(folder)
     offsets = frame_offsets(folder, arrays)
@@ -162,7 +162,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
         ``seconds``: CPU seconds the runs took in all; ``made``: the runs made (not copied),
         transitions and loop closings; ``bounds`` and ``max_counts`` of them.
     """
-    from .layout import MeshWriter, frame_keys, frame_offsets, mesh_arrays
+    from .arrays import MeshWriter, frame_keys, frame_offsets, mesh_arrays
 
     arrays = mesh_arrays(folder)
     offsets = frame_offsets(folder, arrays).tolist()
@@ -225,7 +225,7 @@ def _textures(folder, vertices, frames):
     """The texton frames' ``(uvs, texels, rows)`` (memory-mapped), or None when untextured."""
     from pathlib import Path
 
-    from .layout import texture_arrays
+    from .arrays import texture_arrays
 
     return texture_arrays(folder, vertices, frames) if (Path(folder) / "uvs.npy").exists() else None
 

@@ -13,12 +13,9 @@ A library is a directory written by :func:`tvmedit.build` and opened by
     (T, D) float32: one feature vector per frame of every sequence in order (eq. (1)-(4)),
     r histograms zero-padded to the library's widest, then theta, then phi.
 ``features_centred.npy``
-    only where the origin of some sequence stays put: its frames' histograms about each
-    frame's own centre (:attr:`tvmedit.engine.features.Features.centred`, which the parser's turn veto
-    reads), as ``features.npy``, sequence after sequence, r padded to the widest of them
-    (``feature_columns.centred_r`` in the manifest); the manifest gives a sequence's
-    ``centred_rows`` and ``centred_r_bins``. A library without it
-    (built before) opens as before: its sequences have no centred features.
+    optional: histograms about each frame's own centre (:attr:`tvmedit.engine.features.Features.centred`,
+    which the parser's turn veto reads), laid out as ``features.npy``; the manifest gives each
+    sequence's ``centred_rows`` and ``centred_r_bins``.
 ``structure.json``
     per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
 ``database.json``
@@ -30,14 +27,8 @@ A library is a directory written by :func:`tvmedit.build` and opened by
     pruned graph (eq. (14)) is rebuilt from them on open.
 ``graph.graphml``
     the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
-``positions.npy``, ``colours.npy``, ``normals.npy``
-    (V, 3) float32, uint8, float32: vertices of every stored frame, one after another.
-``faces.npy``
-    (F, 3) uint32, indices local to each frame.
-``frames.npy``
-    (n, 4) int64 per stored frame: vertex start, vertex count, face start, face count.
-``frame_keys.npy``
-    (n, 2) int64 per stored frame: sequence index (manifest order) and frame number.
+``positions.npy``, ``colours.npy``, ``normals.npy``, ``faces.npy``, ``frames.npy``, ``frame_keys.npy``
+    the stored frames' flat mesh arrays and their ranges (:mod:`tvmedit.engine.store.arrays`).
 ``blend_*.npy``, ``blends.json``
     the in-between frames (:mod:`tvmedit.engine.inbetween.blend`) as the frames above (no keys; texture rows into
     ``textures.npy``), run after run; per graph edge ``{"from", "to", "first", "count", "jump",
@@ -46,10 +37,8 @@ A library is a directory written by :func:`tvmedit.build` and opened by
     from = to, exit the end, entry the start, ``at``, ``texton``); ``natural_step``, ``blend_frames``,
     ``feature_keys``, ``pair_steps`` (``[sequence, frame, step]`` the natural step is the median of).
 ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
-    only where some stored frame is textured: (V, 2) float32 texture coordinates beside
-    ``positions`` (zeros for untextured frames); the texture images' RGB texels one frame
-    after another, (P, 3) uint8, each image's rows top first; (n, 3) int64 per stored frame:
-    first texel, height, width (0, 0, 0 for an untextured frame).
+    only where some stored frame is textured: texture coordinates beside ``positions``, the
+    images' texels one frame after another, and each frame's first texel, height and width.
 ``names.json``
     optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
 ``corrections.json``, ``parse.json``
@@ -73,7 +62,7 @@ import numpy as np
 from .. import safewrite
 from ..errors import LibraryError, build_call, not_a_library
 
-__all__ = ["FORMAT", "CHECKED_FILES", "MESH_ARRAYS", "NpyStream", "MeshWriter", "write_json",
+__all__ = ["FORMAT", "CHECKED_FILES", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
            "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
@@ -89,11 +78,6 @@ CHECKED_FILES = ("features.npy", "features_centred.npy", "structure.json", "data
                  "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json",
                  "blends.json", "blend_positions.npy", "blend_colours.npy", "blend_normals.npy",
                  "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy", "blend_texture_frames.npy")
-
-#: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
-MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
-               ("faces", np.uint32, 3))
-
 
 def tvmedit_version():
     """The installed tvmedit's version, recorded in every manifest."""
@@ -124,162 +108,6 @@ def _json_default(value):
 def write_json(path, data):
     """Write ``data`` compactly (numpy scalars and arrays, tuples and dataclasses allowed)."""
     Path(path).write_text(json.dumps(data, default=_json_default, separators=(",", ":")))
-
-
-class NpyStream:
-    """An ``.npy`` file of rows appended in pieces, whose length is known only at the end.
-
-    The header is written last, into a fixed 128 bytes reserved at the start (numpy's own
-    header for a 2-D array is that long), so the rows go straight to disk and are never
-    copied.
-    """
-
-    HEADER = 128
-
-    def __init__(self, path, dtype, width):
-        self.path, self.dtype, self.width, self.rows = path, np.dtype(dtype), width, 0
-        self.handle = open(path, "wb")
-        self.handle.write(b"\0" * self.HEADER)
-
-    def append(self, array):
-        array = np.ascontiguousarray(array, dtype=self.dtype)
-        self.handle.write(memoryview(array).cast("B"))
-        self.rows += len(array)
-
-    def copy_rows(self, path, start, stop):
-        """Append rows ``start:stop`` of the ``.npy`` file ``path`` (same dtype and width) byte for
-        byte, in the kernel where it can (``os.copy_file_range``), never through numpy."""
-        import os
-
-        start, stop = int(start), int(stop)
-        source = np.load(path, mmap_mode="r")
-        if source.dtype != self.dtype or source.shape[1:] != (self.width,) or not 0 <= start <= stop <= len(source):
-            raise ValueError(f"{path} does not hold rows {start}:{stop} of {self.dtype} x {self.width}")
-        size = self.dtype.itemsize * self.width
-        offset, left = source.offset + start * size, (stop - start) * size
-        self.handle.flush()
-        with open(path, "rb") as handle:
-            while left:
-                try:
-                    done = os.copy_file_range(handle.fileno(), self.handle.fileno(), left, offset)
-                except (AttributeError, OSError):
-                    handle.seek(offset)
-                    done = os.write(self.handle.fileno(), handle.read(min(left, 1 << 26)))
-                if not done:
-                    raise ValueError(f"{path} ends before row {stop}")
-                offset, left = offset + done, left - done
-        self.handle.seek(0, os.SEEK_END)
-        self.rows += stop - start
-
-    def close(self):
-        header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
-                  "shape": (self.rows, self.width)}
-        text = repr(header).encode("latin1")
-        length = self.HEADER - 10
-        if len(text) + 1 > length:
-            raise ValueError(f"npy header too long for {self.path}")
-        self.handle.seek(0)
-        self.handle.write(b"\x93NUMPY\x01\x00" + length.to_bytes(2, "little")
-                          + text + b" " * (length - len(text) - 1) + b"\n")
-        self.handle.close()
-
-
-class MeshWriter:
-    """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
-
-    ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
-    With ``prefix="blend_"`` it writes the in-between frames' arrays (no frame keys).
-    """
-
-    def __init__(self, folder, prefix=""):
-        folder = Path(folder)
-        self._folder, self._prefix = folder, prefix
-        self._arrays = {name: NpyStream(folder / f"{prefix}{name}.npy", dtype, width)
-                        for name, dtype, width in MESH_ARRAYS}
-        # Texture arrays are opened at the first textured frame: untextured libraries have none.
-        self._uvs = self._texels = None
-        self._texture_rows = []
-        self._offsets = NpyStream(folder / f"{prefix}frames.npy", np.int64, 4)
-        self._keys = None if prefix else NpyStream(folder / "frame_keys.npy", np.int64, 2)
-        self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
-        self._starts = [0, 0]
-        self.frames = 0
-        self.max_counts = (0, 0)
-
-    def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None,
-            texture_row=None):
-        """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
-        coordinates (N, 2) and texture image (H, W, 3) uint8 (or ``texture_row``, one stored
-        already) when it is textured."""
-        for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
-                            ("faces", faces)):
-            self._arrays[name].append(array)
-        v0, f0 = self._starts
-        if uv is not None and (texture is not None or (texture_row is not None and texture_row[1])):
-            if self._uvs is None:
-                self._uvs = NpyStream(self._folder / f"{self._prefix}uvs.npy", np.float32, 2)
-                for start in range(0, v0, 1 << 20):
-                    self._uvs.append(np.zeros((min(1 << 20, v0 - start), 2), np.float32))
-            self._uvs.append(uv)
-            if texture_row is None:
-                self._texels = self._texels or NpyStream(self._folder / "textures.npy", np.uint8, 3)
-                texture_row = [self._texels.rows, texture.shape[0], texture.shape[1]]
-                self._texels.append(np.asarray(texture).reshape(-1, 3))
-            self._texture_rows.append([int(x) for x in texture_row])
-        else:
-            if self._uvs is not None:
-                self._uvs.append(np.zeros((len(positions), 2), np.float32))
-            self._texture_rows.append([0, 0, 0])
-        self._offsets.append(np.array([[v0, len(positions), f0, len(faces)]]))
-        if self._keys is not None:
-            self._keys.append(np.array([[sequence_index, frame]]))
-        self._starts = [v0 + len(positions), f0 + len(faces)]
-        self.max_counts = (max(self.max_counts[0], len(positions)), max(self.max_counts[1], len(faces)))
-        np.minimum(self._low, positions.min(axis=0), out=self._low)
-        np.maximum(self._high, positions.max(axis=0), out=self._high)
-        self.frames += 1
-
-    def copy_frames(self, library, rows, keys):
-        """Append the stored frames ``rows`` (consecutive rows, untextured) of ``library`` (an
-        :class:`tvmedit.engine.store.library.Library`) as frames ``keys`` (``(sequence index, frame)``), byte for
-        byte. Their bounds are taken as the library's (its corners over all its frames)."""
-        offsets = frame_offsets(library.path, mesh_arrays(library.path))[rows[0]:rows[-1] + 1]
-        if len(offsets) != len(rows) or len(keys) != len(rows):
-            raise ValueError("copy_frames takes consecutive rows, one key each")
-        (v0, f0), (v1, f1) = offsets[0, [0, 2]].tolist(), (offsets[-1, [0, 2]] + offsets[-1, [1, 3]]).tolist()
-        for name, _, _ in MESH_ARRAYS:
-            self._arrays[name].copy_rows(Path(library.path) / f"{name}.npy", *((f0, f1) if name == "faces" else (v0, v1)))
-        if self._uvs is not None:
-            self._uvs.append(np.zeros((v1 - v0, 2), np.float32))
-        self._texture_rows += [[0, 0, 0]] * len(rows)
-        moved = offsets - np.array([v0 - self._starts[0], 0, f0 - self._starts[1], 0])
-        self._offsets.append(moved)
-        self._keys.append(np.asarray(keys, np.int64).reshape(-1, 2))
-        self._starts = [self._starts[0] + int(v1 - v0), self._starts[1] + int(f1 - f0)]
-        self.max_counts = (max(self.max_counts[0], int(offsets[:, 1].max())),
-                           max(self.max_counts[1], int(offsets[:, 3].max())))
-        low, high = library.bounds()
-        np.minimum(self._low, low, out=self._low)
-        np.maximum(self._high, high, out=self._high)
-        self.frames += len(rows)
-
-    @property
-    def bounds(self):
-        """``(low, high)`` corners over every frame added (zeros when none)."""
-        if not self.frames:
-            return [0.0] * 3, [0.0] * 3
-        return self._low.tolist(), self._high.tolist()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        for stream in (*self._arrays.values(), self._offsets, self._keys, self._uvs, self._texels):
-            if stream is not None:
-                stream.close()
-        if self._uvs is not None:
-            np.save(self._folder / f"{self._prefix}texture_frames.npy",
-                    np.array(self._texture_rows, np.int64).reshape(-1, 3))
 
 
 #: The files of the stored meshes (:class:`MeshWriter` writes them).
@@ -530,55 +358,6 @@ def load_array(path, name):
         detail = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         raise LibraryError(f"library {path} has an unreadable {name} ({detail}); "
                            f"{_rebuild_hint(path)}.") from None
-
-
-def mesh_arrays(path, prefix=""):
-    """The flat mesh arrays of :data:`MESH_ARRAYS` (``prefix="blend_"``: of the in-between
-    frames), memory-mapped, their shapes checked."""
-    arrays = {name: load_array(path, f"{prefix}{name}.npy") for name, _, _ in MESH_ARRAYS}
-    for name, dtype, width in MESH_ARRAYS:
-        array = arrays[name]
-        if array.ndim != 2 or array.shape[1] != width or array.dtype != dtype:
-            raise damaged(path, ValueError(f"{name}.npy holds {array.dtype} {array.shape}"))
-    if not len(arrays["positions"]) == len(arrays["colours"]) == len(arrays["normals"]):
-        raise damaged(path, ValueError("the vertex arrays differ in length"))
-    return arrays
-
-
-def frame_offsets(path, arrays, prefix=""):
-    """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays."""
-    offsets = np.asarray(load_array(path, f"{prefix}frames.npy"))
-    vertices, faces = len(arrays["positions"]), len(arrays["faces"])
-    ok = offsets.ndim == 2 and offsets.shape[1] == 4 and offsets.dtype == np.int64
-    if ok and len(offsets):
-        v0, nv, f0, nf = offsets.T
-        ok = bool((offsets >= 0).all() and (v0 + nv <= vertices).all() and (f0 + nf <= faces).all())
-    if not ok:
-        raise damaged(path, ValueError(f"{prefix}frames.npy does not match the mesh arrays"))
-    return offsets
-
-
-def frame_keys(path, frames, sequences):
-    """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
-    keys = np.asarray(load_array(path, "frame_keys.npy"))
-    ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
-    if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
-        raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))
-    return keys
-
-
-def texture_arrays(path, vertices, frames, prefix=""):
-    """``(uvs (V, 2), texels (T, 3), rows (n, 3))`` memory-mapped, every frame's texels inside."""
-    uvs, texels = load_array(path, f"{prefix}uvs.npy"), load_array(path, "textures.npy")
-    rows = np.asarray(load_array(path, f"{prefix}texture_frames.npy"))
-    ok = (uvs.shape == (vertices, 2) and texels.ndim == 2 and texels.shape[1] == 3
-          and rows.shape == (frames, 3) and rows.dtype == np.int64)
-    if ok and len(rows):
-        start, height, width = rows.T
-        ok = bool((rows >= 0).all() and (start + height * width <= len(texels)).all())
-    if not ok:
-        raise damaged(path, ValueError("the texture arrays do not match the meshes"))
-    return uvs, texels, rows
 
 
 def read_graph(path):

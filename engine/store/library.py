@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import layout
+from . import arrays, layout
 from ..graph.database import Node
 from ..errors import LibraryError, TvmError
 from .infoschema import INFO_SCHEMA  # re-exported: tvmedit.engine.store.library.INFO_SCHEMA
@@ -310,17 +310,17 @@ class Library:
     @cached_property
     @_reads_format
     def _arrays(self):
-        return layout.mesh_arrays(self.path)
+        return arrays.mesh_arrays(self.path)
 
     @cached_property
     @_reads_format
     def _offsets(self):
-        return layout.frame_offsets(self.path, self._arrays)
+        return arrays.frame_offsets(self.path, self._arrays)
 
     @cached_property
     @_reads_format
     def _frame_rows(self):
-        keys = layout.frame_keys(self.path, len(self._offsets), len(self.sequences))
+        keys = arrays.frame_keys(self.path, len(self._offsets), len(self.sequences))
         names = [s.name for s in self.sequences]
         return {(names[s], int(f)): row for row, (s, f) in enumerate(keys.tolist())}
 
@@ -346,12 +346,12 @@ class Library:
     @cached_property
     @_reads_format
     def _blend_arrays(self):
-        return layout.mesh_arrays(self.path, "blend_")
+        return arrays.mesh_arrays(self.path, "blend_")
 
     @cached_property
     @_reads_format
     def _blend_offsets(self):
-        return layout.frame_offsets(self.path, self._blend_arrays, "blend_")
+        return arrays.frame_offsets(self.path, self._blend_arrays, "blend_")
 
     def _locate(self, key):
         """``(arrays, offsets, row, textures)`` of the stored frame ``key`` (see :meth:`frame_mesh`)."""
@@ -410,14 +410,14 @@ class Library:
     def _textures(self):
         if "uvs.npy" not in self.manifest.get("files", {}):
             return None
-        return layout.texture_arrays(self.path, len(self._arrays["positions"]), len(self._offsets))
+        return arrays.texture_arrays(self.path, len(self._arrays["positions"]), len(self._offsets))
 
     @cached_property
     @_reads_format
     def _blend_textures(self):
         if "blend_uvs.npy" not in self.manifest.get("files", {}):
             return None
-        return layout.texture_arrays(self.path, len(self._blend_arrays["positions"]),
+        return arrays.texture_arrays(self.path, len(self._blend_arrays["positions"]),
                                         len(self._blend_offsets), "blend_")
 
     @property

@@ -3,7 +3,7 @@
 Only the frames of database motions can ever be played, so by default only they are stored,
 with the few frames of the neighbouring repetitions their loops are closed onto
 (:mod:`tvmedit.engine.inbetween.loops`), or every frame with ``keep_frames="all"``
-(:class:`tvmedit.engine.store.layout.MeshWriter` writes the flat arrays). Which ones is known only
+(:class:`tvmedit.engine.store.arrays.MeshWriter` writes the flat arrays). Which ones is known only
 after the database is made, and reading them is what a build costs after the features, so
 a build or a rebuild takes them from the library being replaced wherever it can:
 
@@ -18,7 +18,7 @@ a build or a rebuild takes them from the library being replaced wherever it can:
 
 import time
 
-from . import layout
+from . import arrays, layout
 from ..errors import InputError
 from ..capture.load import read_frame
 from ..capture.normals import vertex_normals
@@ -78,7 +78,7 @@ def _next_read(results, missing):
 def write(tmp, needed, pool, run, old=None, stored=None):
     """Store the ``needed`` frames ``(sequence index, frame, path, orientation)`` in the library
     folder ``tmp``: linked or copied from ``old`` where ``stored`` (:func:`reusable`) has them,
-    else read on ``pool``. Returns the :class:`tvmedit.engine.store.layout.MeshWriter` (or what
+    else read on ``pool``. Returns the :class:`tvmedit.engine.store.arrays.MeshWriter` (or what
     :func:`tvmedit.engine.store.layout.link_meshes` returns)."""
     stored = stored or {}
     run.read_frames = 0
@@ -99,7 +99,7 @@ def write(tmp, needed, pool, run, old=None, stored=None):
             pending.clear()
 
     try:
-        with layout.MeshWriter(tmp) as writer:
+        with arrays.MeshWriter(tmp) as writer:
             results = pool.map(_mesh_task, tasks, window=2 * pool.workers + 2)
             for seq_index, frame, _, _ in needed:
                 key = stored.get((seq_index, frame))

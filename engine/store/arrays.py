@@ -1,0 +1,228 @@
+"""The stored meshes' flat arrays, written as frames stream in and read back memory-mapped.
+
+Every stored frame's vertices, colours, normals and faces lie one after another in flat
+arrays (:data:`MESH_ARRAYS`), with ``frames.npy`` giving each frame's ranges and
+``frame_keys.npy`` its sequence and frame; textured frames add ``uvs.npy`` and their texels
+(:mod:`tvmedit.engine.store.layout` lists every file of a library). Flat arrays plus ranges
+(as Motion-Matching's database keeps its frames) let the player stream without parsing:
+:class:`MeshWriter` appends frames to growing ``.npy`` files whose lengths are known only at
+the end (:class:`NpyStream`), and the readers here check the arrays' shapes against each
+other before anything is drawn from them.
+"""
+
+from pathlib import Path
+
+import numpy as np
+
+from .layout import damaged, load_array
+
+__all__ = ["MESH_ARRAYS", "NpyStream", "MeshWriter", "mesh_arrays", "frame_offsets", "frame_keys", "texture_arrays"]
+
+#: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
+MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
+               ("faces", np.uint32, 3))
+
+
+class NpyStream:
+    """An ``.npy`` file of rows appended in pieces, whose length is known only at the end.
+
+    The header is written last, into a fixed 128 bytes reserved at the start (numpy's own
+    header for a 2-D array is that long), so the rows go straight to disk and are never
+    copied.
+    """
+
+    HEADER = 128
+
+    def __init__(self, path, dtype, width):
+        self.path, self.dtype, self.width, self.rows = path, np.dtype(dtype), width, 0
+        self.handle = open(path, "wb")
+        self.handle.write(b"\0" * self.HEADER)
+
+    def append(self, array):
+        array = np.ascontiguousarray(array, dtype=self.dtype)
+        self.handle.write(memoryview(array).cast("B"))
+        self.rows += len(array)
+
+    def copy_rows(self, path, start, stop):
+        """Append rows ``start:stop`` of the ``.npy`` file ``path`` (same dtype and width) byte for
+        byte, in the kernel where it can (``os.copy_file_range``), never through numpy."""
+        import os
+
+        start, stop = int(start), int(stop)
+        source = np.load(path, mmap_mode="r")
+        if source.dtype != self.dtype or source.shape[1:] != (self.width,) or not 0 <= start <= stop <= len(source):
+            raise ValueError(f"{path} does not hold rows {start}:{stop} of {self.dtype} x {self.width}")
+        size = self.dtype.itemsize * self.width
+        offset, left = source.offset + start * size, (stop - start) * size
+        self.handle.flush()
+        with open(path, "rb") as handle:
+            while left:
+                try:
+                    done = os.copy_file_range(handle.fileno(), self.handle.fileno(), left, offset)
+                except (AttributeError, OSError):
+                    handle.seek(offset)
+                    done = os.write(self.handle.fileno(), handle.read(min(left, 1 << 26)))
+                if not done:
+                    raise ValueError(f"{path} ends before row {stop}")
+                offset, left = offset + done, left - done
+        self.handle.seek(0, os.SEEK_END)
+        self.rows += stop - start
+
+    def close(self):
+        header = {"descr": np.lib.format.dtype_to_descr(self.dtype), "fortran_order": False,
+                  "shape": (self.rows, self.width)}
+        text = repr(header).encode("latin1")
+        length = self.HEADER - 10
+        if len(text) + 1 > length:
+            raise ValueError(f"npy header too long for {self.path}")
+        self.handle.seek(0)
+        self.handle.write(b"\x93NUMPY\x01\x00" + length.to_bytes(2, "little")
+                          + text + b" " * (length - len(text) - 1) + b"\n")
+        self.handle.close()
+
+
+class MeshWriter:
+    """Streams stored frames into the flat mesh arrays of folder ``folder``; use as a context.
+
+    ``bounds`` and ``max_counts`` (for the manifest) are known once every frame is added.
+    With ``prefix="blend_"`` it writes the in-between frames' arrays (no frame keys).
+    """
+
+    def __init__(self, folder, prefix=""):
+        folder = Path(folder)
+        self._folder, self._prefix = folder, prefix
+        self._arrays = {name: NpyStream(folder / f"{prefix}{name}.npy", dtype, width)
+                        for name, dtype, width in MESH_ARRAYS}
+        # Texture arrays are opened at the first textured frame: untextured libraries have none.
+        self._uvs = self._texels = None
+        self._texture_rows = []
+        self._offsets = NpyStream(folder / f"{prefix}frames.npy", np.int64, 4)
+        self._keys = None if prefix else NpyStream(folder / "frame_keys.npy", np.int64, 2)
+        self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
+        self._starts = [0, 0]
+        self.frames = 0
+        self.max_counts = (0, 0)
+
+    def add(self, sequence_index, frame, positions, colours, faces, normals, uv=None, texture=None,
+            texture_row=None):
+        """Append frame ``frame`` of the ``sequence_index``-th sequence, with its texture
+        coordinates (N, 2) and texture image (H, W, 3) uint8 (or ``texture_row``, one stored
+        already) when it is textured."""
+        for name, array in (("positions", positions), ("colours", colours), ("normals", normals),
+                            ("faces", faces)):
+            self._arrays[name].append(array)
+        v0, f0 = self._starts
+        if uv is not None and (texture is not None or (texture_row is not None and texture_row[1])):
+            if self._uvs is None:
+                self._uvs = NpyStream(self._folder / f"{self._prefix}uvs.npy", np.float32, 2)
+                for start in range(0, v0, 1 << 20):
+                    self._uvs.append(np.zeros((min(1 << 20, v0 - start), 2), np.float32))
+            self._uvs.append(uv)
+            if texture_row is None:
+                self._texels = self._texels or NpyStream(self._folder / "textures.npy", np.uint8, 3)
+                texture_row = [self._texels.rows, texture.shape[0], texture.shape[1]]
+                self._texels.append(np.asarray(texture).reshape(-1, 3))
+            self._texture_rows.append([int(x) for x in texture_row])
+        else:
+            if self._uvs is not None:
+                self._uvs.append(np.zeros((len(positions), 2), np.float32))
+            self._texture_rows.append([0, 0, 0])
+        self._offsets.append(np.array([[v0, len(positions), f0, len(faces)]]))
+        if self._keys is not None:
+            self._keys.append(np.array([[sequence_index, frame]]))
+        self._starts = [v0 + len(positions), f0 + len(faces)]
+        self.max_counts = (max(self.max_counts[0], len(positions)), max(self.max_counts[1], len(faces)))
+        np.minimum(self._low, positions.min(axis=0), out=self._low)
+        np.maximum(self._high, positions.max(axis=0), out=self._high)
+        self.frames += 1
+
+    def copy_frames(self, library, rows, keys):
+        """Append the stored frames ``rows`` (consecutive rows, untextured) of ``library`` (an
+        :class:`tvmedit.engine.store.library.Library`) as frames ``keys`` (``(sequence index, frame)``), byte for
+        byte. Their bounds are taken as the library's (its corners over all its frames)."""
+        offsets = frame_offsets(library.path, mesh_arrays(library.path))[rows[0]:rows[-1] + 1]
+        if len(offsets) != len(rows) or len(keys) != len(rows):
+            raise ValueError("copy_frames takes consecutive rows, one key each")
+        (v0, f0), (v1, f1) = offsets[0, [0, 2]].tolist(), (offsets[-1, [0, 2]] + offsets[-1, [1, 3]]).tolist()
+        for name, _, _ in MESH_ARRAYS:
+            self._arrays[name].copy_rows(Path(library.path) / f"{name}.npy", *((f0, f1) if name == "faces" else (v0, v1)))
+        if self._uvs is not None:
+            self._uvs.append(np.zeros((v1 - v0, 2), np.float32))
+        self._texture_rows += [[0, 0, 0]] * len(rows)
+        moved = offsets - np.array([v0 - self._starts[0], 0, f0 - self._starts[1], 0])
+        self._offsets.append(moved)
+        self._keys.append(np.asarray(keys, np.int64).reshape(-1, 2))
+        self._starts = [self._starts[0] + int(v1 - v0), self._starts[1] + int(f1 - f0)]
+        self.max_counts = (max(self.max_counts[0], int(offsets[:, 1].max())),
+                           max(self.max_counts[1], int(offsets[:, 3].max())))
+        low, high = library.bounds()
+        np.minimum(self._low, low, out=self._low)
+        np.maximum(self._high, high, out=self._high)
+        self.frames += len(rows)
+
+    @property
+    def bounds(self):
+        """``(low, high)`` corners over every frame added (zeros when none)."""
+        if not self.frames:
+            return [0.0] * 3, [0.0] * 3
+        return self._low.tolist(), self._high.tolist()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        for stream in (*self._arrays.values(), self._offsets, self._keys, self._uvs, self._texels):
+            if stream is not None:
+                stream.close()
+        if self._uvs is not None:
+            np.save(self._folder / f"{self._prefix}texture_frames.npy",
+                    np.array(self._texture_rows, np.int64).reshape(-1, 3))
+
+
+def mesh_arrays(path, prefix=""):
+    """The flat mesh arrays of :data:`MESH_ARRAYS` (``prefix="blend_"``: of the in-between
+    frames), memory-mapped, their shapes checked."""
+    arrays = {name: load_array(path, f"{prefix}{name}.npy") for name, _, _ in MESH_ARRAYS}
+    for name, dtype, width in MESH_ARRAYS:
+        array = arrays[name]
+        if array.ndim != 2 or array.shape[1] != width or array.dtype != dtype:
+            raise damaged(path, ValueError(f"{name}.npy holds {array.dtype} {array.shape}"))
+    if not len(arrays["positions"]) == len(arrays["colours"]) == len(arrays["normals"]):
+        raise damaged(path, ValueError("the vertex arrays differ in length"))
+    return arrays
+
+
+def frame_offsets(path, arrays, prefix=""):
+    """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays."""
+    offsets = np.asarray(load_array(path, f"{prefix}frames.npy"))
+    vertices, faces = len(arrays["positions"]), len(arrays["faces"])
+    ok = offsets.ndim == 2 and offsets.shape[1] == 4 and offsets.dtype == np.int64
+    if ok and len(offsets):
+        v0, nv, f0, nf = offsets.T
+        ok = bool((offsets >= 0).all() and (v0 + nv <= vertices).all() and (f0 + nf <= faces).all())
+    if not ok:
+        raise damaged(path, ValueError(f"{prefix}frames.npy does not match the mesh arrays"))
+    return offsets
+
+
+def frame_keys(path, frames, sequences):
+    """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
+    keys = np.asarray(load_array(path, "frame_keys.npy"))
+    ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
+    if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
+        raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))
+    return keys
+
+
+def texture_arrays(path, vertices, frames, prefix=""):
+    """``(uvs (V, 2), texels (T, 3), rows (n, 3))`` memory-mapped, every frame's texels inside."""
+    uvs, texels = load_array(path, f"{prefix}uvs.npy"), load_array(path, "textures.npy")
+    rows = np.asarray(load_array(path, f"{prefix}texture_frames.npy"))
+    ok = (uvs.shape == (vertices, 2) and texels.ndim == 2 and texels.shape[1] == 3
+          and rows.shape == (frames, 3) and rows.dtype == np.int64)
+    if ok and len(rows):
+        start, height, width = rows.T
+        ok = bool((rows >= 0).all() and (start + height * width <= len(texels)).all())
+    if not ok:
+        raise damaged(path, ValueError("the texture arrays do not match the meshes"))
+    return uvs, texels, rows
