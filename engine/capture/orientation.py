@@ -17,15 +17,13 @@ How up is found, in order:
    (a standing person is several times taller than wide; a bust with its shoulders is still
    taller than deep). Centring each frame keeps the person's path out of it: pooled as they
    lay, the frames of a person crossing the volume spread further along the path than up
-   the body (an HDM05 take jogging in circles was put on its side, up = +y). For a depth
+   the body. For a depth
    camera (an scvv sequence) up lies across the camera's view axis, so only X and Y are
    considered. An axis within :data:`SNAP_DEGREES` of a coordinate axis is taken as that
    axis; a clearly oblique one (a tilted camera, a rotated export) is used as measured.
    Its sign: the end of the body that holds still over the sequence is the bottom, where
    the feet meet the floor or the body leaves the camera's view, while the head and hands
-   move (in the dev takes the bottom end moves 6-8 times less than the top; in the scvv
-   capture 3 times less). Where neither end is clearly steadier the positive direction is
-   taken.
+   move. Where neither end is clearly steadier the positive direction is taken.
 4. Otherwise the format's default: Z up, as tvmedit has always read PLY, OBJ and OFF.
 
 Units: the body's extent along up in a frame (the median over the sampled frames); more
@@ -39,45 +37,18 @@ tells, and the scvv capture shared with tvmedit is not mirrored (its card reads 
 once upright, though the preview image of the app and the raw camera images it textures
 with are mirrored), so ``mirror`` is off unless given.
 
-Features in the body's own frame (``body_frame``, ``--body-frame``; the default).
-Putting a take upright is not enough for it to parse the same: section 3's histograms move
-with a tilt of a degree or two and with a turn about up, and an obliquely rotated take gives
-up its up only as well as the body's principal axis does (0.5-1 degree off on the dev takes),
-while nothing in it tells which way Z was: in tvmedit's axes an oblique turn of 13_29 in
-millimetres moves a texton boundary by a frame or loses a texton. So features are computed
-in a frame that is a function of the vertices and turns with them (:func:`feature_frame`):
-up is the principal axis of the sampled frames, each about its own centre (the body's shape,
-not its path); front-back is the lesser principal axis across up, signed by its third
-moment; left-right completes them (so the theta mirror of :mod:`tvmedit.engine.parse.structure` still
-swaps left and right). A take and any rotation of it in any units then get the same
-features to a vertex's share of a bin and the same clusters and textons, frame for frame
-(tests/test_orientation.py, 13_29 under two random oblique rotations, default build).
-Meshes, camera, player and report keep the frame detected above either way.
-
-What it costs. On the dev takes and the development suite's sources the body's frame is
-0.4-3.6 degrees from Z and turned up to 11 degrees (CMU, synthetic) or 74 degrees (the
-HDM05 people, who stand turned) from tvmedit's axes. The parser's decisions used to be taken
-on hard-edged histograms of takes facing along an axis, and scored less in the body's frame
-(development suite pooled precision / recall / texton accuracy 0.97 / 0.95 / 0.96 in
-tvmedit's axes, 0.94 / 0.93 / 0.92 in the body's; leave-one-group-out 0.918 / 0.947 / 0.904
-against 0.902 / 0.874 / 0.908), which is why it was opt-in. With the azimuth histograms
-smoothed over neighbouring bins for the parser (:func:`tvmedit.engine.parse.heading.azimuth_smoothed`)
-and strong novelty peaks taken near the ends (:mod:`tvmedit.engine.parse.boundaries`), the body's frame
-scores better held out (leave-one-group-out 0.929 / 0.958 / 0.912 against 0.92 / 0.95 / 0.90
-in tvmedit's axes); with the defaults its recall is higher and its precision and texton
-accuracy lower (0.95 / 0.96 / 0.93 against 0.97 / 0.95 / 0.95; with four fresh HDM05 takes
-added to the suite since, up found from frames each about its own centre, the novelty
-comparing pace as well as poses and turns vetoed, held out 0.949 / 0.949 / 0.887 against
-0.931 / 0.923 / 0.892; with three more fresh HDM05 takes, 0.907 / 0.907 / 0.867 against
-0.920 / 0.891 / 0.894; with the novelty's rows whitened, 0.953 / 0.953 / 0.886 against
-0.917 / 0.938 / 0.905; with three more fresh HDM05 takes, 0.917 / 0.937 / 0.859 against
-0.936 / 0.930 / 0.889, tvmedit's axes ahead, mostly by one fold's choice of turn veto).
-The body's frame is the default: every take of the suite comes upright and facing -y,
-which favours tvmedit's axes there, and a real capture comes in a camera's axes, turned
-any way (a turn of a fraction of a bin moved boundaries); ``--no-body-frame`` computes
-features in tvmedit's axes. A body whose longest axis is not clearly so, or lies more than
-:data:`FRAME_DEGREES` from the up chosen (the scvv card's bust: 21 degrees; ``--up`` given against the body), has
-no frame of its own and keeps tvmedit's axes.
+Features in the body's own frame (``body_frame``, ``--body-frame``; the default). Putting a
+take upright is not enough for it to parse the same: section 3's histograms move with a tilt
+of a degree or two and with a turn about up, and nothing in a take tells which way its Z was.
+So features are computed in a frame that is a function of the vertices and turns with them
+(:func:`feature_frame`): up is the principal axis of the sampled frames, each about its own
+centre (the body's shape, not its path); front-back is the lesser principal axis across up,
+signed by its third moment; left-right completes them (so the parser's mirror test still
+swaps left and right). A take and any rotation of it in any units then get the same features
+to a vertex's share of a bin, and the same clusters and textons. Meshes, camera, player and
+report keep the frame detected above either way. A body whose longest axis is not clearly so,
+or lies more than :data:`FRAME_DEGREES` from the up chosen (a bust; ``--up`` given against the
+body), has no frame of its own and keeps tvmedit's axes; ``--no-body-frame`` asks for them.
 """
 
 import math

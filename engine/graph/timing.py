@@ -54,12 +54,9 @@ of the layer before whose bit set, shifted by the play length, gives the time, a
 arrival of that state that its loops reach. Last, criterion 5 spreads the loops of that walk:
 any loop counts whose cycles add to the same number of frames give the same length, so the
 smallest largest count is found by bisection over a subset-sum bit set, and the loops are
-dealt out in proportion to the textons' lengths within it. (The spread is optimised over the
-loop counts of the walk found, not across walks that tie on criteria 1-4.)
+dealt out in proportion to the textons' lengths within it (over the walk found).
 
-``tests/test_timing.py`` checks criteria 1-3 and the length against brute-force enumeration
-of every schedule on hundreds of small random graphs; ``benchmarks/timing_speed.py`` times a
-10-key edit with 60 s legs on a 1,000-motion graph.
+``tests/test_timing.py`` checks criteria 1-3 and the length against brute-force enumeration.
 """
 
 import bisect
