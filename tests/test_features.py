@@ -202,7 +202,7 @@ def test_axis_and_diagonal_vertices_fall_in_the_bin_they_start():
 
 
 def test_edge_count_table_matches_searchsorted_on_and_beside_every_edge():
-    from tvmedit.engine.features import _EdgeCount, _edge_counters
+    from tvmedit.engine.features.histograms import _EdgeCount, _edge_counters
 
     rng = np.random.default_rng(3)
     theta, phi = _edge_counters(BinSizes(theta=math.radians(7), phi=math.radians(13)))

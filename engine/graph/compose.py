@@ -258,25 +258,17 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
 
     Parameters
     ----------
-    graph : networkx.DiGraph
-        The pruned motion graph; nodes carry ``sequence``, ``start``, ``end``, edges
-        ``weight``, ``exit_frame`` and ``entry_frame``.
-    keys : sequence of node ids or names
-        Two or more key motions, in order.
-    forbidden : iterable of node ids or names
-        Motions no path may visit (section 8).
-    loops : int or None
-        Full cycles of the last key motion; None plays it forever (see
-        :meth:`Composition.frames`).
-    weight : str
-        Edge attribute of the transition cost, eq. (12).
-    index : SearchIndex, optional
-        Prebuilt index of ``graph``.
+    graph : networkx.DiGraph, the pruned motion graph; nodes carry ``sequence``, ``start``,
+        ``end``, edges ``weight``, ``exit_frame`` and ``entry_frame``
+    keys : sequence of node ids or names, two or more key motions in order
+    forbidden : iterable of node ids or names, motions no path may visit (section 8)
+    loops : int or None, full cycles of the last key motion (None: forever, :meth:`Composition.frames`)
+    weight : str, edge attribute of the transition cost, eq. (12)
+    index : SearchIndex, optional, a prebuilt index of ``graph``
     timing : tvmedit.engine.graph.timing.Timing, optional
-        How long each leg should last (:meth:`tvmedit.engine.graph.timing.Timing.request`, which also puts
-        holds in ``keys``). A leg with a time is planned by :func:`tvmedit.engine.graph.timing.plan_leg`; a
-        leg from a motion to itself with a time is a hold: the motion plays on for that many
-        frames and the next leg starts where it then is.
+        How long each leg should last (:meth:`tvmedit.engine.graph.timing.Timing.request`); a leg
+        with a time is planned by :func:`tvmedit.engine.graph.timing.plan_leg`, and a leg from a
+        motion to itself with a time is a hold.
 
     Returns
     -------
@@ -322,17 +314,8 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
         if len(path) == 1 and goal:  # a hold: the motion plays on, and the next leg starts where it is
             schedule += _entries(source, sequence, _cycle(start, end, entry, goal))
             entry = start + (entry - start + goal) % (end - start + 1)
-        cost = 0.0
-        for (u, v), k in zip(zip(path, path[1:]), extra):
-            w, exit_frame, entry_frame = checked_edge(graph, u, v, weight)
-            cost = max(cost, w)
-            count = play_length(start, end, entry, exit_frame, plays_once(graph, u)) + k * (end - start + 1)
-            schedule += _entries(u, sequence, _cycle(start, end, entry, count))
-            blend = blend_entries(graph, u, v)
-            schedule += blend
-            transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame, len(blend)))
-            sequence, start, end = texton_span(graph, v)
-            entry = entry_frame
+        cost, (sequence, start, end), entry = _play_path(graph, path, extra, (sequence, start, end), entry,
+                                                         weight, schedule, transitions)
         frames = len(schedule) - began
         legs.append(Leg(source, target, tuple(path), cost, len(path) - 1, frames, tuple(extra),
                         None if goal is None else timing.durations[i], goal))
@@ -349,6 +332,25 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
     steady = schedule[len(schedule) - more:] if more else None
     schedule = schedule[:len(schedule) - more]
     return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts, steady=steady)
+
+
+def _play_path(graph, path, extra, texton, entry, weight, schedule, transitions):
+    """Append the frames of ``path`` (each motion but the last with ``extra`` cycles) to
+    ``schedule`` and its transitions to ``transitions``, from ``texton`` entered at ``entry``.
+    Returns the path's largest cost, the last motion's texton and its entry frame."""
+    sequence, start, end = texton
+    cost = 0.0
+    for (u, v), k in zip(zip(path, path[1:]), extra):
+        w, exit_frame, entry_frame = checked_edge(graph, u, v, weight)
+        cost = max(cost, w)
+        count = play_length(start, end, entry, exit_frame, plays_once(graph, u)) + k * (end - start + 1)
+        schedule += _entries(u, sequence, _cycle(start, end, entry, count))
+        blend = blend_entries(graph, u, v)
+        schedule += blend
+        transitions.append(Transition(len(schedule), u, v, w, exit_frame, entry_frame, len(blend)))
+        sequence, start, end = texton_span(graph, v)
+        entry = entry_frame
+    return cost, (sequence, start, end), entry
 
 
 def _close_loops(graph, schedule):

@@ -87,28 +87,16 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
     Parameters
     ----------
     vectors : (T, D) array
-        Feature vectors.
-    clusters : list of (start, end)
-        Inclusive frame ranges covering the sequence, in order.
-    periods : list of int or None
-        Each cluster's period in frames (None: it shows none).
+    clusters : list of (start, end), inclusive, covering the sequence in order
+    periods : list of int or None, each cluster's period in frames (None: it shows none)
     fps : float
-    window : float
-        Seconds each block spans at least, rounded to whole periods (two at least).
-    reach : float
-        Seconds a boundary may move either way.
-    min_gap : float
-        Least distance, in seconds, between a moved boundary and its neighbours (or the
-        sequence's ends); a boundary already nearer stays no nearer.
-    other : (T, D') array, optional
-        Other rows of the same frames, read instead of ``vectors`` for the boundaries of
-        ``use_other`` (the start of ``clusters[i]`` for each i in it): the heading-free rows
-        for boundaries near a turn (tvmedit.engine.parse.boundaries, *Boundaries behind a turn*); read
-        beside ``vectors`` for every other boundary (*Both views*, above).
+    window : float, seconds each block spans at least, rounded to whole periods (two at least)
+    reach : float, seconds a boundary may move either way
+    min_gap : float, least seconds between a moved boundary and its neighbours (or the ends)
+    other : (T, D') array, optional: the heading-free rows of the same frames, read alone for
+        the starts of ``clusters[i]``, i in ``use_other``, beside ``vectors`` for the others
     use_other : collection of int
-    other_weight : float
-        Weight of ``other``'s scaled distances beside ``vectors``' own; 0 reads ``vectors``
-        alone for the boundaries not in ``use_other``.
+    other_weight : float, weight of ``other``'s scaled distances (0: ``vectors`` alone)
 
     Returns
     -------
@@ -140,21 +128,7 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
     alt = (block_means(np.asarray(other, dtype=np.float64), step)
            if other is not None and (use_other or other_weight > 0) else None)
     f, n = fps / step, len(rows)
-
-    def profile(view, a0, a1, lo, hi, before, after):
-        # Energy distance of whole periods before and after each place t in lo..hi.
-        D = distance_matrix(view[a0:a1])
-        out = np.empty(hi - lo + 1)
-        for t in range(lo, hi + 1):
-            i0, i1 = max(a0, t - before) - a0, min(a1, t + after) - a0
-            out[t - lo] = energy_distance(D[i0:i1, i0:i1], t - a0 - i0)
-        return out
-
-    def block(P):
-        if P is None:
-            return max(2, int(round(window * f)))
-        P = P / step
-        return max(2, int(round(P * max(2, round(window * f / P)))))
+    block = lambda P: _whole_periods(P, window, f, step)  # noqa: E731
 
     old = [cs for cs, _ in clusters] + [len(v)]
     out = [0]
@@ -169,17 +143,8 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
         if hi < lo:
             out.append(old[i])
             continue
-        if alt is not None and i in use_other:
-            score = profile(alt, a0, a1, lo, hi, before, after)
-        else:
-            score = profile(rows, a0, a1, lo, hi, before, after)
-            if alt is not None and other_weight > 0:
-                # Both views (above): each scaled to its largest in reach, then summed; the
-                # places where a view differs less than not at all count as no difference.
-                views = [(1.0, score), (other_weight, profile(alt, a0, a1, lo, hi, before, after))]
-                tops = [np.nanmax(s, initial=0.0) for _, s in views]
-                if any(top > 0 for top in tops):
-                    score = sum(w * np.clip(s, 0, None) / top for (w, s), top in zip(views, tops) if top > 0)
+        span = (a0, a1, lo, hi, before, after)
+        score = _settle_score(rows, alt if i in use_other else None, alt, other_weight, span)
         score = np.where(np.isnan(score), -np.inf, score)
         if not np.isfinite(score).any():
             out.append(old[i])
@@ -187,6 +152,40 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
         at = lo + int(np.argmax(score))
         out.append(old[i] if at == b else min(len(v) - 1, at * step))
     return out
+
+
+def _period_profile(view, a0, a1, lo, hi, before, after):
+    """Energy distance of whole periods before and after each place t in lo..hi."""
+    D = distance_matrix(view[a0:a1])
+    out = np.empty(hi - lo + 1)
+    for t in range(lo, hi + 1):
+        i0, i1 = max(a0, t - before) - a0, min(a1, t + after) - a0
+        out[t - lo] = energy_distance(D[i0:i1, i0:i1], t - a0 - i0)
+    return out
+
+
+def _whole_periods(P, window, f, step):
+    """Rows a block spans: ``window`` seconds rounded to whole periods P (frames), two at least."""
+    if P is None:
+        return max(2, int(round(window * f)))
+    P = P / step
+    return max(2, int(round(P * max(2, round(window * f / P)))))
+
+
+def _settle_score(rows, only, alt, other_weight, span):
+    """The profile a boundary is placed on: ``only``'s alone where given, else ``rows``',
+    beside ``alt``'s with ``other_weight`` (both views)."""
+    if only is not None:
+        return _period_profile(only, *span)
+    score = _period_profile(rows, *span)
+    if alt is not None and other_weight > 0:
+        # Both views (above): each scaled to its largest in reach, then summed; the
+        # places where a view differs less than not at all count as no difference.
+        views = [(1.0, score), (other_weight, _period_profile(alt, *span))]
+        tops = [np.nanmax(s, initial=0.0) for _, s in views]
+        if any(top > 0 for top in tops):
+            score = sum(w * np.clip(s, 0, None) / top for (w, s), top in zip(views, tops) if top > 0)
+    return score
 
 
 def onset(vectors, start, peak, fps, reach=3.0, reference=10.0):

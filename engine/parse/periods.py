@@ -254,11 +254,27 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None, p
     # test below can look at 2L and 3L.
     top = longest_lag(length)
     lags, prof = profile(cs, ce, lo, top) if profile else _profile(v, cs, ce, fps, w, lo, top)
+    found = _clearest_valley(prof, lags, fps, hi, p, broad)
+    if found is None:
+        return None, 0.0
+    cand, prom, periods, best = found
+    level = float(np.median(prof))
+    # A multiple of the period is a valley too, often as deep: take the shortest lag that
+    # is nearly as prominent as the most prominent one.
+    chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
+    chosen = _submultiple(chosen, cand, lags, prof, level, p.submultiple, clearest=level - prof[best])
+    depth = float(prom[chosen] / max(float(np.median(prof)), 1e-12))
+    L = _whole_cycle(v, cs, ce, int(lags[chosen]), lags, prof, cand, chosen, top, theta, mirror)
+    return L, depth
+
+
+def _clearest_valley(prof, lags, fps, hi, p, broad):
+    """``(candidates, prominences, candidates up to lag hi, the most prominent)`` of the lag
+    profile, or None where no valley is a clear dent in its level."""
     # Candidate periods are interior local minima; a valley's prominence is measured against
     # the highest profile values within +/- h lags on each side (0.3 s). A slow exercise's
     # valley is broader than that, and a 0.3 s reach sees only its floor: where that finds
-    # no clear valley, a reach of a quarter of each lag is tried (CMU toe touches played
-    # at 0.7x, a 3.9 s period, had no period and no textons).
+    # no clear valley, a reach of a quarter of each lag is tried.
     level = float(np.median(prof))
     h = _valley_lags(fps)
     for reach in ((0.0, BROAD_REACH) if broad else (0.0,)):
@@ -270,19 +286,17 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None, p
         # Noise alone makes shallow valleys; a cyclic motion's valley is a clear dent in
         # the profile's level.
         if prom[best] >= p.min_periodicity * level:
-            break
-    else:
-        return None, 0.0
-    # A multiple of the period is a valley too, often as deep: take the shortest lag that
-    # is nearly as prominent as the most prominent one.
-    chosen = min((i for i in periods if prom[i] >= (1 - p.period_tolerance) * prom[best]), key=lambda i: lags[i])
-    chosen = _submultiple(chosen, cand, lags, prof, level, p.submultiple, clearest=level - prof[best])
-    L = int(lags[chosen])
-    # A half period (one side then the other) can pass that test: left and right poses
-    # have the same r and phi histograms and differ in theta only. Prefer 2L when the
-    # profile is lower there and either the azimuth histogram alone has no valley at L
-    # (its relative depth under half the whole vector's) or, without that information, 3L
-    # is visible and no valley (a true period's 3L is one).
+            return cand, prom, periods, best
+    return None
+
+
+def _whole_cycle(v, cs, ce, L, lags, prof, cand, chosen, top, theta, mirror):
+    """L, or the lag near 2L where L is half a cycle (the mirror test and the 3L rules)."""
+    length = ce - cs + 1
+    level = float(np.median(prof))
+
+    # A half period (one side then the other) can pass the prominence test: left and right
+    # poses have the same r and phi histograms and differ in theta only.
     def valley_near(target):
         return _lowest_valley(cand, lags, prof, target, max(1.0, 0.1 * target))
 
@@ -293,14 +307,11 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None, p
     last = len(lags) - 1
     if k2 is None and abs(lags[last] - 2 * L) <= max(1.0, 0.1 * 2 * L) and prof[last] < prof[last - 1]:
         k2 = last
-    depth = float(prom[chosen] / max(float(np.median(prof)), 1e-12))
     if theta is not None and 2 * L < length and _mirrored(v, cs, ce, L, theta, mirror) < MIRROR_RATIO:
-        return (int(lags[k2]) if k2 is not None else 2 * L), depth
+        return int(lags[k2]) if k2 is not None else 2 * L
     # Without the azimuth columns: 2L when the profile is lower there and 3L is visible and
     # no valley (a true period's 3L is one). With them the mirror test above and the 3L-dip
-    # test below decide: an older test that doubled L when the azimuth histogram alone
-    # showed no valley at L also doubled every exercise whose heading changed from one
-    # repetition to the next (HDM05 texton length 0.53 with it, 0.67 without, on the suite).
+    # test below decide.
     if theta is None and k2 is not None and prof[k2] < prof[chosen]:
         if 3 * L <= top and valley_near(3 * L) is None:
             L = int(lags[k2])
@@ -308,7 +319,7 @@ def cluster_period(v, cs, ce, fps, w, p, theta=None, broad=False, mirror=None, p
         # A period repeats: the profile dips below its level at every multiple of it. Where
         # it dips at 2L but not near 3L, L was half a period (see the module docstring).
         L = int(lags[k2])
-    return L, depth
+    return L
 
 
 def _first_lag(p, fps):

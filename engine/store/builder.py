@@ -394,32 +394,22 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         A sequence is named after its folder unless named here.
     out : str or Path
         The library directory to write.
-    fps : float or None
-        Frame rate of every sequence; default: each one's ``sequence.json``, else 10.
-    bins : BinSizes or None
-        Histogram bin sizes (section 3); default ``BinSizes()``.
-    structure : StructureParams or dict or None
-        Parsing parameters (section 4); a dict overrides fields of the defaults.
-    mu : float or None
-        Pruning parameter of eq. (14); default ``tvmedit.engine.graph.motiongraph.MU``.
-    skip_bad_frames : bool
-        Leave out frames that cannot be read instead of stopping.
+    fps : float or None, every sequence's rate (default: its ``sequence.json``, else 10)
+    bins : BinSizes or None, histogram bin sizes (section 3)
+    structure : StructureParams or dict or None, parsing parameters (a dict overrides defaults)
+    mu : float or None, pruning parameter of eq. (14)
+    skip_bad_frames : bool, leave out frames that cannot be read instead of stopping
     connect : {"auto", "off"}
         ``"auto"`` adds the fewest, lightest complete-graph edges that let every motion reach
         every other (:mod:`tvmedit.engine.graph.connect`); ``"off"`` keeps the graph eq. (14) prunes.
-    progress : bool
-        tqdm bars on stderr.
-    workers : int or None
-        Local worker processes for reading frames; None = all cores, 1 = this process only.
-    dask : str or None
-        A dask.distributed scheduler address, or ``"local"``; overrides local processes.
-    force : bool
-        Replace an existing library.
+    progress : bool, tqdm bars on stderr
+    workers : int or None, local worker processes (None: all cores, 1: this process only)
+    dask : str or None, a dask.distributed scheduler address or ``"local"``
+    force : bool, replace an existing library
     cache : bool
         Look up and store features in the feature cache (:mod:`tvmedit.engine.store.featurecache`); the
         library being replaced is always consulted.
-    log : callable or None
-        Called with one-line messages (features reused, stages).
+    log : callable or None, called with one-line messages (features reused, stages)
     up, units, mirror : str, str, bool or None
         The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
         given is detected per sequence (:func:`tvmedit.engine.capture.orientation.detect`).
@@ -445,8 +435,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
 
     Returns
     -------
-    dict
-        The report: counts, reused sequences and timings (:func:`report_of`).
+    dict, the report: counts, reused sequences and timings (:func:`report_of`)
     """
     from .corrections import Corrections
 

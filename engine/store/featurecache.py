@@ -35,7 +35,7 @@ def code_version():
     digest = hashlib.sha1()
     engine = Path(__file__).resolve().parents[1]
     for module in ("capture/load.py", "capture/plyfast.py", "capture/readers.py", "capture/orientation.py",
-                   "features.py"):
+                   "features/histograms.py", "features/vectors.py"):
         digest.update((engine / module).read_bytes())
     return digest.hexdigest()[:12]
 

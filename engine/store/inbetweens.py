@@ -120,6 +120,25 @@ def loop_frames(graph, count, rooms):
     return frames
 
 
+def _tasks(folder, edges, loops, rows, natural, count, reuse):
+    """The runs to make (not copied from the library being replaced): edges, then loop closings."""
+    fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
+    tasks = [("edge", str(folder), rows[a], rows[b], natural, count) for a, b in fresh]
+    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit, end + limit + 1) if (seq, f) in rows},
+               (start, end, at, limit), natural)
+              for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end, at, limit) not in reuse]
+    return tasks
+
+
+def _store_run(writer, frames, sources, textures, offsets):
+    """Append one run's frames to ``writer``, each with the texture of the stored frame it was
+    warped from (``sources``: their rows)."""
+    for index, ((positions, colours, faces, normals, _), source) in enumerate(zip(frames, sources)):
+        uv, texture_row = (None, None) if textures is None else (
+            textures[0][offsets[source][0]:offsets[source][0] + offsets[source][1]], textures[2][source])
+        writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_row=texture_row)
+
+
 def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, keep_natural=False, rooms=None):
     """Make and store the in-between frames of every edge of ``graph`` and the closing frames
     of every texton's loop (:mod:`tvmedit.engine.inbetween.loops`; a build's stage after the meshes):
@@ -127,40 +146,28 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
 
     Parameters
     ----------
-    folder : Path
-        The library being written; its texton frames are stored.
-    names : list of str
-        The sequences in manifest order (``frame_keys.npy`` indexes them).
-    graph : networkx.DiGraph
-        The final motion graph; nodes carry ``sequence``, ``start``, ``end``, edges
-        ``exit_frame`` and ``entry_frame``.
-    count : int or None
-        In-between frames per transition; None: as many as each needs (:func:`blend`).
-    keys : dict
-        ``sequence -> feature key`` (which frame files it was read from).
-    pool : tvmedit.engine.store.parallel.Workers
-        Where the work runs: tasks of 16 pairs of texton frames, then one per edge.
-    bar : callable or None
-        ``bar(total, desc, unit=...)`` makes a progress bar, advanced once per edge.
+    folder : Path, the library being written; its texton frames are stored
+    names : list of str, the sequences in manifest order (``frame_keys.npy`` indexes them)
+    graph : networkx.DiGraph, the final motion graph (nodes with ``sequence``, ``start``,
+        ``end``; edges with ``exit_frame`` and ``entry_frame``)
+    count : int or None, in-between frames per transition (None: as many as each needs)
+    keys : dict, ``sequence -> feature key`` (which frame files it was read from)
+    pool : tvmedit.engine.store.parallel.Workers: tasks of 16 pairs of texton frames, then one per edge
+    bar : callable or None, ``bar(total, desc, unit=...)`` makes a progress bar, advanced once per edge
     old : tvmedit.engine.store.library.Library or None
         The library being replaced: a run it holds for the same frames of the same files, the
         same natural step and count, is copied instead of made again.
-    rooms : dict
-        ``node -> (first, last)`` frame of its cluster: how far beyond its texton the capture
-        repeats it, for closing its loop (:mod:`tvmedit.engine.inbetween.loops`).
+    rooms : dict, ``node -> (first, last)`` frame of its cluster: how far beyond its texton the
+        capture repeats it, for closing its loop (:mod:`tvmedit.engine.inbetween.loops`)
     keep_natural : bool
         Keep ``old``'s natural step rather than measure it on the new motions (a rebuild from
         corrections by hand: the capture's pace is what it was, and a correction then makes
-        anew only the runs of the transitions it changed; measured again, the median moves a
-        little with the motions and every run that could not reach it is made again, all
-        nine of a 60 fps take's after one motion was dropped).
+        anew only the runs of the transitions it changed).
 
     Returns
     -------
-    dict
-        ``data``: what ``blends.json`` holds; ``frames``: the in-between frames stored;
-        ``seconds``: CPU seconds the runs took in all; ``made``: the runs made (not copied),
-        transitions and loop closings; ``bounds`` and ``max_counts`` of them.
+    dict: ``data`` (what ``blends.json`` holds), ``frames`` (in-between frames stored), ``seconds``
+    (CPU seconds of the runs), ``made`` (runs made, not copied), ``bounds`` and ``max_counts``.
     """
     from .arrays import MeshWriter, frame_keys, frame_offsets, mesh_arrays
 
@@ -178,11 +185,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
              for u, v, d in sorted(graph.edges(data=True))]
     loops = _loops(graph, count, rooms or {})
-    fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
-    tasks = [("edge", str(folder), rows[a], rows[b], natural, count) for a, b in fresh]
-    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit, end + limit + 1) if (seq, f) in rows},
-               (start, end, at, limit), natural)
-              for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end, at, limit) not in reuse]
+    tasks = _tasks(folder, edges, loops, rows, natural, count, reuse)
     plans = {u: limit for u, _, (_, limit) in loops}
     made = pool.map(_blend_task, tasks)
     progress = bar(len(edges) + len(loops), "blends", unit="run") if bar is not None else None
@@ -198,16 +201,13 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
                     seq, at, warped = b[0], a, window(b[1], b[2], a, len(frames))[0]
                     a, b = (seq, b[2]), (seq, b[1])  # the wrap itself, end -> start
                 first = writer.frames
-                for index, (positions, colours, faces, normals, side_) in enumerate(frames):
-                    source = rows[seq, warped[index]] if wrap else rows[(a, b)[side_]]
-                    uv, texture_row = (None, None) if textures is None else (
-                        textures[0][offsets[source][0]:offsets[source][0] + offsets[source][1]], textures[2][source])
-                    writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_row=texture_row)
+                sources = [rows[seq, warped[index]] if wrap else rows[(a, b)[frame[4]]]
+                           for index, frame in enumerate(frames)]
+                _store_run(writer, frames, sources, textures, offsets)
                 record = {"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
-                          "steps": steps, "exit": list(a), "entry": list(b)}
-                if wrap:
-                    record.update(at=at, limit=plans[u],
-                                  texton=[seq, graph.nodes[u]["start"], graph.nodes[u]["end"]])
+                          "steps": steps, "exit": list(a), "entry": list(b),
+                          **({"at": at, "limit": plans[u], "texton": [seq, graph.nodes[u]["start"],
+                                                                      graph.nodes[u]["end"]]} if wrap else {})}
                 (records if u != v else closings).append(record)
                 seconds += cpu
                 if progress is not None:
