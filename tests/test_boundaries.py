@@ -1,4 +1,4 @@
-"""Step 1 of the energy parser (tvmedit.engine.parse.boundaries) on novelty curves and rows built by hand.
+"""The novelty's boundaries (tvmedit.engine.parse.boundaries) on novelty curves and rows built by hand.
 
 Each case is a decision a user would see as a boundary placed or not: a turn taken for a
 new exercise, a turn's shoulder or an earlier twin peak slipping through the veto, or the
@@ -47,7 +47,7 @@ def test_a_turn_keeps_its_lower_shoulder_from_becoming_a_boundary():
 def test_an_earlier_twin_peak_that_is_a_turn_is_not_taken_for_the_boundary():
     # A turn at 10 s, then 0.8 s later a slightly higher peak where the motion changes: the
     # boundary is the change, not its twin (which would be taken were it no turn).
-    # The rule is left out by default since step 30 of docs/parsing.md (twin_peak 1): there the
+    # The rule is left out by default (twin_peak 1): there the
     # higher peak is the boundary, turn or no turn.
     n = np.maximum(bump(100, 0.1, 1.0), bump(108, 0.105, 1.0))
     turn_free = np.where(np.arange(T) < 106, 0.01, 0.1)
@@ -56,7 +56,7 @@ def test_an_earlier_twin_peak_that_is_a_turn_is_not_taken_for_the_boundary():
     assert starts(n) == [108]
 
 
-def test_a_change_hidden_on_a_turns_slope_is_found_on_the_heading_free_novelty():
+def test_a_change_on_a_turns_slope_is_found_by_the_heading_free_novelty():
     # A turn peaking at 6 s, far higher and broader than the change of exercise 2.4 s later,
     # which is no local maximum of the novelty; the heading-free novelty hardly rises at the
     # turn and peaks at the change.
@@ -119,7 +119,7 @@ def alike_exercises(seconds=24.0, fps=10.0, seed=0):
     return v, int(seconds / 2 * fps)
 
 
-def test_exercises_that_differ_in_a_direction_of_little_change_are_told_apart():
+def test_exercises_differing_where_little_changes_are_told_apart():
     # Whitened (the default), the small change of pose counts as much as the wide swing and
     # the boundary is found within 1 s; on the rows as they are, its novelty stays far under
     # the threshold, inside the noise.

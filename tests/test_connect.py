@@ -50,7 +50,7 @@ def _random_case(rng, n):
     return w, kept
 
 
-def test_largest_added_weight_and_edge_count_equal_brute_force_on_random_graphs():
+def test_added_weight_and_edge_count_equal_brute_force_on_random_graphs():
     rng = np.random.default_rng(12)
     checked = 0
     for case in range(150):

@@ -104,7 +104,7 @@ def _boundary_fix(library, take):
     return true, spurious, [(s, e - 1) for s, e in zip(starts, starts[1:] + [len(library.sequence(NAME))])]
 
 
-def test_a_removed_true_boundary_and_a_spurious_one_give_exactly_the_corrected_clusters(base, take, tmp_path):
+def test_removing_and_adding_boundaries_gives_exactly_those_clusters(base, take, tmp_path):
     true, spurious, clusters = _boundary_fix(base, take)
     fix = tmp_path / "corrections.json"
     fix.write_text(json.dumps({"sequences": {NAME: {"boundaries": {"remove": [true], "add": [spurious]}}}}))
@@ -184,7 +184,7 @@ def base_all(take, tmp_path_factory):
     return engine.build([take], out, workers=2, cache=False, keep_frames="all")
 
 
-def test_a_library_that_keeps_every_frame_is_corrected_with_the_capture_folder_gone(base_all, take, tmp_path):
+def test_a_library_keeping_every_frame_is_corrected_without_its_capture(base_all, take, tmp_path):
     true, spurious, clusters = _boundary_fix(base_all, take)
     structure, nodes, graph = _expected(base_all, clusters)
     assert len(base_all.stored_frames()) == len(base_all.sequence(NAME))
@@ -245,7 +245,7 @@ def test_a_correction_needing_frames_that_are_gone_is_one_sentence(base, take, t
     assert not (tmp_path / "x").exists()
 
 
-def test_corrections_survive_a_rebuild_with_other_parameters_and_are_listed(base, take, tmp_path, capsys):
+def test_corrections_survive_a_rebuild_with_other_parameters(base, take, tmp_path, capsys):
     out = tmp_path / "lib.tvmlib"
     shutil.copytree(base.path, out)
     auto = base.structure(NAME).clusters
@@ -336,7 +336,7 @@ def test_dropping_every_motion_is_refused(base, tmp_path):
     assert not (tmp_path / "empty.tvmlib").exists()
 
 
-def test_the_report_marks_corrected_boundaries_and_shows_the_parse_before_and_after(base, tmp_path):
+def test_the_report_shows_corrected_boundaries_and_the_parse_before(base, tmp_path):
     auto = base.structure(NAME).clusters
     c = Corrections()
     c.remove_boundary(NAME, auto[1][0])

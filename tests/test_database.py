@@ -78,7 +78,7 @@ def test_a_take_that_is_not_an_exercise_gives_one_shots():
     assert [round(n.texton_distance, 6) for n in nodes] == [0.29, 0.38]
 
 
-def test_motions_of_a_sequence_are_numbered_in_time_order_whatever_their_kind():
+def test_motions_are_numbered_in_time_order_whatever_their_kind():
     seq = [texton(20, 24, 1, 0.1), texton(25, 29, 1, 0.2)]
     nodes = build_database({"a": (seq, [(0, 19), (20, 29)])})
     assert [(n.name, n.kind) for n in nodes] == [("a/01", "once"), ("a/02", "cycle")]

@@ -129,7 +129,7 @@ def test_reopened_library_matches_the_analysis_in_memory(built, take_13_30):
 def test_centred_rows_of_sequences_that_stay_stand_beside_one_that_strays(take_13_30, tmp_path):
     # Three sequences, the middle one moving 3 cm a frame (its origin follows: no centred
     # rows). Each keeps its own rows and r width whatever its neighbours, and parses as the
-    # library says; a library from before step 23 (no features_centred.npy) opens and parses.
+    # library says; a library from before centred features (no features_centred.npy) opens and parses.
     import trimesh
 
     from tvmedit.engine.parse.structure import StructureParams, parse
@@ -203,7 +203,7 @@ def test_a_frame_outside_the_database_is_refused_in_one_sentence(built):
         library.frame_mesh(("walk", 0))
 
 
-def test_truncated_missing_or_foreign_files_name_the_problem_and_the_rebuild(built, tmp_path):
+def test_truncated_missing_or_foreign_files_are_named_with_the_rebuild(built, tmp_path):
     copy = tmp_path / "copy.lib"
     shutil.copytree(built, copy)
     with open(copy / "positions.npy", "r+b") as handle:

@@ -41,7 +41,7 @@ def drifting():
     return _take(drift=(0.04, 0.0), motions=["jumping-jacks", "squats", "knee-raises"], cycles=[8, 4, 5], seed=3)
 
 
-def test_a_person_drifting_across_the_volume_is_parsed_one_cluster_per_exercise(drifting):
+def test_a_person_drifting_across_the_volume_gets_a_cluster_per_exercise(drifting):
     vectors, theta, truth, follows = drifting
     assert follows, "a person 1.5 m away from the start is followed by the origin"
     result = score(parse(vectors, truth["fps"], theta=theta), truth)
@@ -73,7 +73,7 @@ def test_standing_still_between_exercises_joins_the_next_one():
     assert result.texton_accuracy == 1.0
 
 
-def test_a_transition_into_one_off_movements_joins_them_not_the_exercise_before():
+def test_a_transition_into_one_off_movements_joins_them():
     # Twisting, then 2 s of changing pose with 0.5 s standing still, then picking things up
     # (one-offs: no period): the few-reps batch's take, at 10 fps and on its spot. The
     # transition had joined the twists: boundary 2.1 s late.
@@ -110,10 +110,10 @@ def test_info_shows_the_confidence_of_each_boundary_and_texton(small_library):
     assert "least sure (confidence 0-1): " in text
 
 
-def test_a_boundary_after_a_slow_transition_is_placed_where_the_old_exercise_stopped():
+def test_a_boundary_after_a_slow_transition_is_where_the_old_one_stopped():
     # 3 s from the last squat to the first run: the novelty peaks 1.1 s into the change, past
     # the 1 s tolerance; the boundary moves back to where the squats stopped (0.4 s after it
-    # since step 36 of docs/parsing.md, whose onset reaches back 1 s; 0.3 s with 2 s).
+    # with the partition, whose onset reaches back 1 s; 0.3 s with 2 s).
     vectors, theta, truth, _ = _take(motions=["squats", "run"], cycles=[4, 10], transition=3.0, seed=7)
     s = parse(vectors, truth["fps"], theta=theta)
     result = score(s, truth)

@@ -1,4 +1,4 @@
-"""The kernel change-point partition (tvmedit.engine.parse.partition) and its use as the parser's step 1."""
+"""The kernel change-point partition (tvmedit.engine.parse.partition) and its use for the parser's boundaries."""
 
 import itertools
 
@@ -52,8 +52,8 @@ def test_a_change_between_two_cyclic_exercises_is_found_where_it_is():
 def test_up_downs_after_squats_are_told_apart(devsuite):
     # Fresh batch "mocap6-rest", take m6-c-20fps: the synthetic actor's squats, then up-downs
     # (a squat, then standing up with the arms raised): alike poses, and within 4 s the
-    # novelty peaks at 0.71 of the threshold, so the novelty's peaks (partition=0, step 1 as
-    # it was before step 36) miss the change. Over whole segments the two differ, and the
+    # novelty peaks at 0.71 of the threshold, so the novelty's peaks (partition=0, the novelty's boundaries as
+    # it was without the partition) miss the change. Over whole segments the two differ, and the
     # partition finds it within 1 s (every other change of the take too).
     from tvmedit.engine.lab import fresh
     from tvmedit.engine.lab.evaluate import score
@@ -76,7 +76,7 @@ def test_a_slow_exercise_is_not_cut_where_the_novelty_stays_low(devsuite):
     # and within one cycle the poses change more than between 2 s pieces of it, so the
     # partition cuts them into min_cluster pieces (novelty 0.1-0.2 there, against the
     # threshold 0.9). Read on the novelty (``partition_floor``), those cuts are no boundaries;
-    # a slow transition the placing left 1.5 s long joins its neighbour (step 5b). Every
+    # a slow transition the placing left 1.5 s long joins its neighbour (joining short clusters). Every
     # change is found within 1 s and none is false.
     from tvmedit.engine.lab.evaluate import score
     needs_mocap()

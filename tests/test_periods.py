@@ -30,7 +30,7 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     # ("turns", synth-drift) opens with jumping jacks (1.0 s a cycle, symmetric), during which
     # the actor turns. A plane chosen anew every lag is free enough to pass one cycle off as the
     # mirror image of the one before, and the texton read two cycles (2.0 s); chosen every
-    # two lags (three until step 35), it stays one cycle.
+    # two lags (three without the two-lag mirror plane), it stays one cycle.
     from tvmedit.engine.parse.structure import parse
     take = devsuite.take("synth-drift", "turns")
     assert take.truth["segments"][0]["label"] == "jumping-jacks"

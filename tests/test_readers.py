@@ -236,7 +236,7 @@ def test_card_renders_its_texture_not_just_vertex_colours(card_library, tmp_path
     assert "12 of them shown" in result.stdout
 
 
-def test_second_capture_in_the_other_layout_checks_builds_renders_and_plays(tmp_path):
+def test_a_capture_in_the_other_layout_checks_builds_renders_and_plays(tmp_path):
     capture = scvv_capture(tmp_path / "drc-take", first=0, count=96, step=2)
     assert _tvmedit("check", capture).returncode == 0
     library = tmp_path / "drc.tvmlib"

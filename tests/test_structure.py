@@ -201,12 +201,12 @@ def test_a_long_shortest_cluster_still_finds_boundaries(min_cluster, novelty_win
 
 
 @pytest.mark.parametrize("slow, quick, change", [(45, 7, 110), (42, 10, 105)])
-def test_boundary_between_a_slow_and_a_quick_exercise_lies_where_the_motion_changes(slow, quick, change):
+def test_a_slow_to_quick_boundary_lies_where_the_motion_changes(slow, quick, change):
     # Three slow cycles, then quick ones about other poses. The novelty's 4 s blocks cut the
-    # slow cycles part-way, and its peak splits in two; the earlier-twin rule, as when step 9
-    # of docs/parsing.md came in, took the earlier top, 1.4 s early. Placed between whole
+    # slow cycles part-way, and its peak splits in two; the earlier-twin rule, as when the earlier-twin rule
+    # came in, took the earlier top, 1.4 s early. Placed between whole
     # periods of each side (refine_reach), the boundary is the frame where the motion changes.
-    # With the rule left out (the default since step 30) the higher top is right already.
+    # With the rule left out (the default) the higher top is right already.
     rng = np.random.default_rng(1)
 
     def cycles(n, period, centre, amp):
@@ -244,7 +244,7 @@ def _left_right(half, frames=120, bins=72):
     return np.array(rows)
 
 
-def test_the_parser_reads_a_turning_person_as_facing_one_way_and_needs_the_rate_for_it():
+def test_a_turning_person_reads_as_facing_one_way_given_the_rate():
     from tvmedit.engine.parse.heading import heading_track, turned
     from tvmedit.engine.parse.structure import parser_view
     rng = np.random.default_rng(0)
@@ -263,7 +263,7 @@ def test_the_parser_reads_a_turning_person_as_facing_one_way_and_needs_the_rate_
 
 
 def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
-    # tvmedit.engine.parse.joins.merge_weak (step 6 and step 20 of the energy parser): a weak boundary
+    # tvmedit.engine.parse.joins.merge_weak (the weak-split rule and the weak-split rule): a weak boundary
     # between two clusters of at most one texton each goes when one side shows no period, and
     # stays between two short stretches that both repeat (two alike exercises), as it stays
     # wherever the boundary is not weak.
@@ -280,8 +280,8 @@ def test_a_weak_split_is_undone_only_where_one_side_does_not_repeat():
     assert joined == [(0, 59)]
 
 
-def test_a_transition_joins_what_it_leads_into_and_a_piece_at_the_end_stays():
-    # tvmedit.engine.parse.joins.absorb_transitions (steps 3 and 27 of the energy parser), on stretches
+def test_a_transition_joins_what_it_leads_into_an_end_piece_stays():
+    # tvmedit.engine.parse.joins.absorb_transitions (both a parser rule and a parser rule of the energy parser), on stretches
     # that show no period (one-off movements): a short one joins the long one after it (it
     # leads into it); a short one at the take's end, after a long one, leads into nothing and
     # stays (the real capture scvv-card lost its only change when it joined the one before).
@@ -297,7 +297,7 @@ def test_a_transition_joins_what_it_leads_into_and_a_piece_at_the_end_stays():
 
 
 def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
-    # tvmedit.engine.parse.rhythm (step 1b of the energy parser): a novelty peak under the threshold but at
+    # tvmedit.engine.parse.rhythm (the rhythm rule): a novelty peak under the threshold but at
     # least 3/4 of it is a boundary where the longer of the periods before and after it is
     # 1.5 times the shorter or more; not under 1.5, not at a whole multiple (the period
     # step's known failure), not for a peak under 3/4 of the threshold, not for a turn, not
@@ -324,7 +324,7 @@ def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
     assert split(13) == [(0, 119)]                            # 1.3: the same exercise's tempo
     assert split(20) == [(0, 119)]                            # 2.0: a period read at two repetitions
     assert split(15, height=0.95 * FLOOR * p.novelty_threshold) == [(0, 119)]
-    assert split(15, height=p.novelty_threshold) == [(0, 119)]   # step 1's, not this step's
+    assert split(15, height=p.novelty_threshold) == [(0, 119)]   # the novelty's boundaries's, not this step's
     assert split(15, at=110) == [(0, 119)]                    # 1 s from the end: under min_cluster
     assert split(15, turn_free=np.zeros(120)) == [(0, 119)]   # the heading-free novelty stays flat: a turn
     assert split(15, turn_free=np.full(120, weak)) == [(0, 59), (60, 119)]
@@ -334,7 +334,7 @@ def test_a_weak_peak_splits_a_cluster_only_where_the_period_changes():
 
 
 def test_a_side_too_short_to_show_the_other_sides_period_splits_nothing():
-    # tvmedit.engine.parse.rhythm, step 26: the period step's lag profile reaches 0.8 of its frames
+    # tvmedit.engine.parse.rhythm, the short-side rule: the period step's lag profile reaches 0.8 of its frames
     # (tvmedit.engine.parse.periods.longest_lag), so a side that read the shorter period but is shorter
     # than the other side's period over 0.8 is taken as no evidence that the tempo changed
     # (CMU 13_29 turning: 2.4 s of toe touches read at 1.3 s beside 2.9 s, and the split was

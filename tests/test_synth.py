@@ -210,7 +210,7 @@ def test_pauses_between_repetitions_hold_the_pose_and_count_in_the_period():
         synth.plan(rest=-1, **kw)
 
 
-def test_a_turn_of_more_than_half_a_circle_is_refused_before_anything_is_written(tmp_path):
+def test_a_turn_over_half_a_circle_is_refused_before_any_write(tmp_path):
     with pytest.raises(ValueError, match="turns=200"):
         synth.generate(tmp_path / "t", motions=["squats"], cycles=1, turns=200, vertices=2000, progress=False)
     assert not (tmp_path / "t").exists()

@@ -125,6 +125,8 @@ def test_a_ten_minute_walk_of_the_demo_plays_every_motion_evenly(small_library):
     from tvmedit.engine.playback.wander import library_walk
 
     library = Library.open(small_library)
+    assert library.wander(30, seed=1).to_json() == library_walk(library, 30, seed=1).to_json()
+    assert next(iter(library.wander(seed=1))) == library.wander(30, seed=1).schedule[0]   # endless, lazy
     for seed in range(5):
         edit = library_walk(library, 600, seed=seed)
         assert len(edit.schedule) == round(600 * edit.fps)

@@ -177,10 +177,8 @@ def check_wander(args):
 def edit_of(library, args, timing):
     """The edit the arguments describe: a walk with --wander, else the key motions' edit."""
     if args.wander:
-        from tvmedit.engine.playback.wander import library_walk
-
-        return library_walk(library, args.wander, seed=args.seed, only=args.only, forbid=args.forbid,
-                            temperature=args.temperature, start=args.keys[0] if args.keys else None)
+        return library.wander(args.wander, seed=args.seed, only=args.only, forbid=args.forbid,
+                              temperature=args.temperature, start=args.keys[0] if args.keys else None)
     if len(args.keys) < 2:
         from tvmedit.engine.errors import TvmError
 

@@ -1,13 +1,13 @@
-"""Fresh takes (HDM05, synthetic): made to check a parser step once, never part of the development suite.
+"""Fresh takes (HDM05, CMU, synthetic): each batch made to check the parser once, never part of the suite.
 
-    python benchmarks/fresh.py [--batch step21 ...] [--set rhythm_ratio=0 ...] [--errors]
+    python -m tvmedit.engine.lab.fresh [--batch review-8 ...] [--set rhythm_ratio=0 ...] [--errors]
 
-Each batch was made when a step came in and scored once before the step was tried on it, so
-it stands for a new take of people the parser was developed on (HDM05's, or the synthetic
-actor doing what the step is for); the figures the README and
-``docs/parsing.md`` quote for fresh takes come from here. Scored as the development suite is
-(``benchmarks/accuracy.py``): cluster-start precision and recall within 1 s, texton-length
-accuracy within 15 %, in the body's axes unless ``TVMEDIT_DEV_FRAME`` says otherwise.
+Each batch was defined, and committed, before the parser it checks was run on it, so it
+stands for new takes of the people and motions the parser was developed on; without
+``--batch`` every batch is scored. Scored as the development suite is
+(:mod:`tvmedit.engine.lab.accuracy`): cluster-start precision and recall within 1 s,
+texton-length accuracy within 15 %, in the body's axes unless ``TVMEDIT_DEV_FRAME`` says
+otherwise. Batch names are identifiers kept as they were made.
 """
 
 import argparse

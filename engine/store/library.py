@@ -520,6 +520,20 @@ class Library:
         composition.fps = fps
         return composition
 
+    def wander(self, seconds=None, seed=None, only=None, forbid=(), temperature=1.0, start=None):
+        """A walk that plays the library by itself (:mod:`tvmedit.engine.playback.wander`).
+
+        Without ``seconds``, an endless lazy iterable of schedule entries (a ``Wander``);
+        with ``seconds``, that long a walk as an edit, which export and render take like
+        :meth:`edit`'s. ``seed`` makes it reproducible; ``only`` and ``forbid`` name the
+        motions it may play; ``temperature`` (times the median transition weight) sets how
+        freely it takes costly transitions; ``start`` is the motion it begins at.
+        """
+        from ..playback.wander import library_walk
+
+        return library_walk(self, seconds, seed=seed, only=only, forbid=forbid, temperature=temperature,
+                            start=start)
+
 
 def build(inputs, out, **options):
     """Build a library from TVM sequences and return it opened: ``engine.build``.

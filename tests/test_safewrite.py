@@ -48,7 +48,7 @@ def test_an_interrupted_file_write_leaves_the_old_file(tmp_path):
     assert target.read_text() == "{}" and sorted(tmp_path.iterdir()) == [target]
 
 
-def test_force_replaces_only_an_output_of_the_same_kind_holding_nothing_else(tmp_path):
+def test_force_replaces_only_a_same_kind_output_holding_nothing_else(tmp_path):
     out = tmp_path / "out"
     with safewrite.replacing_folder(out, kind="export") as tmp:
         (tmp / "edit.json").write_text("{}")
@@ -73,7 +73,7 @@ def test_force_replaces_only_an_output_of_the_same_kind_holding_nothing_else(tmp
         safewrite.check_target(plain / "x", "report", inputs=[plain])
 
 
-def test_a_file_is_replaced_only_with_force_and_only_when_it_is_of_its_kind(tmp_path):
+def test_a_file_is_replaced_only_with_force_and_only_of_its_kind(tmp_path):
     notes = tmp_path / "notes.png"
     notes.write_text("my notes")
     with pytest.raises(OutputError, match="already exists; pass force=True"):
@@ -88,7 +88,7 @@ def test_a_file_is_replaced_only_with_force_and_only_when_it_is_of_its_kind(tmp_
     safewrite.check_file_target(video, force=True)
 
 
-def test_stale_leftovers_of_a_killed_writer_are_tidied_and_a_mid_swap_folder_put_back(tmp_path):
+def test_a_killed_writers_leftovers_are_tidied_and_a_swap_put_back(tmp_path):
     out = tmp_path / "lib"
     dead = 2 ** 22 + 12345  # above the default pid_max: no such process
     (tmp_path / f".lib.tmp-{dead}").mkdir()
@@ -99,7 +99,7 @@ def test_stale_leftovers_of_a_killed_writer_are_tidied_and_a_mid_swap_folder_put
     assert (out / "manifest.json").exists()
 
 
-def test_export_inside_a_library_is_refused_and_build_force_keeps_user_files(small_library, tmp_path):
+def test_export_into_a_library_is_refused_and_force_keeps_user_files(small_library, tmp_path):
     library = tmp_path / "gym.lib"
     shutil.copytree(small_library, library)
     from tvmedit import Library
