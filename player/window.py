@@ -75,12 +75,14 @@ class PlayerApp(CameraControls):
     log : open text file for ``--log`` (one JSON line per displayed frame), or None
     clock_zero : the time (same clock as ``now``) that log times count from
     hold_seconds : how long a motion queued with Shift+key keeps looping once it begins
+    walker : a Walker of :mod:`tvmedit.engine.playback.wander`, or None: with nothing queued,
+        walk on to motions it draws instead of looping the one playing
 
     Times (``now``) are seconds on one monotonic clock, passed in by the caller.
     """
 
     def __init__(self, graph, source, order, start, fps=10.0, forbidden=(), aspect=4 / 3, log=None,
-                 clock_zero=0.0, print_=None, shading="auto", hold_seconds=3.0):
+                 clock_zero=0.0, print_=None, shading="auto", hold_seconds=3.0, walker=None):
         check_shading(source, shading)
         self.graph = graph
         self.source = source
@@ -89,7 +91,7 @@ class PlayerApp(CameraControls):
         self.period = 1.0 / self.fps
         self.hold_seconds = float(hold_seconds)
         self.forbidden = tuple(forbidden)
-        self.playhead = Playhead(graph, start, forbidden=self.forbidden)
+        self.playhead = Playhead(graph, start, forbidden=self.forbidden, walker=walker)
         self.keys = dict(zip(motion_keys(len(order)), order))
         self.order = list(order)
         self.log = log
@@ -264,10 +266,13 @@ class PlayerApp(CameraControls):
         """The lines at the top left: motion on screen, queue, time to the next key motion."""
         if self.entry is None:
             return ["starting"]
+        head = self.playhead
         lines = [f"now: {self.label(self.entry.node)}  ({self.entry.sequence} frame {self.entry.frame})"
-                 + ("  paused" if self.paused else "")]
-        queue = self.playhead.queue_list
-        lines.append("queue: " + (", ".join(self.label(n) for n in queue) if queue else "empty (looping)"))
+                 + ("  passing through" if head.passing_through else "") + ("  paused" if self.paused else "")]
+        queue = [self.label(n) + (f" (held {hold * self.period:g} s)" if hold else "")
+                 for n, hold in zip(head.queue_list, head.queue_holds)]
+        idle = "empty (wandering)" if head.walker is not None else "empty (looping)"
+        lines.append("queue: " + (", ".join(queue) if queue else idle))
         seconds = self.seconds_to_next_key(now)
         lines.append("next in " + ("-" if seconds is None else f"{seconds:.1f} s"))
         held = self.playhead.holding()

@@ -490,3 +490,28 @@ def test_stats_are_printed_when_the_player_is_ended_by_sigterm(xdisplay, small_l
         out, err = window.player.communicate(timeout=20)
     assert "redraws per second" in err, err
     assert window.rows()[-1].get("event") == "stop"
+
+
+def test_wandering_plays_motions_by_itself_and_honours_a_key(xdisplay, small_library, tmp_path):
+    from tvmedit import Library
+
+    library = Library.open(small_library)
+    order = [node.id for node in library.nodes]
+    keys = motion_keys(len(order))
+    args = [small_library, "--wander", "--seed", "2", "--seconds", "60", "--size", "320x240", "--fps", "40"]
+    with _Window(xdisplay, args, tmp_path) as window:
+        assert _wait_for(lambda rows: len({r["node"] for r in _frames(rows)}) >= 3, window.log_path, 30), \
+            "the walk did not move on by itself"
+        shown = {r["node"] for r in _frames(window.rows())}
+        key = next(k for k, n in zip(keys, order) if n not in shown)
+        window.press(key)
+        target = order[keys.index(key)]
+        assert _wait_for(lambda rows: any(r.get("node") == target for r in _frames(rows)), window.log_path, 30), \
+            "the key pressed mid-walk was never reached"
+        # and the walk goes on from there, to another motion
+        assert _wait_for(lambda rows: _runs(_frames(rows))[-1][0] != target
+                         and any(n == target for n, _ in _runs(_frames(rows))), window.log_path, 30), \
+            "the walk did not resume after the key motion"
+        window.quit()
+    runs = _runs(_frames(window.rows()))
+    assert all(a != b for (a, _), (b, _) in zip(runs, runs[1:]))   # no motion twice back to back

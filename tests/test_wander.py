@@ -167,3 +167,43 @@ def test_walk_options_out_of_place_are_refused_in_one_sentence(small_library, ar
 
     result = tvmedit("path", small_library, *args)
     assert result.returncode == 2 and says in result.stderr and "Traceback" not in result.stderr, result.stderr
+
+
+# --- the realtime playhead walking --------------------------------------------------------------
+
+def test_the_playhead_walks_on_when_nothing_is_queued():
+    from tvmedit.engine.playback import Playhead
+
+    head = Playhead(HUB, 0, walker=Wander(HUB, seed=4).walker())
+    nodes = [head.advance().node for _ in range(600)]
+    assert set(nodes) == set(HUB.nodes) and head.wandering
+    for t in head.transitions:                       # every step is one of the graph's edges
+        assert HUB.has_edge(t.source, t.target)
+
+
+def test_a_key_queued_mid_walk_is_played_then_the_walk_goes_on():
+    from tvmedit.engine.playback import Playhead
+
+    head = Playhead(HUB, 1, walker=Wander(HUB, seed=5).walker())
+    for _ in range(20):
+        head.advance()
+    head.queue("m3", hold=6)
+    assert head.queue_list == [3] and head.queue_holds == [6] and not head.wandering
+    frames = [head.advance() for _ in range(300)]
+    reached = next(i for i, e in enumerate(frames) if e.node == 3)
+    assert head.queue_list == [] and head.wandering
+    assert len({e.node for e in frames[reached:]}) >= 3    # the walk went on from there
+
+
+def test_the_playhead_says_when_a_motion_is_only_passed_through():
+    from tvmedit.engine.playback import Playhead
+
+    head = Playhead(HUB, 1)
+    head.advance()
+    head.queue("m3")                                  # 1 -> 0 -> 3: 0 is on the way
+    seen = set()
+    for _ in range(40):
+        entry = head.advance()
+        if entry.node == 0 and entry.blend is None:
+            seen.add(head.passing_through)
+    assert seen == {True}

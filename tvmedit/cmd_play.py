@@ -58,6 +58,7 @@ def add_arguments(parser):
     parser.add_argument("--hold-seconds", type=options.hold_seconds, default=3.0, metavar="N",
                         help="how long Shift+key holds a motion once it begins (default 3)")
     options.add_shading(parser)
+    options.add_wander(parser, length=False)
 
 
 def run(args):
@@ -84,7 +85,12 @@ def run(args):
     if args.shading == "texture" and not library.textured:
         raise TvmError(f"library {args.library} has no textures (its frames were vertex-coloured); "
                        "drop --shading texture.")
-    start = keys[0] if keys else allowed[0]
+    options.check_wander(args, many_keys=True)
+    walker = None
+    if args.wander:
+        walker = library.wander(seed=args.seed, only=args.only, forbid=args.forbid, temperature=args.temperature,
+                                start=keys[0] if keys else None).walker()
+    start = keys[0] if keys else (walker.first() if walker else allowed[0])
     fps = args.fps or library.sequence(graph.nodes[start]["sequence"]).fps
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
@@ -99,7 +105,7 @@ def run(args):
     try:
         app = PlayerApp(graph, library, order, start, fps=fps, forbidden=forbidden,
                         aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO,
-                        shading=args.shading, hold_seconds=args.hold_seconds)
+                        shading=args.shading, hold_seconds=args.hold_seconds, walker=walker)
         app.write_header(_WALL_ZERO, library=str(args.library))
         for node in keys[1:]:
             app.queue(node, time.perf_counter())

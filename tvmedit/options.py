@@ -156,8 +156,9 @@ def add_wander(parser, length=True):
                             "transition weight (default 1; smaller keeps to the cheapest)")
 
 
-def check_wander(args):
-    """With --wander: at most one KEY (where it starts) and no lengths; without, no walk options."""
+def check_wander(args, many_keys=False):
+    """With --wander: at most one KEY (where it starts; any number with ``many_keys``, as the
+    player queues them) and no lengths; without, no walk options."""
     from tvmedit.engine.errors import TvmError
 
     if not args.wander:
@@ -165,7 +166,7 @@ def check_wander(args):
             if value is not None:
                 raise TvmError(f"{flag} shapes a walk: add --wander, or leave {flag} out.")
         return
-    if len(args.keys) > 1:
+    if len(args.keys) > 1 and not many_keys:
         raise TvmError(f"a walk chooses its own motions: give at most one KEY with --wander, where it starts "
                        f"(got {len(args.keys)}).")
     for flag, value in (("--durations", getattr(args, "durations", None)), ("--at", getattr(args, "at", None)),

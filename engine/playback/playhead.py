@@ -74,8 +74,9 @@ class Playhead:
     ([11, 12, 10, 11, 21, 22], 1, [])
     """
 
-    def __init__(self, graph, start_node, forbidden=(), weight="weight", index=None):
+    def __init__(self, graph, start_node, forbidden=(), weight="weight", index=None, walker=None):
         self.graph = graph
+        self.walker = walker        # a Walker (tvmedit.engine.playback.wander): with nothing queued, walk on
         self.weight = weight
         self.forbidden = {node_by_key(graph, key) for key in forbidden}
         self.index = SearchIndex.of(graph, weight) if index is None else index
@@ -88,6 +89,7 @@ class Playhead:
         self._serial = itertools.count()
         self.played = 0             # frames returned so far: the schedule index of the next one
         self.transitions = []
+        self._walk_hold = None      # (visit, its hold before the walk lengthened it)
 
     @property
     def current_node(self):
@@ -98,6 +100,22 @@ class Playhead:
     def queue_list(self):
         """Key motions queued and not yet begun, in the order they will play."""
         return [node for node, _ in self._queue]
+
+    @property
+    def queue_holds(self):
+        """Frames each queued key motion is held for once it begins (0: not held), as :attr:`queue_list`."""
+        holds = {visit.leg: visit.hold for visit in self._plan if visit.key}
+        return [holds.get(serial, 0) for _, serial in self._queue]
+
+    @property
+    def passing_through(self):
+        """Whether the motion playing is only on the way to a queued key motion."""
+        return bool(self._queue) and self._visit.leg is not None and not self._visit.key
+
+    @property
+    def wandering(self):
+        """Whether the walk, not the queue, chooses what plays next."""
+        return self.walker is not None and not self._queue
 
     def _last_visit(self):
         return self._plan[-1] if self._plan else self._visit
@@ -115,6 +133,7 @@ class Playhead:
         """
         node = node_by_key(self.graph, node)
         hold = whole("hold", hold, at_least=0, at_most=MAX_HOLD)
+        self._drop_walk_step()
         last = self._last_visit()
         path = best_path(self.graph, last.node, node, self.weight, self.forbidden, index=self.index)
         if len(path) == 1:
@@ -172,7 +191,14 @@ class Playhead:
             self.played += 1
             return self._blending.popleft()
         visit = self._visit
+        if self.walker is not None and not self._plan and not self._queue and visit.exit is None:
+            self._walk_step(visit)
         if visit.remaining() == 0:
+            if self.walker is not None:
+                self.walker.played(visit.node, visit.shown)
+                if self._walk_hold is not None and self._walk_hold[0] is visit:
+                    self.walker.left(visit.node, self._plan[0].node)
+                    self._walk_hold = None
             visit = self._plan.popleft()
             a = visit.arrival
             blend = blend_entries(self.graph, a.source, a.target)
@@ -192,6 +218,28 @@ class Playhead:
         if closing is not None:
             return closing
         return ScheduleEntry(visit.node, visit.sequence, frame)
+
+    def _walk_step(self, visit):
+        """Plan the walk's next motion from ``visit``: its edge, and the extra cycles to play first."""
+        target = self.walker.next(visit.node)
+        if target is None:      # the only motion the walk may play: it rests here
+            return
+        w, exit_frame, entry_frame = checked_edge(self.graph, visit.node, target, self.weight)
+        extra = 0 if visit.once else self.walker.extra_cycles(visit.node)
+        self._walk_hold = (visit, visit.hold)
+        visit.exit, visit.hold = exit_frame, max(visit.hold, visit.shown + extra * visit.length)
+        sequence, start, end = texton_span(self.graph, target)
+        self._plan.append(_Visit(target, sequence, start, end, entry_frame, once=plays_once(self.graph, target),
+                                 arrival=Transition(-1, visit.node, target, w, exit_frame, entry_frame)))
+
+    def _drop_walk_step(self):
+        """Forget the walk's planned step (a key motion was queued): the queue goes first."""
+        if self._walk_hold is None:
+            return
+        visit, hold = self._walk_hold
+        self._plan.clear()
+        visit.exit, visit.hold = None, hold
+        self._walk_hold = None
 
     def _closing(self, visit, frame):
         """The loop-closing frame shown instead of texton frame ``frame`` (:mod:`tvmedit.engine.inbetween.loops`),
