@@ -271,13 +271,16 @@ def read_frame(path, orientation=None, detail="full"):
                  faces=np.ascontiguousarray(faces, dtype=np.uint32), uv=uv, texture=texture)
 
 
-def sidecar_json(fps, name=None):
-    """Text of the :data:`SIDECAR` that gives frames their rate (and name), as read here.
+def sidecar_json(fps, name=None, **frame):
+    """Text of the :data:`SIDECAR` that gives frames their rate (and name, and with ``frame``
+    their ``up`` axis and ``units``), as read here.
 
     >>> sidecar_json(5), sidecar_json(30.0, "walk")
     ('{"fps": 5}', '{"fps": 30.0, "name": "walk"}')
+    >>> sidecar_json(30.0, "card", up="-x", units="m")
+    '{"fps": 30.0, "name": "card", "up": "-x", "units": "m"}'
     """
-    return json.dumps({"fps": fps} if name is None else {"fps": fps, "name": name})
+    return json.dumps({"fps": fps, **({} if name is None else {"name": name}), **frame})
 
 
 def _sidecar(paths):
@@ -406,6 +409,9 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
                              "\"walk\"; fix it or remove the name.")
     paths = [captured[k] for k in resample(times, rate)] if times is not None else list(captured)
     fmt = _format_of(captured, manifest)
+    # A frame of reference stated beside the frames (an export's) holds where none is given.
+    up = meta.get("up") if up is None else up
+    units = meta.get("units") if units is None else units
     try:
         orientation = detect(_sample_positions(captured), fmt, up=up, units=units, mirror=mirror,
                              body_frame=body_frame)

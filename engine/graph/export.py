@@ -1,4 +1,14 @@
-"""Export an edit as a new TVM sequence: binary PLY frames with their vertex colours, plus ``edit.json``.
+"""Export an edit as a new TVM sequence, in the format the capture came in, plus ``edit.json``.
+
+Formats (:data:`FORMATS`): ``ply``, binary PLY with vertex colours in tvmedit's frame (Z up,
+metres); ``scvv``, a Draco mesh and a JPG texture per frame with ``scvv_animation.json``, as
+depth-camera apps export, in the capture's own coordinates and units; ``obj``, OBJ with MTL
+and PNG texture per frame, in the capture's own coordinates; ``glb``, one binary glTF per
+frame with its texture, Y up and metres as glTF says. The default is the format of the
+library's first sequence (:func:`default_format`), so a textured capture's edit stays
+textured. Frames without a texture carry vertex colours; in-between frames carry the texture
+of the captured frame they were warped from. The writers are
+:mod:`tvmedit.engine.capture.writers`, the readers' twins.
 
 The exported folder is an ordinary TVM sequence: tvmedit's own loader and any mesh tool read
 it. ``edit.json`` records, for each output frame, its file, its source sequence and frame, and
@@ -19,16 +29,31 @@ sequences are refused, so a mistyped ``-o`` never deletes a capture.
 """
 
 import json
+import os
 import re
+import shutil
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+
+import numpy as np
 
 from .. import safewrite
 from ..capture.load import SIDECAR, sidecar_json
 from ..capture.plyfast import write_ply
+from ..capture.readers import MANIFEST_NAMES, texture_for
+from ..capture.writers import write_frame
+from ..errors import ParameterError
 
-__all__ = ["export_edit"]
+__all__ = ["export_edit", "default_format", "FORMATS", "has_sound"]
 
-_EXPORT_FILE = re.compile(r"frame_\d+\.ply|edit\.json|sequence\.json")
+#: Formats an edit can be written in.
+FORMATS = ("ply", "scvv", "obj", "glb")
+#: The export format of a capture read as each input format (others: ``ply``).
+_AS_CAPTURED = {"scvv": "scvv", "draco": "scvv", "obj": "obj", "gltf": "glb"}
+#: glTF is Y up: tvmedit's (x, y, z), Z up, is glTF's (x, z, -y).
+_Y_UP = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
+
+_EXPORT_FILE = re.compile(r"frame_\d+\.(ply|draco|drc|jpg|jpeg|obj|mtl|png|glb)|edit\.json|sequence\.json|scvv_animation\.json")
 
 
 def _legacy(folder):
@@ -43,8 +68,27 @@ def _check_target(out, force, library):
     safewrite.check_target(out, "export", force, inputs=library.sources(), legacy=_legacy)
 
 
-def export_edit(edit, out, force=False, progress=False):
-    """Write ``edit`` (a composition of ``library.edit``) as PLY frames into folder ``out``.
+def default_format(library):
+    """The format a library's edits are written in by default: its first sequence's."""
+    records = library.manifest.get("sequences") or [{}]
+    return _AS_CAPTURED.get(records[0].get("format"), "ply")
+
+
+def has_sound(library):
+    """Whether a sequence of ``library`` came with a sound track (an scvv manifest's ``audio``)."""
+    for sequence in library.sequences:
+        folder = Path(sequence.paths[0]).parent if sequence.paths else None
+        for name in MANIFEST_NAMES if folder else ():
+            try:
+                if json.loads((folder / name).read_text()).get("audio"):
+                    return True
+            except (OSError, ValueError, AttributeError):
+                continue
+    return False
+
+
+def export_edit(edit, out, force=False, progress=False, fmt=None):
+    """Write ``edit`` (a composition of ``library.edit``) as frames into folder ``out``.
 
     Parameters
     ----------
@@ -54,12 +98,16 @@ def export_edit(edit, out, force=False, progress=False):
     out : path of the folder to create
     force : replace a previous export at ``out`` (see :func:`tvmedit.engine.safewrite.check_target`)
     progress : show a progress bar on stderr
+    fmt : one of :data:`FORMATS`, or None for the library's own (:func:`default_format`)
 
     Returns
     -------
     dict : the contents of ``edit.json``
     """
     library = edit.library
+    fmt = default_format(library) if fmt is None else fmt
+    if fmt not in FORMATS:
+        raise ParameterError(f"format {fmt!r} is not one of {', '.join(FORMATS)}.")
     out = Path(out)
     _check_target(out, force, library)
     # Checked again before the swap: the folder may have changed meanwhile.
@@ -67,28 +115,113 @@ def export_edit(edit, out, force=False, progress=False):
     with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp:
         frames = []
         schedule = edit.schedule
-        iterator = schedule
+        textures = []
+        pool = None
+        if fmt == "ply":
+            names = (_write_ply_frame(library, entry, tmp, index) for index, entry in enumerate(schedule))
+        else:
+            # Encoding (Draco, JPG, PNG) releases the GIL: frames are written on every core, in order.
+            pool = ThreadPoolExecutor(max_workers=os.cpu_count() or 1)
+            names = pool.map(lambda job: _write_captured(library, job[1], fmt, tmp, f"frame_{job[0]:05d}"),
+                             enumerate(schedule))
         if progress:
             from tqdm import tqdm
-            iterator = tqdm(schedule, desc="export", unit="frame", leave=False)
-        for index, entry in enumerate(iterator):
-            positions, colours, faces, _ = library.frame_mesh(entry.key)
-            name = f"frame_{index:05d}.ply"
-            write_ply(tmp / name, positions, faces, colours)
-            frames.append({"index": index, "file": name, **entry.to_json(),
-                           "source_file": _source_file(library, entry.sequence, entry.frame)})
+            names = tqdm(names, total=len(schedule), desc="export", unit="frame", leave=False)
+        try:
+            for index, (entry, name) in enumerate(zip(schedule, names)):
+                if fmt != "ply":
+                    name, texture = name
+                    textures.append(texture)
+                frames.append({"index": index, "file": name, **entry.to_json(),
+                               "source_file": _source_file(library, entry.sequence, entry.frame)})
+        finally:
+            if pool is not None:    # nothing left writing into the folder, whatever happened
+                pool.shutdown(cancel_futures=True)
+        fps = library.sequence(schedule[0].sequence).fps if schedule else None
         record = {
             "library": str(Path(library.path).resolve()),
-            "fps": library.sequence(schedule[0].sequence).fps if schedule else None,
+            "fps": fps,
             "keys": [int(k) for k in edit.keys],
             "legs": edit.legs_json(),
             "key_starts": list(edit.starts),
             "frames": frames,
             "transitions": [t.to_json() for t in edit.transitions],
         }
+        if fmt != "ply":
+            record["format"] = fmt
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
-        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name))
+        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(library, schedule, fmt)))
+        if fmt == "scvv":
+            _write_scvv_manifest(tmp, frames, textures, fps)
     return record
+
+
+def _write_ply_frame(library, entry, folder, index):
+    """One frame as binary PLY with its vertex colours, in tvmedit's frame; returns its file name."""
+    positions, colours, faces, _ = library.frame_mesh(entry.key)
+    name = f"frame_{index:05d}.ply"
+    write_ply(folder / name, positions, faces, colours)
+    return name
+
+
+def _write_captured(library, entry, fmt, folder, stem):
+    """One frame in ``fmt``, with its texture where the frame has one; returns (mesh file, texture file).
+
+    A captured frame (not an in-between one) whose file is of the format asked is copied as
+    it came, with its texture: lossless, and as fast as a copy."""
+    copied = _copy_captured(library, entry, fmt, folder, stem) if entry.blend is None else None
+    if copied is not None:
+        return copied
+    positions, colours, faces, _ = library.frame_mesh(entry.key)
+    texture = library.frame_texture(entry.key) if library.textured else None
+    uv, image = texture if texture is not None else (None, None)
+    if fmt == "glb":
+        positions = np.asarray(positions, dtype=np.float64) @ _Y_UP.T
+    else:   # the capture's own coordinates and units: the build's orientation undone
+        orientation = library.orientation(entry.sequence)
+        matrix = np.asarray(orientation.matrix, dtype=np.float64) * orientation.scale
+        positions = np.asarray(positions, dtype=np.float64) @ np.linalg.inv(matrix).T
+        faces = orientation.apply_faces(np.asarray(faces))
+    return write_frame(fmt, folder, stem, positions.astype(np.float32), faces,
+                       None if uv is not None else colours, uv, image)
+
+
+def _copy_captured(library, entry, fmt, folder, stem):
+    """Copy the capture's own file of ``entry`` (and its texture) when it is already in ``fmt``;
+    None where it is not, or is gone."""
+    if fmt != "scvv":
+        return None
+    path = Path(_source_file(library, entry.sequence, entry.frame) or "")
+    if path.suffix.lower() not in (".drc", ".draco") or not path.is_file():
+        return None
+    texture = texture_for(path)
+    if library.textured and texture is None:
+        return None
+    name = f"{stem}{path.suffix.lower()}"
+    shutil.copyfile(path, folder / name)
+    if texture is None:
+        return name, None
+    texture_name = f"{stem}{texture.suffix.lower()}"
+    shutil.copyfile(texture, folder / texture_name)
+    return name, texture_name
+
+
+def _frame_of(library, schedule, fmt):
+    """The up axis and units an export in the capture's coordinates states beside its frames,
+    so it reads back upright whatever its motions (none for PLY and glTF: tvmedit's and glTF's)."""
+    if fmt in ("ply", "glb") or not schedule:
+        return {}
+    orientation = library.orientation(schedule[0].sequence)
+    return {"up": orientation.up, "units": orientation.units}
+
+
+def _write_scvv_manifest(folder, frames, textures, fps):
+    """``scvv_animation.json``: each frame's mesh, texture and time since the previous one."""
+    delay = int(round(1e6 / fps)) if fps else 0
+    data = {"frames": [{"mesh_path": frame["file"], "texture_path": texture or "", "delay_us": delay if k else 0}
+                       for k, (frame, texture) in enumerate(zip(frames, textures))],
+            "average_fps": f"{fps:g}" if fps else ""}
+    (folder / "scvv_animation.json").write_text(json.dumps(data, indent=1))
 
 
 def _source_file(library, sequence, frame):

@@ -1,0 +1,28 @@
+"""Exported edits: PLY for vertex-coloured libraries, as before; formats refused by name."""
+
+import json
+
+import pytest
+
+from tvmedit import Library
+from tvmedit.engine.errors import ParameterError
+from tvmedit.engine.graph.export import default_format, export_edit
+
+
+def test_a_vertex_coloured_library_exports_ply_frames_and_no_format_key(small_library, tmp_path):
+    library = Library.open(small_library)
+    assert default_format(library) == "ply"
+    names = [node.name for node in library.nodes[:2]]
+    record = export_edit(library.edit(names), tmp_path / "out")
+    files = sorted(p.name for p in (tmp_path / "out").iterdir() if not p.name.startswith("."))
+    assert files == sorted([f["file"] for f in record["frames"]] + ["edit.json", "sequence.json"])
+    assert all(name.endswith(".ply") for name in files if name.startswith("frame_"))
+    assert "format" not in json.loads((tmp_path / "out" / "edit.json").read_text())
+
+
+def test_an_unknown_format_is_refused_before_anything_is_written(small_library, tmp_path):
+    library = Library.open(small_library)
+    edit = library.edit([node.name for node in library.nodes[:2]])
+    with pytest.raises(ParameterError, match="not one of ply, scvv, obj, glb"):
+        export_edit(edit, tmp_path / "out", fmt="usd")
+    assert not (tmp_path / "out").exists()
