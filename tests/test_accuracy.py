@@ -44,6 +44,19 @@ def take_score(take, params=None, centred=_OWN):
 PEAKS = dict(partition=0.0, onset_reach=2.0)
 
 
+def _steady_turn_change_found(name):
+    """CMU 13_29 turning steadily (fresh batch "steady-turns"): its change from arm circles to
+    one-hand toe touches (16.0 s) has a boundary within 1 s; returns (cluster starts, change)."""
+    needs_mocap()
+    from tvmedit.engine.lab import fresh
+    take = fresh.take("steady-turns", name)
+    change = take.truth["segments"][3]["start"] / take.fps
+    assert abs(change - 16.0) < 0.05
+    found = starts_of(take)
+    assert any(abs(b - change) <= 1.0 for b in found), found
+    return found, change
+
+
 def starts_of(take, **params):
     """Where a development-suite take's clusters after the first start, in seconds, parsed with
     ``params`` over the defaults."""
@@ -243,15 +256,8 @@ def test_a_change_whose_novelty_peaks_twice_is_not_taken_early(devsuite):
     # the later top a little higher. The earlier-twin rule (twin_peak 0.9, no longer the default)
     # took 15.4 s, and the later rules that place a boundary, searching about
     # it, took it back to 14.5 s: 1.5 s early, a miss and a false start. From the higher
-    # peak they place it at 15.2 s. With settling on both views (settle_free) the settling places it right
-    # from the earlier peak too, so the earlier rule is tried without that step.
-    needs_mocap()
-    from tvmedit.engine.lab import fresh
-    take = fresh.take("steady-turns", "13_29-turn-m4")
-    change = take.truth["segments"][3]["start"] / take.fps
-    assert abs(change - 16.0) < 0.05
-    found = starts_of(take)
-    assert any(abs(b - change) <= 1.0 for b in found), found
+    # peak they place it at 15.2 s; settling on both views places it right from either.
+    _steady_turn_change_found("13_29-turn-m4")
 
 
 def test_the_boundaries_placed_wrong_are_the_least_sure(devsuite):
@@ -479,15 +485,7 @@ def test_a_change_in_a_turning_take_is_settled_on_both_views(devsuite):
     # wandered early. CMU 13_29 turning 7 degrees a second (fresh batch "steady-turns"): the
     # change from arm circles to one-hand toe touches (16.0 s) was settled to 14.9 s, a miss
     # and a false start; the heading-free rows, which cannot be a bin off, top at 16.3 s.
-    # (Without the step the parser's rows score 14.9 s only 1 % over 16.3 s, so that is not
-    # asserted here; the next test asserts a clearer miss without it.)
-    needs_mocap()
-    from tvmedit.engine.lab import fresh
-    take = fresh.take("steady-turns", "13_29-turn-7")
-    change = take.truth["segments"][3]["start"] / take.fps
-    assert abs(change - 16.0) < 0.05
-    found = starts_of(take)
-    assert any(abs(b - change) <= 1.0 for b in found), found
+    found, change = _steady_turn_change_found("13_29-turn-7")
     assert not any(change - 2.0 <= b < change - 1.0 for b in found), found
 
 
