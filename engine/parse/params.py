@@ -62,12 +62,16 @@ class StructureParams:
     beta : float
         "paper": eq. (8)'s threshold on the smallest atom distance to the current cluster. The
         paper's 0.07 belongs to its histogram scale; 0.3 suits the normalised histograms here.
-    texton_contrast, texton_drop : float
+    texton_contrast : float
         "paper": a local minimum of d_A(t, t_first) starts a texton only when it lies below the
-        maximum since t_first by this fraction of it, and by this much in absolute terms (which
-        rejects the minima of a still, noisy sequence).
-    min_texton, max_period : float
-        Shortest texton and longest period searched.
+        maximum since t_first by this fraction of that maximum.
+    texton_drop : float
+        "paper": and by at least this much in absolute terms (atom-distance units), which
+        rejects the minima of a still, noisy sequence.
+    min_texton : float
+        Shortest texton (and shortest period searched), seconds.
+    max_period : float
+        Longest period searched ("energy"), seconds.
     min_periodicity : float
         "energy": a cluster has textons only when its deepest lag-profile valley dips at least
         this fraction of the profile's median (a still stretch has none).
@@ -98,10 +102,14 @@ class StructureParams:
     min_cluster : float
         "energy": least distance between boundaries; the first and last cluster may be down to
         3/4 of it.
-    shoulder, twin_peak : float
-        "energy", with ``partition`` 0: a peak rising less than ``shoulder`` of its height
-        above the valley to a stronger peak is that peak's flank; with ``twin_peak`` under 1,
-        an earlier peak at least that fraction of a stronger one's height is taken instead.
+    shoulder : float
+        "energy", with ``partition`` 0 only: a novelty peak within twice ``min_cluster`` of a
+        stronger one that rises less than this share of its height above the valley between
+        them is that peak's flank, not a boundary.
+    twin_peak : float
+        "energy", with ``partition`` 0 only: an earlier novelty peak within ``min_cluster`` of a
+        stronger one and at least this fraction of its height is the boundary instead; 1 leaves
+        the rule out.
     analysis_fps : float
         "energy": rate the sequence is reduced to for the novelty.
     max_transition : float
