@@ -195,3 +195,19 @@ def test_keep_frames_all_stores_every_frame_and_info_says_so(take_13_30, tmp_pat
     with pytest.raises(SystemExit) as exit_:
         main(["build", _small(take_13_30), "-o", str(tmp_path / "x.lib"), "--keep-frames", "some"])
     assert exit_.value.code == 2 and "invalid choice: 'some'" in capsys.readouterr().err
+
+
+def test_every_parse_option_of_build_says_what_it_does():
+    import dataclasses
+
+    from tvmedit.cli import _parser
+    from tvmedit.engine.parse.params import StructureParams
+
+    parser = _parser(["build"])
+    build = next(a for a in parser._subparsers._group_actions[0].choices.values() if a.prog.endswith(" build"))
+    helps = {a.dest: a.help or "" for a in build._actions}
+    for field in dataclasses.fields(StructureParams):
+        if field.name in ("method", "window_taps"):
+            continue
+        words = helps[f"structure_{field.name}"].split(" (default")[0]
+        assert len(words.split()) >= 4, (field.name, helps[f"structure_{field.name}"])
