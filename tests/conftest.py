@@ -62,7 +62,7 @@ def mocap_take(take, **options):
 
 @pytest.fixture(scope="session")
 def devsuite():
-    """The parser's development suite, ``benchmarks/devsuite.py`` (its takes, sources and scorer)."""
+    """The parser's development suite, :mod:`tvmedit.engine.lab.devsuite` (its takes, sources and scorer)."""
     from tvmedit.engine.lab import devsuite
 
     return devsuite

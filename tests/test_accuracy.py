@@ -29,7 +29,7 @@ _OWN = object()
 
 
 def take_score(take, params=None, centred=_OWN):
-    """A development-suite take (benchmarks/devsuite.Take) parsed and scored against its truth;
+    """A development-suite take (tvmedit.engine.lab.devsuite.Take) parsed and scored against its truth;
     ``centred``: other rows about each frame's own centre than the take's (None: none)."""
     from tvmedit.engine.lab.evaluate import score
     from tvmedit.engine.parse.structure import parse
@@ -232,7 +232,7 @@ def test_a_change_just_after_a_turn_is_found_where_it_is(devsuite):
 
 
 def test_a_change_of_exercise_after_a_turn_is_not_taken_back_to_the_turn(devsuite):
-    # Fresh batch "step23", take spin-a (benchmarks/fresh.py): the actor turns on its spot
+    # Fresh batch "step23", take spin-a (tvmedit.engine.lab.fresh): the actor turns on its spot
     # (9.6-10.6 s, 139 degrees) while doing squats, and circles its arms from 11.1 s. The turn's
     # peak and the change's merge, so no turn is vetoed; the boundary settles at 11.5 s, and
     # the onset step took it back to 9.6 s, where the squats, seen turned, looked left

@@ -41,8 +41,7 @@ def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
 
 def _texton_and_period(name, segment, label):
     # The median texton of the cluster that holds the middle of a true segment of a take of the
-    # fresh batch "mocap6-rest", and that segment's true period, in seconds (the calling test
-    # asks for the devsuite fixture, which puts benchmarks/ on the path).
+    # fresh batch "mocap6-rest", and that segment's true period, in seconds.
     from tvmedit.engine.lab import fresh
     from tvmedit.engine.parse.structure import parse
     take = fresh.take("mocap6-rest", name)

@@ -3,7 +3,7 @@
     python benchmarks/accuracy.py [--groups synth cmu ...] [--methods energy paper] [--no-cv] [--takes] [--errors]
                                   [--bootstrap N]
 
-Every take of the suite (``benchmarks/devsuite.py``: the synthetic actor varied, the same
+Every take of the suite (:mod:`tvmedit.engine.lab.devsuite`: the synthetic actor varied, the same
 actor drifting and turning across the volume, CMU 13_29/13_30 warped, mirrored, turning and
 cut, and HDM05 people stitched into multi-exercise takes) is parsed from its cached features and scored with
 :mod:`tvmedit.engine.lab.evaluate`: cluster-start precision and recall (one-to-one, within 1 s, frame 0
