@@ -26,29 +26,17 @@ pulled toward its nearest point of the other surface, and every point of the oth
 (3,000 of them) pulls its nearest node toward itself; the pulls are summed over the nodes
 with a Gaussian of radius ``sigma`` (20 cm at first, 3 cm at the end, three steps each) and
 divided by the summed weights (normalised convolution), so the many points of a limb that
-moved away drag its few nearest nodes, and the limb, along: with a plain average of the
-pulls per node, 8% of the vertices of CMU 13_30's hardest transition stayed over 3 cm from
-the other surface and the arms jumped at the cut; with the normalised sum, 1%. The vertices
-follow the nodes, each by a Gaussian-weighted average over its nearest six.
-
-Measured (``benchmarks/blend_quality.py``; pop ratio = largest step across a transition
-window / natural step): the cut's pop ratio on CMU 13_29 is median 1.77, max 2.49 over 15
-transitions, on 13_30 median 3.30, max 4.50 (10), on the synthetic gym max 3.09 (16);
-blended, at most 0.98, 1.00 and 0.96. In-between frames keep their area within 3% of the
-interpolated area of their ends, and lie 0.33-0.53 of the cut from the nearer end. A
-transition of 17,000-vertex frames costs 0.15 s of one core, 0.17 s at most, over 13_29's
-15 (it was 0.55 s with 2,000 nodes at every radius, 4,000 pulling points and five steps,
-for pop ratios of 0.95-0.99: the coarse levels' node counts gave the most, steps and points
-a third more); a warp is a multiply-add, so in-between frames cost little (0.15 s with one,
-0.21 s with eight), and k-d trees (scipy's ``cKDTree``, unbalanced: built in half the time)
-are built once per frame.
+moved away drag its few nearest nodes, and the limb, along (a plain average of the pulls per
+node left arms behind at the cut). The vertices follow the nodes, each by a Gaussian-weighted
+average over its nearest six. A warp is a multiply-add, so in-between frames cost little once
+the alignment is made; k-d trees (scipy's ``cKDTree``, unbalanced: built in half the time)
+are built once per frame. ``benchmarks/blend_quality.py`` measures the pop ratio (largest
+step across a transition window over the natural step), cut and blended.
 
 The alternative, implicit-surface interpolation (signed distance fields on a voxel grid,
-blended, surfaces re-extracted by marching cubes), was rejected: at 1 cm around a person
-the grid holds 1.3 million samples, whose unsigned distances alone took 6 s per frame to
-query here (marching cubes is fast, 0.04 s), against a budget of 2 s per transition; the
-blend of two poses a limb apart is a ghost with two thin limbs or none; and the colours
-must be guessed back from the nearest source vertices.
+blended, surfaces re-extracted by marching cubes), was rejected: a 1 cm grid around a person
+is too slow to query per frame, the blend of two poses a limb apart is a ghost with two thin
+limbs or none, and the colours must be guessed back from the nearest source vertices.
 
 How many in-between frames: enough that no displayed step (vertex Chamfer) exceeds the
 *natural step*, the median step between consecutive frames inside the database textons
