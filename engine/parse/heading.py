@@ -148,15 +148,9 @@ def azimuth_smoothed(vectors, theta):
     and each row's total are unchanged. :func:`tvmedit.engine.parse.structure.parse` reads the
     features through it (method "energy"); stored features stay eq. (1)'s.
 
-    Why: with features in the body's own frame (:mod:`tvmedit.engine.capture.orientation`) the body's
-    front falls anywhere within a 5 degree bin, and the parser, whose decisions were
-    taken on hard-edged histograms of takes facing along an axis, lost boundaries:
-    development suite pooled precision / recall / texton accuracy 0.94 / 0.93 / 0.92 in
-    the body's frame against 0.97 / 0.95 / 0.96 in tvmedit's axes. Smoothed (with the
-    strong-edge rule of :mod:`tvmedit.engine.parse.boundaries`), 0.95 / 0.96 / 0.93 and 0.97 / 0.95 /
-    0.95, and leave-one-group-out in the body's frame 0.902 / 0.874 / 0.908 -> 0.929 /
-    0.958 / 0.912 (``benchmarks/accuracy.py``). Smoothing phi as well, or wider kernels,
-    cost recall (0.87-0.93 pooled).
+    Why: with features in the body's own frame (:mod:`tvmedit.engine.capture.orientation`) the
+    body's front falls anywhere within a 5 degree bin, and decisions taken on hard-edged
+    histograms moved with it. Smoothing phi as well, or a wider kernel, cost recall.
 
     Parameters
     ----------
