@@ -214,3 +214,19 @@ def test_binary_ply_colours_of_any_type_are_kept(tmp_path, kind, scale):
     assert (read_ply(path) is None) == (kind == "float")  # trimesh scales float colours
     colours = read_frame(path).colours
     np.testing.assert_allclose(colours, np.rint(rgb * 255), atol=1)
+
+
+def test_a_rate_nothing_states_is_said_to_be_assumed(tmp_path):
+    from tvmedit.engine.capture.load import open_sequence
+
+    for index in range(3):
+        _mesh(shift=index).export(tmp_path / f"f{index}.ply")
+    assert open_sequence(str(tmp_path)).rate_from == "assumed"
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(tmp_path)], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert "10 fps was assumed; set it with --fps" in result.stdout
+    (tmp_path / "sequence.json").write_text(json.dumps({"fps": 30}))
+    assert open_sequence(str(tmp_path)).rate_from == "sequence.json"
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(tmp_path)], capture_output=True, text=True)
+    assert "assumed" not in result.stdout and "30 fps" in result.stdout and "sequence.json's" in result.stdout
+    assert open_sequence(str(tmp_path), fps=12).rate_from == "given"

@@ -33,7 +33,12 @@ def _timing(sequence, usable):
     import numpy as np
 
     if sequence.times is None:
-        return [f"{sequence.name}: {usable} frames at {sequence.fps:g} fps ({usable / sequence.fps:.1f} s)"]
+        from tvmedit.engine.capture.load import rate_assumed
+
+        assumed = rate_assumed(sequence)
+        return [f"{sequence.name}: {usable} frames at {sequence.fps:g} fps ({usable / sequence.fps:.1f} s)"
+                + (f"; the rate is {sequence.rate_from}'s" if sequence.rate_from == "sequence.json" else "")] \
+            + ([f"note: {assumed}"] if assumed else [])
     steps = np.diff(sequence.times) * 1000
     captured = len(sequence.captured)
     shown = len(set(map(str, sequence.paths)))

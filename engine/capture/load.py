@@ -98,6 +98,8 @@ class Sequence:
     ``skipped`` lists ``(path, reason)`` of frames left out with ``skip_bad_frames``.
     ``format`` names the reader (``"ply"``, ``"draco"``...) or the manifest (``"scvv"``);
     ``orientation`` maps the files' coordinates to tvmedit's (see :mod:`tvmedit.engine.capture.orientation`).
+    ``rate_from`` says where ``fps`` came from: ``"given"``, ``"sequence.json"``, ``"frame times"``
+    (a manifest's), or ``"assumed"`` (:data:`DEFAULT_FPS`, nothing stated a rate).
     """
 
     name: str
@@ -110,6 +112,7 @@ class Sequence:
     times: np.ndarray = None
     captured: list = None
     manifest: Path = None
+    rate_from: str = "given"
 
     def __len__(self):
         return len(self.paths)
@@ -391,12 +394,13 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     if manifest is not None and len(manifest.times) > 1 and manifest.times[-1] > 0:
         times = manifest.times
     given = fps if fps is not None else meta.get("fps")
+    rate_from = "given" if fps is not None else SIDECAR
     if given is None:
-        if times is not None:
+        if times is not None and (np.diff(times) > 0).any():
             steps = np.diff(times)
-            given = 1.0 / float(np.median(steps[steps > 0])) if (steps > 0).any() else DEFAULT_FPS
+            given, rate_from = 1.0 / float(np.median(steps[steps > 0])), "frame times"
         else:
-            given = DEFAULT_FPS
+            given, rate_from = DEFAULT_FPS, "assumed"
     rate = _positive(given)
     if rate is None or rate > MAX_FPS:
         raise InputError(f"the frame rate of {source} must be a number above 0 and at most "
@@ -419,7 +423,19 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
         raise InputError(f"{error}.") from None
     return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,
                     orientation=orientation, times=times, captured=list(captured),
-                    manifest=manifest.path if manifest is not None else None)
+                    manifest=manifest.path if manifest is not None else None, rate_from=rate_from)
+
+
+def rate_assumed(sequence):
+    """One sentence where ``sequence``'s frame rate was assumed, else None.
+
+    >>> rate_assumed(Sequence("walk", 10.0, [], rate_from="assumed"))
+    'walk: no manifest, frame times or sequence.json states a frame rate, so 10 fps was assumed; set it with --fps (or {"fps": 30} in sequence.json beside the frames).'
+    """
+    if sequence.rate_from != "assumed":
+        return None
+    return (f"{sequence.name}: no manifest, frame times or {SIDECAR} states a frame rate, so {sequence.fps:g} fps "
+            f"was assumed; set it with --fps (or {{\"fps\": 30}} in {SIDECAR} beside the frames).")
 
 
 def _sample_positions(paths):

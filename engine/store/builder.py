@@ -43,7 +43,7 @@ from .inbetweens import blend_library, loop_frames
 from ..errors import InputError, TvmError
 from ..features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
                        moves_across)
-from ..capture.load import expand_inputs, open_sequence, read_frame
+from ..capture.load import expand_inputs, open_sequence, rate_assumed, read_frame
 from .parallel import Workers
 from .settings import Settings
 
@@ -355,6 +355,10 @@ def _open_inputs(inputs, fps, log, frame=None):
         warnings.simplefilter("always")
         sequences = [open_sequence(source, name=name, fps=fps, **(frame or {})) for name, source in expanded]
     _pass_on(caught, log)
+    for sequence in sequences:
+        assumed = rate_assumed(sequence)
+        if assumed:
+            warnings.warn(assumed, stacklevel=3)
     seen = {}
     for (_, source), sequence in zip(expanded, sequences):
         if sequence.name in seen:
