@@ -349,3 +349,21 @@ def test_card_edit_exports_as_obj_and_glb_with_textures_and_times(card_library, 
     check = _tvmedit("check", tmp_path / fmt)
     assert check.returncode == 0, check.stderr
     assert f"textures: {len(record['frames'])} of {len(record['frames'])} frames" in check.stdout
+
+
+def test_advice_for_a_one_motion_take_names_options_that_work(card_library, tmp_path):
+    import re
+
+    from tvmedit import Library
+
+    library = Library.open(card_library)
+    names = [node.name for node in library.nodes]
+    assert _tvmedit("export", card_library, *names[:2], "-o", tmp_path / "edit", "-q").returncode == 0
+    first = _tvmedit("build", tmp_path / "edit", "-o", tmp_path / "one.tvmlib", "-q")
+    assert first.returncode == 0, first.stderr
+    found = re.search(r"with ((?:--[a-z-]+ [0-9.]+(?: and )?)+) it finds (\d+) \(tried\)", first.stderr)
+    assert found, first.stderr
+    flags = found.group(1).replace(" and ", " ").split()
+    again = _tvmedit("build", tmp_path / "edit", "-o", tmp_path / "more.tvmlib", "-q", *flags)
+    assert again.returncode == 0 and "an edit needs two" not in again.stderr, again.stderr
+    assert len(Library.open(tmp_path / "more.tvmlib").nodes) == int(found.group(2))

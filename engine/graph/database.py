@@ -191,25 +191,33 @@ def build_database(structures, min_textons=MIN_TEXTONS):
     return nodes
 
 
-def advice(nodes):
+def advice(nodes, better=None):
     """What a user can do with a database too small to edit (fewer than two motions), or None.
 
-    Structure parameters are named as in ``tvmedit.engine.parse.structure.StructureParams``.
+    Structure parameters are named as in ``tvmedit.engine.parse.structure.StructureParams``;
+    ``better``, ``({name: value}, motions)``, is a parse setting tried and found to give more.
 
     >>> advice([])
     'the library has no motions, so there is nothing to edit: build it from sequences with frames.'
-    >>> print(advice([Node(0, "talk/01", "talk", 0, 99, 0, 0.1, kind="once")]))
+    >>> talk = [Node(0, "talk/01", "talk", 0, 99, 0, 0.1, kind="once")]
+    >>> print(advice(talk))
     the library has one motion, talk/01 (played once), and an edit needs two: build it with another take as well (several sequences make one library), or let the parser cut this take into more motions with a shorter min_cluster or a lower novelty_threshold.
+    >>> print(advice(talk, better=({"min_cluster": 1.0, "partition": 5.0}, 3)))
+    the library has one motion, talk/01 (played once), and an edit needs two: build it with another take as well (several sequences make one library), or let the parser cut this take into more motions: with min_cluster=1 and partition=5 it finds 3 (tried).
     """
     if len(nodes) >= 2:
         return None
     if not nodes:
         return "the library has no motions, so there is nothing to edit: build it from sequences with frames."
     node = nodes[0]
-    return (f"the library has one motion, {node.name} ({'played once' if node.once else 'a cycle'}), and "
-            "an edit needs two: build it with another take as well (several sequences make one "
-            "library), or let the parser cut this take into more motions with a shorter "
-            "min_cluster or a lower novelty_threshold.")
+    head = (f"the library has one motion, {node.name} ({'played once' if node.once else 'a cycle'}), and "
+            "an edit needs two: build it with another take as well (several sequences make one library), or ")
+    if better is not None:
+        setting, count = better
+        given = " and ".join(f"{name}={value:g}" for name, value in setting.items())
+        return head + f"let the parser cut this take into more motions: with {given} it finds {count} (tried)."
+    return head + ("let the parser cut this take into more motions with a shorter min_cluster or a lower "
+                   "novelty_threshold.")
 
 
 def _once_distance(curve, end, texton):
