@@ -125,6 +125,26 @@ def spread_frames(start, end, count):
     return sorted({int(round(v)) for v in np.linspace(start, end, min(count, end - start + 1))})
 
 
+def fitted_label(text, width, scale):
+    """``(text, position, scale)`` of a tile's label that fits ``width`` pixels: the scale made
+    smaller first, then the start of the text left out ("..") so that its end (the frame
+    number) stays readable.
+
+    >>> fitted_label("geometry_draco/01 27", 160, 2)
+    ('geometry_draco/01 27', (2, 2), 1)
+    >>> fitted_label("gym/01 71", 160, 2)
+    ('gym/01 71', (2, 2), 2)
+    >>> fitted_label("a_capture_with_a_very_long_name/01 27", 100, 1)
+    ('.._very_long_name/01 27', (2, 2), 1)
+    """
+    room = width - 4                                     # 2 px each side, the backing's margin
+    for size in range(scale, 0, -1):
+        if (4 * len(text) - 1) * size + 2 * size <= room:
+            return text, (2, 2), size
+    keep = max(1, (room - 1) // 4 - 2)                   # characters at scale 1 beside ".."
+    return ".." + text[len(text) - keep:], (2, 2), 1
+
+
 def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True, camera=None,
                   grid=False, background=BACKGROUND, samples=4, force=False, shading="auto"):
     """Render ``keys`` as tiles of one PNG grid, row by row, and return the image (H, W, 3) uint8.
@@ -164,7 +184,7 @@ def contact_sheet(source, keys, out_png, columns=8, tile=(160, 120), labels=True
             renderer.draw(mesh, cam, texture=texture_of(source, key, shading))
             image = renderer.read()
             if labels:
-                draw_text(image, str(labels[i]), (2, 2), scale=1 if th < 100 else 2)
+                draw_text(image, *fitted_label(str(labels[i]), tw, 1 if th < 100 else 2))
             r, c = divmod(i, columns)
             sheet[r * th:(r + 1) * th, c * tw:(c + 1) * tw] = image
     out_png = Path(out_png)

@@ -407,3 +407,20 @@ def test_rendering_many_frames_does_not_grow_memory(ctx, tmp_path):
     result = subprocess.run([sys.executable, str(script)], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
     assert int(result.stdout.strip()) < 100  # MB over 60 renders; the leak made about 280
+
+
+def test_a_long_label_fits_its_tile_and_keeps_the_frame_number(ctx, tmp_path):
+    from tvmedit.player.font import text_mask
+    from tvmedit.player.headless import fitted_label
+
+    source = scene_source()
+    keys = [("figure", 0), ("ball", 0)]
+    label = "geometry_draco/01 27"
+    plain = player.contact_sheet(source, keys, tmp_path / "a.png", columns=2, tile=(160, 120), labels=False)
+    sheet = player.contact_sheet(source, keys, tmp_path / "b.png", columns=2, tile=(160, 120), labels=[label] * 2)
+    changed = np.any(sheet != plain, axis=2)
+    columns = np.flatnonzero(changed[:20, :160].any(axis=0))
+    assert columns.max() < 158, "the label must end inside its own tile"
+    text, _, scale = fitted_label(label, 160, 2)
+    assert text.endswith("01 27") and text_mask(text, scale).shape[1] + 2 * scale <= 156
+    assert fitted_label("a_capture_with_a_very_long_name/01 27", 100, 1)[0].endswith("/01 27")
