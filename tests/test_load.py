@@ -4,6 +4,7 @@ import json
 import subprocess
 import sys
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -230,3 +231,21 @@ def test_a_rate_nothing_states_is_said_to_be_assumed(tmp_path):
     result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(tmp_path)], capture_output=True, text=True)
     assert "assumed" not in result.stdout and "30 fps" in result.stdout and "sequence.json's" in result.stdout
     assert open_sequence(str(tmp_path), fps=12).rate_from == "given"
+
+
+def test_frames_one_folder_down_are_read_from_the_top_folder(tmp_path):
+    from tvmedit.engine.capture.load import open_sequence
+
+    top = tmp_path / "take"
+    (top / "geometry").mkdir(parents=True)
+    (top / "textures").mkdir()
+    (top / "sound.mp3").write_bytes(b"ID3")
+    for index in range(3):
+        _mesh(shift=index).export(top / "geometry" / f"f{index}.ply")
+    sequence = open_sequence(str(top))
+    assert [p.name for p in map(Path, sequence.paths)] == ["f0.ply", "f1.ply", "f2.ply"]
+    assert sequence.name == "take"
+    (top / "other").mkdir()
+    _mesh().export(top / "other" / "g0.ply")
+    with pytest.raises(InputError, match="holds frames in 2 subfolders"):
+        open_sequence(str(top))

@@ -175,6 +175,8 @@ def frame_paths(source):
 
     A folder with a sequence manifest (``scvv_animation.json``, ``scvv.json``) plays the
     frames it lists, in its order; any other folder or glob its frame files in natural order.
+    A folder without frames of its own whose one subfolder holds them (a player's export:
+    ``geometry_draco/`` beside textures and sound) plays that subfolder's.
 
     >>> frame_paths("/no/such/folder")
     Traceback (most recent call last):
@@ -205,6 +207,13 @@ def frame_paths(source):
     files = [p for p in entries if p.is_file()]
     paths = [p for p in files if p.suffix.lower() in MESH_SUFFIXES]
     if not paths:
+        # A player's export keeps the frames one folder down, beside textures and sound.
+        holders = sorted((p for p in entries if p.is_dir() and holds_frames(p)), key=_natural_key)
+        if len(holders) == 1:
+            return frame_paths(holders[0])
+        if holders:
+            raise InputError(f"{folder} holds frames in {len(holders)} subfolders ({', '.join(p.name for p in holders)}); "
+                             "give the one to read.")
         others = sorted(p for p in files if p.suffix.lower() not in SIDECAR_SUFFIXES)
         if others:
             raise InputError(f"{others[0]} has the unsupported extension '{others[0].suffix}' and {folder} "
