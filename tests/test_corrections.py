@@ -358,10 +358,11 @@ def test_kept_corrections_that_no_longer_fit_say_how_to_drop_them(base, take, tm
     Library.open(out).correct(c)
     shorter = f"{NAME}=" + str(take / "frame_000[0-9]?.ply")          # the first 100 frames only
     capsys.readouterr()
-    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1"]) == 2
+    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--fps", "10"]) == 2
     err = capsys.readouterr().err
     assert "no longer fit" in err and "--no-corrections" in err and err.count("\n") == 1
-    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--no-corrections"]) == 0
+    assert main(["build", shorter, "-o", str(out), "--force", "-q", "--workers", "1", "--fps", "10",
+                 "--no-corrections"]) == 0
 
 
 def test_any_corrections_give_a_sound_parse_or_one_sentence(small_library):
