@@ -249,3 +249,18 @@ def test_frames_one_folder_down_are_read_from_the_top_folder(tmp_path):
     _mesh().export(top / "other" / "g0.ply")
     with pytest.raises(InputError, match="holds frames in 2 subfolders"):
         open_sequence(str(top))
+
+
+def test_a_rate_a_folder_name_states_is_taken_and_said(tmp_path):
+    from tvmedit.engine.capture.load import open_sequence
+
+    top = tmp_path / "talk"
+    (top / "geometry_draco").mkdir(parents=True)
+    (top / "texture_ktx2-fps30-1k_baseColor_default").mkdir()
+    for index in range(3):
+        _mesh(shift=index).export(top / "geometry_draco" / f"f{index}.ply")
+    sequence = open_sequence(str(top))
+    assert sequence.fps == 30 and sequence.rate_from == "folder name 'texture_ktx2-fps30-1k_baseColor_default'"
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(top)], capture_output=True, text=True)
+    assert "3 frames at 30 fps" in result.stdout and "folder name" in result.stdout, result.stdout
+    assert open_sequence(str(top), fps=10).fps == 10

@@ -405,9 +405,12 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     given = fps if fps is not None else meta.get("fps")
     rate_from = "given" if fps is not None else SIDECAR
     if given is None:
+        stated = _rate_in_names(Path(captured[0]).parent) if captured else None
         if times is not None and (np.diff(times) > 0).any():
             steps = np.diff(times)
             given, rate_from = 1.0 / float(np.median(steps[steps > 0])), "frame times"
+        elif stated is not None:
+            given, rate_from = stated
         else:
             given, rate_from = DEFAULT_FPS, "assumed"
     rate = _positive(given)
@@ -433,6 +436,35 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,
                     orientation=orientation, times=times, captured=list(captured),
                     manifest=manifest.path if manifest is not None else None, rate_from=rate_from)
+
+
+#: A rate stated in a folder's name as players' exports write it: ``fps30``, ``fps-29.97``.
+_RATE_IN_NAME = re.compile(r"(?<![a-z0-9])fps[-_]?(\d{1,3}(?:\.\d+)?)(?![0-9])", re.I)
+
+
+def _rate_in_names(folder):
+    """``(fps, "folder name 'NAME'")`` where the frames' folder, the folder above it or a folder
+    beside it states a rate in its name (``texture_ktx2-fps30-1k``), else None.
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as top:
+    ...     for name in ("geometry_draco", "texture_ktx2-fps30-1k"):
+    ...         os.mkdir(os.path.join(top, name))
+    ...     _rate_in_names(Path(top) / "geometry_draco")
+    (30.0, "folder name 'texture_ktx2-fps30-1k'")
+    """
+    folder = Path(folder)
+    try:
+        beside = sorted(p.name for p in folder.parent.iterdir() if p.is_dir() and p != folder)
+    except OSError:
+        beside = []
+    for name in [folder.name, folder.parent.name, *beside]:
+        match = _RATE_IN_NAME.search(name)
+        if match:
+            rate = float(match.group(1))
+            if 0 < rate <= MAX_FPS:
+                return rate, f"folder name {name!r}"
+    return None
 
 
 def rate_assumed(sequence):
