@@ -45,6 +45,7 @@ from ..features import (FeatureAccumulator, Features, centred_histograms, follow
                        moves_across)
 from ..capture.load import expand_inputs, open_sequence, rate_assumed, read_frame
 from .parallel import Workers
+from .advice import more_motions
 from .settings import Settings
 
 __all__ = ["build", "derive", "report_of", "check_target", "library_features", "Settings", "expand_inputs"]
@@ -292,35 +293,9 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
     _pass_on(caught, run.log)
     nodes = nodes_of(graph)
     if advice(nodes):
-        better = _more_motions(sequences, padded, vectors, params) if not corrections else None
+        better = more_motions(sequences, padded, vectors, params) if not corrections else None
         run.say(f"warning: {advice(nodes, better)}")
     return _Analysis(parses, structures, nodes, graph, corrections)
-
-
-#: Parse settings tried, in order, when a build gives fewer than two motions (each a re-parse
-#: of the features, well under a second a take): shorter clusters, cheaper changes, both.
-MORE_MOTIONS = ({"min_cluster": 1.0}, {"partition": 5.0}, {"min_cluster": 1.0, "partition": 5.0},
-                {"min_cluster": 1.0, "partition": 5.0, "novelty_threshold": 0.5})
-
-
-def _more_motions(sequences, padded, vectors, params):
-    """The first of :data:`MORE_MOTIONS` whose parse gives two motions or more, with their
-    count; None where none does (what the advice then says is untried)."""
-    from ..graph.database import build_database
-    from ..parse import structure as structure_module
-
-    for setting in MORE_MOTIONS:
-        tried = dataclasses.replace(params, **setting)
-        if tried == params:
-            continue
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            parses = {seq.name: structure_module.parse(vectors[seq.name], seq.fps, tried, theta=f.theta_columns,
-                                                       centred=f.centred) for seq, f in zip(sequences, padded)}
-        count = len(build_database(parses))
-        if count >= 2:
-            return setting, count
-    return None
 
 
 # --- meshes and the rest of the library ---------------------------------------------------
