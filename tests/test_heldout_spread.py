@@ -1,4 +1,4 @@
-"""The spread of the held-out figures (benchmarks/accuracy.py, ``bootstrap``): the suite's takes
+"""The spread of the held-out figures (tvmedit.engine.lab.accuracy, ``bootstrap``): the suite's takes
 drawn again within each group, the settings chosen anew on each draw."""
 
 from types import SimpleNamespace

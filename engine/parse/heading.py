@@ -150,7 +150,7 @@ def azimuth_smoothed(vectors, theta):
 
     Why: with features in the body's own frame (:mod:`tvmedit.engine.capture.orientation`) the
     body's front falls anywhere within a 5 degree bin, and decisions taken on hard-edged
-    histograms moved with it. Smoothing phi as well, or a wider kernel, cost recall.
+    histograms moved with it.
 
     Parameters
     ----------

@@ -98,7 +98,7 @@ def merge_weak(period, clusters, count, confidence, periods=None):
     i = 1
     while i < len(clusters):
         # At least one side shows no period: two short stretches that both repeat are two
-        # exercises, however alike (CMU 13_30 at 1.4x, two of two periods each).
+        # exercises, however alike.
         aperiodic = periods[i - 1] is None or periods[i] is None
         if confidence[i] < p.weak_boundary and aperiodic and few(i - 1) and few(i):
             _join(period, clusters, periods, i - 1, i)

@@ -29,6 +29,11 @@ L by a factor of two or three:
 * **Half periods whose third multiple is no valley.** A period repeats, so the profile dips
   below its median near every multiple of it; where L has a valley at 2L but none around 3L,
   L was half a period the mirror test missed, and 2L is taken.
+* **Two repetitions in one texton** (:func:`one_repetition`, ``comb``). Where the period P
+  read spans two repetitions a and b that differ, the one-repetition valleys lie near P/2
+  and 3P/2 (a and a + P); where the profile dips below its level at both, and at P/2 at
+  least ``comb`` as deep as at P, textons are cut at P/2, unless P/2 is half a cycle of a
+  left-then-right exercise.
 """
 
 from dataclasses import dataclass, field, replace
@@ -44,12 +49,9 @@ if TYPE_CHECKING:
 __all__ = ["cluster_period", "one_repetition", "PeriodReader", "mirror_ratio", "longest_lag", "MIRROR_RATIO", "LONGEST"]
 
 #: A lag whose mirrored frames are at most this fraction as far as the frames themselves is
-#: half a cycle of a left-then-right exercise. Measured (theta histograms): 0.3-0.7 at half
-#: the period of the synthetic actor's knee raises and side bends, 0.65-0.88 for CMU toe
-#: touches, twists and knee raises, 0.79 at half a running stride; 0.9-1.25 at half the
-#: period of symmetric exercises (jumping jacks, squats, arm circles) and above 1 at whole
-#: periods. Measured with one plane for the whole cluster; a plane chosen every :data:`WINDOW`
-#: lags reads a little lower (random histograms: 0.996 with one plane, 0.95-0.96 with two or three lags).
+#: half a cycle of a left-then-right exercise. Half cycles of such exercises read well under
+#: 1; half periods of symmetric exercises (jumping jacks, squats, arm circles) read about 1,
+#: and whole periods above 1.
 MIRROR_RATIO = 0.8
 
 #: The mirror test's reflection plane is chosen anew every this many lags (a person who turns
@@ -65,9 +67,8 @@ LONGEST = 0.8
 SUBMULTIPLES = (3, 2)
 
 #: How far (fraction of the lag) one repetition's valley may lie from L/k when L spans k
-#: repetitions: consecutive repetitions differ in length (tempo jitter). Measured on the
-#: development suite's HDM05 kicks: valleys at 18, 32, 48 and 66 frames, spacings 14-18
-#: (+/- 12 %); at 20 and 35 frames (one repetition of 20, the next of 15).
+#: repetitions: consecutive repetitions differ in length (tempo jitter), so the valleys of
+#: one repetition lie a little off the exact fractions of L.
 JITTER = 0.15
 
 #: Reach of a valley's depth, as a fraction of its lag, where a 0.3 s reach finds no period.
@@ -160,8 +161,8 @@ def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
 
     A valley at L/3 or L/2 (:data:`SUBMULTIPLES`) whose dip below the profile's level (its
     median) is at least ``ratio`` times the dip at L means the motion already repeats there;
-    L is two or three repetitions that differ a little (HDM05's clips stitched back to back
-    alternate in heading or side, so the profile's clearest valley lies at two clips).
+    L is two or three repetitions that differ a little (clips of one repetition stitched back
+    to back alternate in heading or side, so the profile's clearest valley lies at two clips).
     Applied while it holds (L/4, L/6, ...). The valley is looked for within
     :data:`JITTER` of L/parts: repetitions differ in length, so the one-repetition valley
     under a two-repetition one is seldom at exactly half its lag. The mirror test still
@@ -171,8 +172,8 @@ def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
     rule has already taken a lag shorter than that valley (a half cycle of a left-then-right
     exercise), the dip at L can be slight, and the first sub-multiple must dip at least
     ``ratio`` times the larger of the two (see the module docstring, *Double periods of
-    alternating repetitions*); each step after it, from a sub-multiple already taken, asks
-    ``ratio`` of that one's dip, as before.
+    alternating repetitions*); each further sub-multiple, from one already taken, asks
+    ``ratio`` of that one's dip alone.
 
     >>> lags = np.arange(4, 50)
     >>> def dips(**at):   # a flat profile at level 1 with valleys (index into lags) of these dips
@@ -195,7 +196,7 @@ def _submultiple(chosen, cand, lags, prof, level, ratio, clearest=0.0):
             target = lags[chosen] / parts
             k = _lowest_valley(cand, lags, prof, target, max(1.0, JITTER * target))
             if k is not None and level - prof[k] >= ratio * max(level - prof[chosen], clearest):
-                chosen, clearest = k, 0.0      # a further step from here asks as the test always did
+                chosen, clearest = k, 0.0      # from here on, against this sub-multiple's own dip
                 break
         else:
             return chosen
@@ -425,9 +426,9 @@ class PeriodReader:
     params: "StructureParams"
     theta: slice | None = None
     mirror: tuple | None = None
-    # Lag profiles read so far, by (cs, ce, lo, top): the texton step's one_repetition reads
-    # the profile cluster_period read for the same cluster, and the steps before it read
-    # many clusters' periods more than once. Each reader (and each on()) starts empty.
+    # Lag profiles read so far, by (cs, ce, lo, top): one_repetition reads the profile
+    # cluster_period read for the same cluster, and the rules that join and split clusters
+    # read many clusters' periods more than once. Each reader (and each on()) starts empty.
     _profiles: dict = field(default_factory=dict, init=False, repr=False)
 
     def __call__(self, cs, ce, broad=False):
