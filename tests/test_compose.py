@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from tvmedit.engine.graph.compose import ScheduleEntry, compose, play_length
-from tvmedit.engine.playback import Playhead
 from tvmedit.engine.errors import NoPath, TvmError, UnknownMotion
 
 
@@ -162,109 +161,6 @@ def test_bad_keys_are_explained():
         compose(g, [0, 2], loops=0)
     with pytest.raises(NoPath, match="'m2' to 'm0'"):
         compose(g, [2, 0])
-
-
-def play(head, count):
-    return [(entry.node, entry.frame) for entry in (head.advance() for _ in range(count))]
-
-
-def test_playhead_plays_what_compose_plans():
-    rng = random.Random(21)
-    compared = 0
-    for _ in range(300):
-        g = random_texton_graph(rng, rng.randrange(3, 7))
-        keys = [rng.randrange(len(g)) for _ in range(rng.randrange(2, 6))]
-        try:
-            edit = compose(g, keys, loops=2)
-        except NoPath:
-            continue
-        head = Playhead(g, keys[0])
-        for key in keys[1:]:
-            head.queue(key)
-        assert play(head, len(edit.schedule)) == frames(edit)
-        assert head.transitions == edit.transitions
-        assert head.queue_list == [] and head.current_node == keys[-1]
-        compared += 1
-    assert compared > 100
-
-
-def test_keys_queued_while_playing_match_compose():
-    # Queuing each key only once the previous one has begun gives the same schedule.
-    g = texton_graph({0: (0, 2), 1: (10, 15), 2: (30, 32), 3: (40, 41)},
-                     {(0, 1): (1.0, 2, 14), (1, 2): (2.0, 12, 30), (2, 3): (0.5, 31, 40),
-                      (3, 0): (1.0, 40, 1)})
-    edit = compose(g, [0, 2, 3, 0])
-    head = Playhead(g, 0)
-    played = play(head, 1)
-    for key in (2, 3, 0):
-        head.queue(key)
-        played += play(head, head.frames_until_next_key() + 1)
-        assert head.current_node == key and head.queue_list == []
-    played += play(head, len(edit.schedule) - len(played))
-    assert played == frames(edit)
-
-
-def test_frames_until_next_key_counts_down_to_its_first_frame():
-    g = three_textons(exit_b=12)
-    head = Playhead(g, 0)
-    assert head.frames_until_next_key() is None
-    head.queue(2)
-    assert head.frames_until_next_key() == 3 + 11
-    for left in range(14, 0, -1):
-        assert head.frames_until_next_key() == left
-        head.advance()
-    assert head.frames_until_next_key() == 0 and head.queue_list == [2]
-    assert head.advance() == ScheduleEntry(2, "seq2", 30)
-    assert head.queue_list == [] and head.frames_until_next_key() is None
-
-
-def test_current_texton_finishes_first_when_queued_late():
-    # Texton 1 (10-15) rests and loops; queued after 8 frames, it leaves at its exit 11:
-    # frames 10..15, 10, 11 already shown and the last was 11, so the next frame is the target's.
-    g = texton_graph({1: (10, 15), 2: (30, 32)}, {(1, 2): (1.0, 11, 31)})
-    head = Playhead(g, 1)
-    assert play(head, 8)[-2:] == [(1, 10), (1, 11)]
-    head.queue(2)
-    assert head.frames_until_next_key() == 0
-    assert play(head, 2) == [(2, 31), (2, 32)]
-    # Queued after 9 frames (last shown 12), it plays on to 11 once more.
-    head = Playhead(g, 1)
-    play(head, 9)
-    head.queue(2)
-    assert head.frames_until_next_key() == 5
-    assert play(head, 6) == [(1, 13), (1, 14), (1, 15), (1, 10), (1, 11), (2, 31)]
-
-
-def test_unreachable_queue_is_refused_and_unqueue_restores_looping():
-    g = texton_graph({0: (0, 1), 1: (2, 3), 2: (4, 5)}, {(0, 1): (1.0, 1, 2)})
-    head = Playhead(g, 0)
-    head.queue(1)
-    with pytest.raises(NoPath):
-        head.queue(2)
-    assert head.queue_list == [1]
-    assert head.unqueue_last() == 1 and head.queue_list == [] and head.unqueue_last() is None
-    assert play(head, 5) == [(0, 0), (0, 1), (0, 0), (0, 1), (0, 0)]
-
-
-def test_unqueue_inside_a_path_keeps_the_current_texton():
-    g = three_textons(exit_b=12)
-    head = Playhead(g, 0)
-    head.queue(2)
-    play(head, 4)
-    assert head.current_node == 1
-    assert head.unqueue_last() == 2
-    assert play(head, 8) == [(1, f) for f in (15, 10, 11, 12, 13, 14, 15, 10)]
-    # Re-planning starts from the texton now playing.
-    assert head.queue(2) == [1, 2]
-    assert head.frames_until_next_key() == 2
-
-
-def test_queuing_the_motion_already_planned_is_an_empty_leg():
-    g = three_textons(exit_b=12)
-    head = Playhead(g, 0)
-    assert head.queue("m0") == [0] and head.queue_list == []
-    head.queue(2)
-    assert head.queue(2) == [2] and head.queue_list == [2]
 
 
 def test_numpy_ids_come_back_as_plain_ints():

@@ -11,7 +11,6 @@ import networkx as nx
 import numpy as np
 
 from tvmedit.engine.graph.compose import compose
-from tvmedit.engine.playback import Playhead
 from tvmedit.engine.graph.database import Node, build_database
 from tvmedit.engine.graph.motiongraph import build_graph, entry_range, exit_range, nodes_of
 
@@ -63,17 +62,6 @@ def test_one_shot_plays_through_once_to_its_exit_then_leaves():
     frames = [e.frame for e in edit.schedule]
     # The cycle plays whole and leaves at 4; the one-shot, the last key motion, plays whole once.
     assert frames == [0, 1, 2, 3, 4] + list(range(10, 30))
-
-
-def test_playhead_rests_in_a_one_shot_by_replaying_it_and_matches_compose():
-    G = build_graph(_nodes(), {"take": _features()}, mu=10.0)
-    head = Playhead(G, 1)
-    first = [head.advance().frame for _ in range(25)]
-    assert first == list(range(10, 30)) + list(range(10, 15))  # rests: plays again from the start
-    head = Playhead(G, 1)
-    head.queue(0)
-    planned = [e.frame for e in compose(G, [1, 0]).schedule]
-    assert [head.advance().frame for _ in range(len(planned))] == planned
 
 
 def test_one_shot_is_an_ordinary_graph_node():

@@ -198,26 +198,3 @@ def test_a_hold_plays_the_motion_on_and_the_next_leg_starts_there():
     # 7 frames of walk from frame 0, then walk again from frame 2 to its exit at 4 (all 5 shown).
     assert frames[:7] == [0, 1, 2, 3, 4, 0, 1] and edit.starts[:2] == [0, 7]
     assert frames[7:edit.starts[2]] == [2, 3, 4, 0, 1, 2, 3, 4]
-
-
-def test_the_player_holds_a_motion_as_compose_does():
-    from tvmedit.engine.playback import Playhead
-
-    rng = random.Random(3)
-    compared = 0
-    while compared < 40:
-        g = random_graph(rng)
-        if len(g) < 3:
-            continue
-        a, b, c = rng.sample(sorted(g.nodes), 3)
-        hold = rng.randint(1, 25)
-        try:
-            keys, timing = Timing.request(g, [a, b, c], fps=1, durations=[None, None], holds={b: hold})
-            edit = compose(g, keys, timing=timing)
-        except (NoPath, ValueError):
-            continue
-        head = Playhead(g, a)
-        head.queue(b, hold=hold)
-        head.queue(c)
-        assert [head.advance() for _ in edit.schedule] == edit.schedule
-        compared += 1

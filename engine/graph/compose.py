@@ -76,6 +76,7 @@ class ScheduleEntry(NamedTuple):
         return (self.sequence, self.frame) if self.blend is None else (self.sequence, self.frame, self.blend)
 
     def to_json(self):
+        """This frame as ``tvmedit path --json`` lists it; ``blend`` only for an in-between frame."""
         data = {"node": self.node, "sequence": self.sequence, "frame": self.frame}
         if self.blend is not None:
             data["blend"] = [list(self.blend[0]), self.blend[1]]
@@ -96,6 +97,7 @@ class Transition:
     blend: int = 0
 
     def to_json(self):
+        """This transition as ``tvmedit path --json`` lists it."""
         return {"index": self.index, "from": self.source, "to": self.target, "weight": self.weight,
                 "exit_frame": self.exit_frame, "entry_frame": self.entry_frame, "blend_frames": self.blend}
 
@@ -122,6 +124,7 @@ class Leg:
     goal: int | None = None
 
     def to_json(self):
+        """This leg as ``tvmedit path --json`` lists it; loops and times only where a time was asked."""
         record = {"from": self.source, "to": self.target, "path": list(self.path), "cost": self.cost,
                   "edges": self.edges, "frames": self.frames}
         if self.asked is not None:
@@ -205,6 +208,7 @@ _new_entry = partial(tuple.__new__, ScheduleEntry)
 
 
 def _entries(node, sequence, frames):
+    """:class:`ScheduleEntry` of each texton frame in ``frames`` of ``node`` (none in-between)."""
     return list(map(_new_entry, zip(repeat(node), repeat(sequence), frames, repeat(None))))
 
 
@@ -230,6 +234,8 @@ def plays_once(graph, node):
 
 
 def _check_frame(graph, node, frame, edge, role):
+    """Refuse an ``edge`` whose ``role`` ("exit" or "entry") frame lies outside ``node``'s
+    texton: a library out of step with its graph, to be rebuilt."""
     _, start, end = texton_span(graph, node)
     if not start <= frame <= end:
         raise LibraryError(f"Edge {edge[0]} -> {edge[1]} of the motion graph has {role} frame "
@@ -306,10 +312,7 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
     entry, clock = start, 0.0
     for i, (source, target) in enumerate(zip(keys, keys[1:])):
         began = len(schedule)
-        planned = timing.planned(i, clock) if timing else None
-        goal = None if planned is None else max(0, math.floor(planned + 0.5) - began)
-        if goal is not None and source == target:  # a hold lasts what was asked, late or not
-            goal = math.floor(timing.durations[i] * timing.fps + 0.5)
+        planned, goal = _leg_goal(timing, i, clock, began, source == target)
         path, extra = _route(graph, source, entry, target, goal, weight, forbidden, index)
         if len(path) == 1 and goal:  # a hold: the motion plays on, and the next leg starts where it is
             schedule += _entries(source, sequence, _cycle(start, end, entry, goal))
@@ -323,15 +326,35 @@ def compose(graph, keys, forbidden=(), loops=1, weight="weight", index=None, tim
             timing.check(graph, i + 1, source, target, frames, goal)
         clock = len(schedule) if planned is None else planned
         starts.append(len(schedule))
+    schedule, steady, length = _play_last(graph, keys[-1], (sequence, start, end), entry, loops, schedule)
+    return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts, steady=steady)
+
+
+def _leg_goal(timing, i, clock, began, hold):
+    """``(planned, goal)`` of leg ``i``: the schedule index the timing plans its end at, and the
+    frames it should last from ``began``; both None where no time is asked. A ``hold`` (a leg
+    from a motion to itself) lasts what was asked, late or not."""
+    planned = timing.planned(i, clock) if timing else None
+    goal = None if planned is None else max(0, math.floor(planned + 0.5) - began)
+    if goal is not None and hold:
+        goal = math.floor(timing.durations[i] * timing.fps + 0.5)
+    return planned, goal
+
+
+def _play_last(graph, key, texton, entry, loops, schedule):
+    """``(schedule, steady, cycle)``: ``schedule`` followed by ``loops`` cycles of the last key
+    motion ``key`` (its ``texton`` entered at ``entry``), every loop closed; ``steady`` is the
+    cycle repeated for ever with ``loops=None`` (else None), ``cycle`` its length in frames."""
+    sequence, start, end = texton
     length = end - start + 1
     # Played for ever (loops=None), the cycle after the first is the one repeated: its loop is
     # closed as the playhead closes it, which the first may not be when entered in its window.
     more = length if loops is None else 0
-    schedule += _entries(keys[-1], sequence, _cycle(start, end, entry, length * (loops or 1) + more))
+    schedule += _entries(key, sequence, _cycle(start, end, entry, length * (loops or 1) + more))
     schedule = _close_loops(graph, schedule)
     steady = schedule[len(schedule) - more:] if more else None
     schedule = schedule[:len(schedule) - more]
-    return Composition(keys, legs, schedule, transitions, loops, cycle=length, starts=starts, steady=steady)
+    return schedule, steady, length
 
 
 def _play_path(graph, path, extra, texton, entry, weight, schedule, transitions):

@@ -6,7 +6,7 @@ there is refused) or a source (nothing ever reaches it), and the paper lists "ke
 unreachable" as a problem left to the user. Motion-graph practice since Kovar et al. (2002)
 keeps the graph strongly connected instead. :func:`connect` adds back edges of the complete
 graph (eq. (12) weights, eq. (10) transition frames) until every motion reaches every other,
-choosing them in two steps.
+chosen by two criteria in turn.
 
 1. **Least largest added weight (exact).** Let P be the pruned edges, C the complete graph's
    edges and, for a threshold t, ``G_t = P + {e in C - P : w(e) <= t}``. Let t* be the least
@@ -37,8 +37,8 @@ choosing them in two steps.
    (rounds of Eswaran and Tarjan's pairing of sinks with sources, lightest edge first), marked
    ``fewest=False`` unless it meets the lower bound. The least threshold holds either way.
 
-Everything runs on dense (N, N) arrays with scipy's strongly connected components, so a
-1,000-motion graph connects in a fraction of a second (``benchmarks/connect_speed.py``).
+Everything runs on dense (N, N) arrays with scipy's strongly connected components, so that
+large graphs connect quickly (``benchmarks/connect_speed.py`` times it).
 """
 
 import itertools
@@ -85,6 +85,7 @@ class Connection:
                 "reason": self.reason(mode)}
 
     def reason(self, mode="auto"):
+        """One sentence for ``info``: why edges were added, or why none were."""
         if mode == "off":
             return "the graph is the paper's, pruned by eq. (14) alone"
         if not self.added:
@@ -151,9 +152,8 @@ def connect(weights, kept):
     return Connection(added, float(max(w[i, j] for i, j in added)), fewest, count)
 
 
-# --- steps --------------------------------------------------------------------------------
-
 def _components(adjacency):
+    """``(count, labels)``: the strongly connected components of a dense (N, N) adjacency."""
     return connected_components(csr_matrix(adjacency), directed=True, connection="strong")
 
 
@@ -268,12 +268,18 @@ def _lightest_pair(w, adjacency, rows, cols):
 
 
 def _covers(subset, sinks, sources):
+    """Whether the component pairs ``subset`` give every sink an edge out and every source one in."""
     starts = {a for a, _ in subset}
     ends = {b for _, b in subset}
     return all(c in starts for c in sinks) and all(c in ends for c in sources)
 
 
 def _bits(indices):
+    """The integer bit set with the bits ``indices`` on.
+
+    >>> bin(_bits([0, 2]))
+    '0b101'
+    """
     value = 0
     for i in indices:
         value |= 1 << int(i)
@@ -301,6 +307,7 @@ def _connected_with(reach, subset):
 
 
 def _closure(reach, start):
+    """Bit set of the nodes reachable from ``start`` where ``reach[a]`` is a's successors' bit set."""
     seen = 1 << start
     frontier = seen
     while frontier:

@@ -124,6 +124,7 @@ def select_textons(textons, min_textons=MIN_TEXTONS, clusters=None):
         by_cluster.setdefault(texton.cluster, []).append(texton)
 
     def repeats(cluster, members):
+        """Whether the cluster is played as a cycle rather than once."""
         if len(members) >= min_textons:
             return True
         if clusters is None:

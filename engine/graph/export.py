@@ -65,6 +65,7 @@ def _legacy(folder):
 
 
 def _check_target(out, force, library):
+    """Refuse an ``out`` folder this export may not write or replace (:func:`tvmedit.engine.safewrite.check_target`)."""
     safewrite.check_target(out, "export", force, inputs=library.sources(), legacy=_legacy)
 
 

@@ -438,12 +438,14 @@ def rename(graph_or_nodes, key, name):
 
 
 def _names(graph_or_nodes):
+    """``{id: name}`` of a motion graph's nodes or of a list of :class:`Node`."""
     if isinstance(graph_or_nodes, nx.Graph):
         return {i: data["name"] for i, data in graph_or_nodes.nodes(data=True)}
     return {node.id: node.name for node in graph_or_nodes}
 
 
 def _frames_of(node, vectors_by_sequence):
+    """The feature vectors of ``node``'s texton frames, (L, D); a missing or short sequence is refused."""
     if node.sequence not in vectors_by_sequence:
         raise ValueError(f"no feature vectors for sequence {node.sequence!r} of node {node.name!r}")
     vectors = np.asarray(vectors_by_sequence[node.sequence])

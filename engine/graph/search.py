@@ -22,8 +22,8 @@ node 1 at cost 1 and returns the three-edge path:
 
 The exact method therefore splits the problem in two: a minimax Dijkstra finds the least
 cost C*, then a breadth-first search over the edges of weight <= C* finds the fewest edges.
-Both run on a dense weight matrix (:class:`SearchIndex`), so that a graph of a thousand
-textons is searched in one to two milliseconds (``benchmarks/search_speed.py``).
+Both run on a dense weight matrix (:class:`SearchIndex`), so that the realtime player can
+search while a frame plays (``benchmarks/search_speed.py`` times it).
 """
 
 import heapq
@@ -55,6 +55,7 @@ def motion_label(graph, node):
 
 
 def _check_node(graph, node, role):
+    """Refuse a ``node`` that is not in ``graph``, naming the motions it knows."""
     if node not in graph:
         names = {n: graph.nodes[n].get("name", n) for n in graph.nodes}
         raise UnknownMotion.among(node, names, role)
@@ -321,6 +322,7 @@ def minimum_mu(graph, source, target, forbidden=()):
 
 
 def _no_path(graph, source, target, forbidden):
+    """The :class:`NoPath` error for ``source`` to ``target``, with the mu it was pruned at."""
     a, b = motion_label(graph, source), motion_label(graph, target)
     held = graph.graph.get("mu")
     at = f" pruned at mu = {held:g}" if held is not None else ""

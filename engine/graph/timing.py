@@ -2,61 +2,40 @@
 
 The paper ends with "the length of edited sequence is out of control": a leg lasts as long as
 its best path and the loop-then-transition rule of section 8 make it. Here a leg, from the
-first frame of one key motion to the first frame of the next, is asked to last ``D`` frames,
-and the planner chooses which path to take and how many extra cycles each texton on it plays.
+first frame of one key motion to the first frame of the next, is asked to last ``D`` frames.
 
-The schedules
--------------
-A schedule of a leg from key motion S (entered at frame ``e_S``) to key motion T is a walk
-S = v_0 -> v_1 -> ... -> v_m = T through the pruned motion graph, T only at its end and no
-forbidden motion on it, with a loop count k_i >= 0 for each visit v_i (i < m). Visit i is
-entered at the entry frame of the edge into it (``e_S`` for the source) and left at the exit
-frame of the edge out of it; it shows the play length of :func:`tvmedit.engine.graph.compose.play_length`
-plus k_i whole cycles of its L_i frames. So every frame of a texton is shown at least once
-before it is left, and the texton is left on the exit frame of its edge, as section 8 asks.
-A one-shot motion cannot loop (k_i = 0). The leg lasts N = sum of the visits' frames.
+A schedule of a leg from key motion S (entered at ``e_S``) to T is a walk S = v_0 -> ... ->
+v_m = T through the pruned graph, T only at its end and no forbidden motion on it, with a loop
+count k_i >= 0 for each visit v_i (i < m; 0 for a one-shot). Visit i shows the play length of
+:func:`tvmedit.engine.graph.compose.play_length` plus k_i whole cycles of its L_i frames, so
+every frame of a texton is shown before it is left on the exit frame of its edge, as section 8
+asks. The leg lasts N = the sum of the visits' frames. The planner returns the least schedule by:
 
-Among all schedules the planner returns the least by, in order:
-
-1. miss = max(0, |N - D| - 1): within one frame of the asked length when any schedule can
-   be, else the nearest length any schedule makes;
+1. miss = max(0, |N - D| - 1): within one frame of ``D`` when any schedule can be;
 2. the largest transition cost on the walk, eq. (15);
 3. the number of transitions, eq. (16);
-4. |N - D|, then N (the exact length before one frame off, the shorter before the longer);
-5. the spread of the loops: the fewest cycles any one texton plays extra (see below).
+4. |N - D|, then N (the exact length first, the shorter before the longer);
+5. the spread of the loops: the fewest cycles any one texton plays extra.
 
-The dynamic programme
----------------------
-The state is (motion v, its entry frame e, frames elapsed t when v begins): what a visit
-will show depends on nothing else, and what follows depends only on when and where it is
-left. For one cost limit C (only edges of weight <= C) the reachable times of every state
-are kept as a bit set over t = 0..H, one Python integer, and filled in layers: layer j holds
-the states reached with exactly j transitions. Within a layer a cyclic state's bit set is
-closed under adding L_v (its loops: ``b |= b << L``, ``b |= b << 2L``, ... by doubling), then
-every edge v -> w of weight <= C shifts it by the play length n(e, exit) into state (w, entry)
-of layer j + 1. A bit already set for the same state in an earlier layer is dropped: every
-continuation from it was already open with fewer transitions, so dropping it loses no
-schedule of fewest transitions, and each (state, t) is expanded at most once, which bounds
-the work by the number of states times H over the word size. T is never expanded.
+The dynamic programme: a state is (motion v, entry frame e, frames t elapsed when v begins),
+since what a visit shows depends on nothing else. For a cost limit C (edges of weight <= C
+only) the reachable t = 0..H of each state are one Python integer used as a bit set, filled in
+layers of j transitions: a cyclic state's set is closed under adding L_v (by doubling shifts),
+and each edge v -> w shifts it by the play length into (w, entry) of layer j + 1. A bit already
+set for the state in an earlier layer is dropped, since every continuation from it was open
+with fewer transitions; so each (state, t) is expanded once and T never.
 
-* Fewest transitions at limit C: the first layer whose bits at T fall in the window of
-  accepted lengths (criterion 3 given 1-2); the best bit of that layer gives criterion 4.
-* Least cost: feasibility only grows with C, so the least feasible C is found among the
-  distinct edge weights from the minimax cost of a plain best path (eq. 15, a lower bound,
-  :func:`tvmedit.engine.graph.search.best_path`) upwards, by doubling steps and then bisection.
-* The window: {D-1, D, D+1} when the unrestricted programme (C = inf) reaches T inside it,
-  else the lengths at the smallest miss it reaches. Lengths beyond H = D + 1 + m are never
-  nearer than a miss m already found, so H starts at D + 1 + (longest texton) and grows to
-  D + 1 + m, or doubles while T is not reached at all.
+* Fewest transitions at C: the first layer whose bits at T fall in the accepted window.
+* Least cost: feasibility only grows with C, so the least feasible C is searched among the
+  edge weights from the minimax cost of the best path (eq. (15), a lower bound) upwards, by
+  doubling, then bisection.
+* The window: {D-1, D, D+1} when the unrestricted programme reaches it, else the lengths at the
+  smallest miss m reached. No length beyond H = D + 1 + m is nearer, so H starts at D + 1 +
+  (longest texton) and grows to D + 1 + m, or doubles while T is not reached at all.
 
-A schedule is then read back from the layers: from the hit at T, each step back finds a state
-of the layer before whose bit set, shifted by the play length, gives the time, and the latest
-arrival of that state that its loops reach. Last, criterion 5 spreads the loops of that walk:
-any loop counts whose cycles add to the same number of frames give the same length, so the
-smallest largest count is found by bisection over a subset-sum bit set, and the loops are
-dealt out in proportion to the textons' lengths within it (over the walk found).
-
-``tests/test_timing.py`` checks criteria 1-3 and the length against brute-force enumeration.
+The walk is read back from the layers, latest arrivals first. Loop counts whose cycles add to
+the same frames give the same length, so criterion 5 bisects the largest count over a
+subset-sum bit set and deals the loops out in proportion to the textons' lengths.
 """
 
 import bisect
@@ -117,6 +96,7 @@ class LegPlan:
 
     @property
     def edges(self):
+        """Transitions on the path."""
         return len(self.path) - 1
 
 
@@ -141,6 +121,7 @@ class TimingIndex:
 
     @classmethod
     def of(cls, graph, weight="weight"):
+        """The index of ``graph``, made once and kept while its nodes and edges count the same."""
         key = (graph.number_of_nodes(), graph.number_of_edges(), weight)
         cached = _INDEXES.get(graph)
         if cached is None or cached[0] != key:
@@ -236,6 +217,8 @@ class _Layers:
                 return
 
     def _step(self, ready, mask):
+        """``(frontier, hits)`` of the next layer: every edge under the limit out of the states
+        ``ready`` to leave, their time bit sets shifted by the play length."""
         index, target, limit, blocked = self.index, self.target, self.limit, self.blocked
         frontier, hits = {}, {}
         for (node, entry), bits in ready.items():
@@ -352,6 +335,11 @@ def _spread(visits, index):
 
 
 def _close_capped(bits, length, cap, top):
+    """``bits`` with up to ``cap`` cycles of ``length`` frames added, kept to times 0..``top``.
+
+    >>> bin(_close_capped(0b1, 2, 2, 5))
+    '0b10101'
+    """
     total = bits
     if length:
         for k in range(1, cap + 1):

@@ -2,41 +2,31 @@
 
 An edit jumps from the exit frame of one texton to the entry frame of the next (eq. (10)).
 The two are separate reconstructions (other vertices, other triangles) of similar but not
-equal poses, so without help every transition is a visible pop: measured as the symmetric
-mean Chamfer distance between consecutive displayed frames (:func:`chamfer`), a transition
-of CMU 13_29 jumps about two frames' worth of motion at once. The paper names motion
-blending at costly transitions as its future work; this module does it offline, at build
-time, and the library stores the frames it makes beside the texton frames.
+equal poses, so without help every transition is a visible pop, a step far larger than one
+frame's motion (the symmetric mean Chamfer distance between displayed frames, :func:`chamfer`).
+The paper names motion blending at costly transitions as its future work; this module does it
+offline, at build time, and the library stores the frames it makes beside the texton frames.
 
-Method: surface alignment (Prada et al. 2016 blend meshes without correspondence the same
-way). A smooth, non-rigid displacement field carries the outgoing frame ``a`` onto the
-incoming surface ``b`` (:func:`align`), and another carries ``b`` back onto ``a``. The
-in-between frame at time ``t`` (``0 < t < 1``) is ``a`` warped by ``t`` times the first field
-while ``t < 1/2``, and ``b`` warped back by ``1 - t`` times the second from then on: the cut
-falls in the middle, where the two nearly coincide. Every in-between frame is therefore one
-captured frame's own mesh with its own colours (and texture), moved smoothly: its area stays
-that of a real frame, it is the person's colours, and it is never two people at once.
+Method: surface alignment, as Prada et al. (2016) blend meshes without correspondence. A
+smooth, non-rigid displacement field carries the outgoing frame ``a`` onto the incoming
+surface ``b`` (:func:`align`), and another carries ``b`` back onto ``a``. The in-between frame
+at time ``t`` (``0 < t < 1``) is ``a`` warped by ``t`` times the first field while ``t < 1/2``,
+and ``b`` warped back by ``1 - t`` times the second from then on: the cut falls in the middle,
+where the two nearly coincide. Every in-between frame is therefore one captured frame's own
+mesh with its own colours (and texture), moved smoothly: its area is that of a real frame,
+and it is never two people at once, as a blend of two surfaces would be.
 
-The field is fitted as non-rigid ICP with symmetric forces, coarse to fine. Nodes sampled
-from the moving surface carry the displacement: 1,500 at the finest radius, fewer at the
-coarse ones (as many per radius-wide patch of surface, at least 200; a level's new nodes
-start from the displacement of the coarser level's), since a 20 cm Gaussian over 2,000
-nodes summed a million pairs for what 200 nodes carry as well. At each step every node is
-pulled toward its nearest point of the other surface, and every point of the other surface
-(3,000 of them) pulls its nearest node toward itself; the pulls are summed over the nodes
-with a Gaussian of radius ``sigma`` (20 cm at first, 3 cm at the end, three steps each) and
-divided by the summed weights (normalised convolution), so the many points of a limb that
-moved away drag its few nearest nodes, and the limb, along (a plain average of the pulls per
-node left arms behind at the cut). The vertices follow the nodes, each by a Gaussian-weighted
-average over its nearest six. A warp is a multiply-add, so in-between frames cost little once
-the alignment is made; k-d trees (scipy's ``cKDTree``, unbalanced: built in half the time)
-are built once per frame. ``benchmarks/blend_quality.py`` measures the pop ratio (largest
-step across a transition window over the natural step), cut and blended.
-
-The alternative, implicit-surface interpolation (signed distance fields on a voxel grid,
-blended, surfaces re-extracted by marching cubes), was rejected: a 1 cm grid around a person
-is too slow to query per frame, the blend of two poses a limb apart is a ghost with two thin
-limbs or none, and the colours must be guessed back from the nearest source vertices.
+The field is fitted as non-rigid ICP with symmetric forces, coarse to fine over the radii
+:data:`SIGMAS`, :data:`STEPS` iterations each. Nodes sampled from the moving surface carry
+the displacement (:data:`NODES` at the finest radius, as many per radius-wide patch at the
+coarser ones, at least :data:`MIN_NODES`; each level starts from the coarser one's field).
+In each iteration every node is pulled toward its nearest point of the other surface, and
+every one of :data:`TARGET_POINTS` points of the other surface pulls its nearest node toward
+itself; the pulls are summed over the nodes with a Gaussian of the radius and divided by the
+summed weights (normalised convolution), so the many points of a limb that moved drag its few
+nearest nodes, and the limb, along. Vertices follow their :data:`FOLLOW` nearest nodes,
+Gaussian-weighted. A warp is a multiply-add, so in-between frames cost little once the
+alignment is made; k-d trees are built once per frame.
 
 How many in-between frames: enough that no displayed step (vertex Chamfer) exceeds the
 *natural step*, the median step between consecutive frames inside the database textons
@@ -70,7 +60,7 @@ FOLLOW = 6
 def preload():
     """Import what making runs needs (scipy's k-d tree and sparse matrices) in this process,
     so that worker processes forked after it have it: a rebuild's pool starts for a handful
-    of runs, and each worker importing scipy itself cost 0.3-0.5 s of a correction."""
+    of runs, and each worker would otherwise import scipy on its own."""
     import scipy.sparse  # noqa: F401
     import scipy.spatial  # noqa: F401
 
@@ -85,7 +75,7 @@ def _kdtree(points):
     :func:`side` from this module, and the player must start without loading scipy."""
     from scipy.spatial import cKDTree
 
-    # Unbalanced, uncompacted: built in half the time, queried as fast, the same answers.
+    # Unbalanced, uncompacted: quicker to build, and the queries give the same answers.
     return cKDTree(points, balanced_tree=False, compact_nodes=False)
 
 
@@ -102,8 +92,7 @@ def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
         Prebuilt trees of ``a`` and ``b``.
     stride : int
         Average over every ``stride``-th point only (each still measured against every point
-        of the other set): 4 is 3.5 times faster and moved the mean by 0.9% at most over ten
-        consecutive pairs of CMU 13_29.
+        of the other set): a cheaper estimate of the same mean.
 
     Returns
     -------
@@ -267,6 +256,7 @@ class BlendRun:
 
 
 def _warp(mesh, field, amount, side):
+    """``(positions, colours, faces, side)`` of ``mesh`` moved by ``amount`` times ``field`` (V, 3)."""
     positions = (np.asarray(mesh[0], np.float32) + np.float32(amount) * field).astype(np.float32)
     return positions, np.asarray(mesh[1], np.uint8), np.asarray(mesh[2], np.uint32), side
 

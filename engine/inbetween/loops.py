@@ -1,38 +1,36 @@
 """Closing a motion's loop: the wrap from a texton's last frame back to its first, without a pop.
 
 Section 8 plays a texton as a cycle: after its last frame ``end`` comes its first, ``start``.
-The texton is one period of a repeated motion found on the features (eq. 5-9), so ``end``
-and ``start`` are close poses, but the period is a whole number of frames and no two
-repetitions are the same: measured as the symmetric mean Chamfer distance
-(:func:`tvmedit.engine.inbetween.blend.chamfer`) over the larger of the library's natural step and the
-capture's own step across the same phase (:func:`pace`), the wrap jumps up to 1.87 on CMU
-13_29 and 1.52 on 13_30, once per cycle, and a looping motion is where an edit spends most
-of its time. Closed, the largest step around a wrap is 1.53 and 1.37; a closing is kept
-only where it makes the largest step smaller than the wrap's (it does for 8 of 11 motions;
-the synthetic gym's wraps, at most 0.72, need none).
+The texton is one period of a repeated motion found on the features (eq. (5)-(9)), so ``end``
+and ``start`` are close poses; but the period is a whole number of frames and no two
+repetitions are the same, so the wrap can jump (the symmetric mean Chamfer distance of
+:func:`tvmedit.engine.inbetween.blend.chamfer`) once per cycle, and a looping motion is where
+an edit spends most of its time.
 
 Method: a cross-fade with the neighbouring repetition, as loops of captured motion are
 closed. The frame before ``start`` in the capture, ``start - 1``, is the previous repetition's
-last frame, and follows into ``start`` by a natural step; so the texton's last ``k`` frames,
+last frame and follows into ``start`` by a natural step; so the texton's last ``k`` frames,
 ``end - m`` for ``m = k - 1 .. 0``, are each warped a growing share ``(k - m) / k`` of the way
 onto the surface of the previous repetition's frame of the same phase, ``start - 1 - m``
-(:func:`tvmedit.engine.inbetween.blend.align`), and the last one lies on ``start - 1``. Where the texton is the
-first of its cluster, the next repetition is used instead, at the other end: its first ``k``
-frames, ``start + m``, are warped onto ``end + 1 + m`` by ``(k - m) / k``, so ``end`` leads into
-them as into ``end + 1``. What counts as a pop is a step beyond both the natural step and
-the capture's own step across the same phase (:func:`pace`): a fast motion, such as CMU
-13_29's jumping jacks, steps up to 2.6 natural steps between captured frames. Every frame stays one captured frame's own mesh, colours and
-motion, moved; none is left out and none added, so a schedule's length, the play length
-rule, edits of a given length (:mod:`tvmedit.engine.graph.timing`) and the player's counts are unchanged.
-``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most a third of the texton and as many as
-the cluster holds beyond it) whose steps around the wrap all stay at or below that, else the
-one with the smallest largest step; 0 where the wrap is already no larger, or where no
-closing makes the largest step smaller than the wrap's.
+(:func:`tvmedit.engine.inbetween.blend.align`), and the last one lies on ``start - 1``. Where
+the texton is the first of its cluster, the next repetition is used instead, at the other
+end: its first ``k`` frames, ``start + m``, are warped onto ``end + 1 + m`` by ``(k - m) / k``,
+so ``end`` leads into them as into ``end + 1`` (:func:`plan`, :func:`window`).
 
-The warped frames are shown only where a visit plays the whole window and wraps next to it
-(:func:`closing`): a visit that leaves the texton inside the window, or enters inside it,
-shows the captured frames, so transitions (whose in-between frames start from captured
-frames) are as they were.
+What counts as a pop is a step beyond both the library's natural step and the capture's own
+step across the same phase (:func:`pace`): a fast motion steps more than the natural step
+between every pair of captured frames. ``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most
+a third of the texton and as many as the cluster holds beyond it) whose steps around the
+wrap all stay at or below that, else the one with the smallest largest step; 0 where the wrap
+is already no larger, or where no closing makes the largest step smaller than the wrap's
+(:func:`close_loop`).
+
+Every frame stays one captured frame's own mesh, colours and motion, moved; none is left out
+and none added, so a schedule's length, the play length rule, edits of a given length
+(:mod:`tvmedit.engine.graph.timing`) and the player's counts are unchanged. The warped frames
+are shown only where a visit plays the whole window and wraps next to it (:func:`closing`): a
+visit that leaves the texton inside the window, or enters inside it, shows the captured
+frames, so transitions (whose in-between frames start from captured frames) are as they were.
 """
 
 __all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "pace"]
@@ -108,7 +106,7 @@ def closing(frames, start, end, count, at="end", rests=False):
 
 def closed_at(shown, frame, start, end, count, at, left):
     """The index of the closing frame shown instead of texton frame ``frame``, or None: the one
-    rule :func:`closing` and the realtime playhead (:class:`tvmedit.engine.graph.compose.Playhead`) apply.
+    rule :func:`closing` and the realtime playhead (:class:`tvmedit.engine.playback.Playhead`) apply.
 
     ``shown`` frames of the visit came before it; ``left`` are still to show, this one
     included (None: the visit goes on). The frame is replaced where the visit shows the whole

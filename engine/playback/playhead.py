@@ -1,8 +1,22 @@
-"""What plays next: the realtime playback state, one frame at a time.
+"""What plays next: the edited sequence one frame at a time, while key motions are queued.
 
-:class:`Playhead` plays the schedule that :func:`tvmedit.engine.graph.compose.compose`
-plans, but with key motions queued and unqueued while it plays: the state machine behind
-the realtime player, free of any clock or window. The window only reads it.
+:func:`tvmedit.engine.graph.compose.compose` plans a whole edit at once; the realtime player
+cannot, because the user picks the next key motion while the current one plays. A
+:class:`Playhead` keeps the same rules and applies them one frame at a time:
+
+- what plays when nothing is queued: the current texton loops (section 5: every texton is a
+  cycle), or a walker (:mod:`tvmedit.engine.playback.wander`) chooses the next motion;
+- where a queued key motion is reached: by the best path of eq. (15)-(16) from the last
+  queued key motion, searched when it is queued;
+- when a texton is left: by the play length rule of section 8, n(e, x) = L + ((x - e + 1)
+  mod L) (:func:`tvmedit.engine.graph.compose.play_length`), counted from the frames already
+  shown, so that a texton queued late still shows all its frames before the transition;
+- what lies between two textons: the in-between frames the library holds for the edge, and
+  the loop-closing frames of a texton that wraps (:mod:`tvmedit.engine.inbetween.loops`).
+
+The same rules give the same frames: starting at ``keys[0]`` and queuing ``keys[1:]`` plays
+exactly ``compose(graph, keys)``. The playhead knows no clock or window; the window asks it
+for the next frame at its own rate and only reads its state.
 """
 
 import itertools
@@ -11,7 +25,7 @@ from dataclasses import dataclass
 
 from ..checks import whole
 from ..graph.compose import (MAX_HOLD, ScheduleEntry, Transition, blend_entries, checked_edge, play_length,
-                                          plays_once, texton_span)
+                             plays_once, texton_span)
 from ..graph.motiongraph import node_by_key
 from ..graph.search import SearchIndex, best_path
 from ..inbetween.loops import closed_at
@@ -38,6 +52,7 @@ class _Visit:
 
     @property
     def length(self):
+        """Frames in one cycle of the texton."""
         return self.end - self.start + 1
 
     def remaining(self):
@@ -118,6 +133,7 @@ class Playhead:
         return self.walker is not None and not self._queue
 
     def _last_visit(self):
+        """The visit the plan ends in: where the next queued path starts."""
         return self._plan[-1] if self._plan else self._visit
 
     def queue(self, node, hold=0):
