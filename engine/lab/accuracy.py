@@ -1,7 +1,9 @@
 """Motion-structure accuracy on the development suite, per group, pooled, and held out.
 
-    python benchmarks/accuracy.py [--groups synth cmu ...] [--methods energy paper] [--no-cv] [--takes] [--errors]
-                                  [--bootstrap N]
+    python -m tvmedit.engine.lab.accuracy [--groups synth cmu ...] [--methods energy paper] [--no-cv]
+                                          [--takes] [--errors] [--bootstrap N]
+
+(``python benchmarks/accuracy.py`` runs the same.)
 
 Every take of the suite (:mod:`tvmedit.engine.lab.devsuite`: the synthetic actor varied, the same
 actor drifting and turning across the volume, CMU 13_29/13_30 warped, mirrored, turning and

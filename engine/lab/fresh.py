@@ -1,5 +1,7 @@
 """Fresh takes (HDM05, CMU, synthetic): each batch made to check the parser once, never part of the suite.
 
+Run it as a module::
+
     python -m tvmedit.engine.lab.fresh [--batch review-8 ...] [--set rhythm_ratio=0 ...] [--errors]
 
 Each batch was defined, and committed, before the parser it checks was run on it, so it
@@ -7,23 +9,20 @@ stands for new takes of the people and motions the parser was developed on; with
 ``--batch`` every batch is scored. Scored as the development suite is
 (:mod:`tvmedit.engine.lab.accuracy`): cluster-start precision and recall within 1 s,
 texton-length accuracy within 15 %, in the body's axes unless ``TVMEDIT_DEV_FRAME`` says
-otherwise. Batch names are identifiers kept as they were made.
+otherwise. Batch names are identifiers users pass with ``--batch``, kept as they were made
+(``step18`` ... ``step23`` among them).
 """
 
 import argparse
-import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
-
-from . import devsuite
-
-from .evaluate import pool, score  # noqa: E402
-from ..parse.structure import StructureParams, parse  # noqa: E402
+from . import accuracy, devsuite
+from .evaluate import pool, score
+from ..parse.structure import StructureParams, parse
 
 #: (actor, plan, order seed, mocap2tvm options) of each batch, as devsuite.HDM_SOURCES, or
 #: ("synth", name, options) for a synthetic take (options as devsuite.SYNTH's).
 BATCHES = {
+    # HDM05's three people (bd, dg, bk) in exercise orders and builds the suite lacks.
     "step18": [
         ("bd", "squat1Reps:5,hopBothLegs1hops:6,grabHighR:4,elbowToKnee1RepsLelbowStart:5,"
                "rotateArmsBothBackward1Reps:4", 21, {"seed": 21, "palette": "a"}),
@@ -32,6 +31,7 @@ BATCHES = {
         ("bk", "elbowToKnee1RepsLelbowStart:5,squat1Reps:5,grabHighR:4,throwBasketball:3,hopBothLegs1hops:7", 23,
          {"seed": 23, "palette": "b"}),
     ],
+    # Four more HDM05 exercise sets of the same people, other orders, palettes and builds.
     "step21": [
         ("dg", "rotateArmsBothBackward1Reps:2,squat1Reps:5,kickLFront1Reps:4,elbowToKnee1RepsLelbowStart:5,"
                "hopBothLegs1hops:6", 31, {"seed": 31, "palette": "c"}),
@@ -42,8 +42,8 @@ BATCHES = {
         ("dg", "squat1Reps:6,depositFloorR:4,elbowToKnee1RepsLelbowStart:5,grabHighR:4,kickLFront1Reps:4", 34,
          {"seed": 34, "build": 1.2}),
     ],
-    # The synthetic actor turning to face another way now and then (a parser change: boundaries
-    # behind a turn), made before the step was tried on them.
+    # The synthetic actor turning to face another way now and then, for the boundaries behind
+    # a turn, made before the parser's rule for them was tried on them.
     "step22": [
         ("synth", "turns-a", dict(motions=["arm-circles", "jumping-jacks", "twist", "squats"], cycles=[6, 8, 5, 5],
                                   turns=90.0, transition=1.0, seed=51)),
@@ -52,7 +52,7 @@ BATCHES = {
         ("synth", "turns-c-rests", dict(motions=["squats", "toe-touch", "jumping-jacks", "arm-circles"],
                                         cycles=[5, 4, 8, 6], turns=60.0, rest=0.8, seed=53)),
     ],
-    # Not a step's check but a failure found after a parser change, recorded so that it can be rerun:
+    # Not a check of a parser change but a failure found after one, recorded so that it can be rerun:
     # turns of 90-180 degrees by an actor who stays on its spot (the features' origin stays at
     # the first frame's centre). A parser change (tvmedit.engine.parse.boundaries, *Turns about the body's own
     # axis*) was designed on these two, so they are no check of it: "step23" is.
@@ -78,7 +78,7 @@ BATCHES = {
     # Changes of exercise 1-2.5 s after a turn starts (misses of the parser then), chosen by their design
     # alone, before anything was tried on them: the first four of random synthetic plans (seeds
     # from 81 on) and the first turning seeds of CMU 13_29 and 13_30 (from 100 on) with such a
-    # change somewhere; never parsed before a step for them was written.
+    # change somewhere; never parsed before a rule for them was written.
     "after-turns": [
         ("synth", "after-a-15fps", dict(motions=["knee-raises", "reach-up", "squats", "box", "toe-touch"],
                                         cycles=[5, 4, 3, 9, 3], fps=15, turns=180.0, seed=81)),
@@ -134,7 +134,7 @@ BATCHES = {
     ],
     # Turning takes made after the actor's turns were put on its feet (tvmedit.engine.lab.synth.turned_about;
     # before, each frame turned about its own centre and the feet slid), designed and committed
-    # before anything was tried on them: for the steps that place boundaries near turns.
+    # before anything was tried on them: for the rules that place boundaries near turns.
     "onset-turns-3": [
         ("synth", "ot3-a", dict(motions=["side-bends", "jumping-jacks", "toe-touch", "run"], cycles=[4, 9, 3, 10],
                                 turns=160.0, seed=151)),
@@ -150,7 +150,7 @@ BATCHES = {
     # People who turn steadily as they exercise (the CMU takes and the synthetic actor at
     # 4-8 degrees a second either way, a rate the heading tracker follows only in whole
     # bins) and three more HDM05 takes of exercises at other tempos: made after a parser change, before
-    # the rhythm step's short-side rule  was tried on them.
+    # the rhythm's short-side rule was tried on them.
     "steady-turns": [
         ("cmu", "13_29", {"turn": -4.0}),
         ("cmu", "13_30", {"turn": 8.0}),
@@ -239,7 +239,7 @@ BATCHES = {
                                                 "arm-circles", "side-bends", "run"], cycles=[8, 5, 5, 8, 4, 5, 6, 4, 10],
                                        rest=0.5, fps=15, build=1.1, seed=172)),
     ],
-    # A generalisation check, not a step's: exercise sets of the three HDM05 people in orders,
+    # A generalisation check, not a parser change's: exercise sets of the three HDM05 people in orders,
     # repetition counts, palettes and builds no batch had (as the review's takes of people from
     # another lab are), and the synthetic actor with rests, drift, noise and 25 fps, or slow
     # transitions and a slow turn at 12 fps. Made after a parser change, committed and scored once
@@ -362,7 +362,7 @@ BATCHES = {
         ("synth", "kick-hop-still-15fps", dict(motions=["kick", "hop", "knee-raises", "run"], cycles=[6, 8, 5, 8],
                                                rest=1.5, transition=0.5, noise=0.004, fps=15, seed=214)),
     ],
-    # For a parser change (the settling read on both views), made and committed after the step was in
+    # For a parser change (the settling read on both views), made and committed after it was in
     # and before it was run on them either way: people who turn steadily at rates no batch had
     # (CMU 13_29 and 13_30, the synthetic actor) or sway, and two HDM05 exercise sets.
     "settle-views": [
@@ -506,14 +506,15 @@ def take(batch, name):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--batch", nargs="+", default=list(BATCHES), choices=list(BATCHES))
+    ap = argparse.ArgumentParser(prog="python -m tvmedit.engine.lab.fresh",
+                                 description=__doc__.splitlines()[0])
+    ap.add_argument("--batch", nargs="+", default=list(BATCHES), choices=list(BATCHES), metavar="NAME",
+                    help="the batches to score (default: all): " + ", ".join(BATCHES))
     ap.add_argument("--set", nargs="*", default=[], metavar="NAME=VALUE",
                     help="parser parameters other than the defaults, e.g. rhythm_ratio=0")
     ap.add_argument("--errors", action="store_true", help="print each take's missed and false starts")
     args = ap.parse_args(argv)
     params = StructureParams(**{k: float(v) for k, v in (s.split("=", 1) for s in args.set)})
-    import accuracy
     for batch in args.batch:
         results = []
         for take in takes(batch):
