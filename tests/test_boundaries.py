@@ -46,9 +46,9 @@ def test_a_turn_keeps_its_lower_shoulder_from_becoming_a_boundary():
 
 def test_an_earlier_twin_peak_that_is_a_turn_is_not_taken_for_the_boundary():
     # A turn at 10 s, then 0.8 s later a slightly higher peak where the motion changes: the
-    # boundary is the change, not its twin (which would be taken were it no turn).
-    # The rule is left out by default (twin_peak 1): there the
-    # higher peak is the boundary, turn or no turn.
+    # boundary is the change, not its twin (which would be taken were it no turn). The twin
+    # rule is left out by default (twin_peak 1): there the higher peak is the boundary, turn
+    # or no turn.
     n = np.maximum(bump(100, 0.1, 1.0), bump(108, 0.105, 1.0))
     turn_free = np.where(np.arange(T) < 106, 0.01, 0.1)
     assert starts(n, turn_free, twin_peak=0.9) == [108]
@@ -80,7 +80,7 @@ def test_the_shoulder_of_a_strong_peak_is_not_a_second_boundary():
     # the threshold, but it rises only a little above the flank it stands on.
     n = np.maximum(bump(100, 0.25, 12.0), bump(120, 0.08, 1.5))
     assert starts(n) == [100]
-    assert starts(n, shoulder=0) == [100, 120]                 # the step left out
+    assert starts(n, shoulder=0) == [100, 120]                 # shoulder 0: every peak counts
     # Two changes with the novelty falling between them are both boundaries.
     apart = np.maximum(bump(100, 0.25, 2.0), bump(125, 0.1, 2.0))
     assert starts(apart) == [100, 125]
@@ -131,8 +131,8 @@ def test_exercises_differing_where_little_changes_are_told_apart():
 
 
 def test_leading_axes_agree_with_a_full_eigensolver():
-    # Subspace iteration (tvmedit.engine.parse.boundaries._leading_eigen) stands in for LAPACK's threaded
-    # solvers; on a decaying spectrum like a take's it must find the same top axes.
+    # Subspace iteration (tvmedit.engine.parse.boundaries._leading_eigen) stands in for LAPACK's
+    # threaded solvers; on a decaying spectrum like a take's it must find the same top axes.
     from tvmedit.engine.parse.boundaries import _leading_eigen
     rng = np.random.default_rng(3)
     basis, _ = np.linalg.qr(rng.normal(size=(80, 80)))
@@ -156,12 +156,3 @@ def test_whitening_takes_few_rows_still_rows_and_bad_rows():
     # Each kept axis scaled to about the same spread: variance / (variance + mean variance).
     assert out.shape == (200, 10) and np.all(out.var(axis=0) < 1) and out.var(axis=0).min() > 0.1
 
-
-def test_the_novelty_threshold_follows_whether_rows_are_whitened():
-    assert StructureParams().novelty_threshold == 0.9
-    assert StructureParams(novelty_components=0).novelty_threshold == 0.05
-    assert StructureParams.recorded({}).novelty_threshold == 0.05   # a parse made before whitening
-    with pytest.warns(UserWarning, match="units of the take's own spread"):
-        StructureParams(novelty_threshold=0.05)                     # an older script's threshold
-    with pytest.warns(UserWarning, match="few or no boundaries"):
-        StructureParams(novelty_components=0, novelty_threshold=0.9)

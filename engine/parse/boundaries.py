@@ -43,8 +43,8 @@ __all__ = ["novelty_rows", "novelty_curve", "novelty_clusters", "local_maxima", 
            "whiten", "STRONG_EDGE", "PACE_SECONDS", "WHITEN_FLOOR"]
 
 #: A novelty peak this many times ``novelty_threshold`` is a boundary even within 0.75
-#: ``min_cluster`` of the sequence's ends, where weaker peaks are not trusted. (On whitened rows
-#: the 1.3 s first exercise of CMU 13_30 played 1.4x peaks at 2.02 times: a thin margin.)
+#: ``min_cluster`` of the sequence's ends, where weaker peaks are not trusted: a short first
+#: or last exercise has only a short block to show it, and only a clear change is believed.
 STRONG_EDGE = 2.0
 
 #: The pace beside each novelty row is a bin's change over this many seconds, whatever the
@@ -135,9 +135,8 @@ def _leading_eigen(m, k, iterations=10, extra=6):
     their eigenvectors, by subspace iteration from a fixed start (the same answer every run).
 
     Ten products with ``m`` and thin QRs: a full symmetric eigensolver or SVD of a take's rows
-    (LAPACK, threaded) took seconds instead of milliseconds on a machine whose other core was
-    busy. On the development suite's rows the top 10 eigenvalues agree with the full
-    solver's to 1e-4 after 8 iterations.
+    (LAPACK, threaded) is far slower where other work shares the cores, and a take's spectrum
+    falls fast enough that a few iterations give its leading axes.
 
     >>> m = np.diag([5.0, 3.0, 1.0, 0.5])
     >>> values, vectors = _leading_eigen(m, 2)
@@ -208,8 +207,8 @@ def turn_test(n, turn_free, ratio, f):
     """Whether peak t of novelty ``n`` (sampled at ``f`` per second) is a turn: a predicate.
 
     A turn's peak has the heading-free novelty ``turn_free`` stay under ``ratio`` of it within
-    0.5 s (see the module docstring); without ``turn_free`` nothing is a turn. Steps 1 and 1b
-    (:mod:`tvmedit.engine.parse.rhythm`) of the parser share it.
+    0.5 s (see the module docstring); without ``turn_free`` nothing is a turn. The novelty's
+    boundaries and the rhythm splits (:mod:`tvmedit.engine.parse.rhythm`) share it.
 
     >>> turned = turn_test(np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.2, 0.0]), 0.4, 2)
     >>> turned(1), turn_test(np.ones(3), None, 0.4, 2)(1)
@@ -225,8 +224,8 @@ def _behind_turns(turn_free, turns, claimed, threshold, sep, reach, near_end):
     # A change of exercise within a turn's blocks can be no peak of n: the turn's far higher
     # novelty hides it on its slope. The heading-free novelty, which the turn hardly moves,
     # peaks there: its local maxima over the threshold, within ``reach`` of a turn and
-    # ``sep`` from every peak already claimed, strongest first, are boundaries (see *Boundaries
-    # behind a turn* above).
+    # ``sep`` from every peak already claimed, strongest first, are boundaries (see *Turns* in
+    # the module docstring).
     is_peak = local_maxima(turn_free)
     out = []
     for u in np.argsort(-turn_free, kind="stable"):
@@ -276,7 +275,7 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
         Inclusive frame ranges covering the sequence.
     turns : list of int
         Frames of the peaks vetoed as turns (boundaries near them are placed on heading-free
-        rows: *Boundaries behind a turn* above).
+        rows: *Turns* in the module docstring).
 
     Examples
     --------
@@ -296,11 +295,10 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
     sep = spacing(p, f)
     # Non-maximum suppression over local maxima only (a broad peak's shoulder is not a
     # second boundary): strongest first, none closer than ``sep``. With ``twin_peak`` under 1
-    # (left out by default), an earlier local maximum within ``sep`` and at
-    # least ``twin_peak`` as high is taken instead (a peak split in two).
+    # (left out by default), an earlier local maximum within ``sep`` and at least
+    # ``twin_peak`` as high is taken instead (a peak split in two).
     # Near the ends a block is short and unreliable; an end cluster may be a little shorter.
-    # A peak at least STRONG_EDGE times the threshold is a boundary there all the same: a
-    # first exercise of 1.3 s (CMU 13_30 played at 1.4x) peaks at twice the threshold.
+    # A peak at least STRONG_EDGE times the threshold is a boundary there all the same.
     edge = max(2, int(round(0.75 * sep)))
     near_end = lambda t: t < edge or len(n) - t < edge  # noqa: E731
     is_peak = local_maxima(n)
@@ -319,13 +317,12 @@ def novelty_boundaries(vectors, fps, p, n, step, turn_free=None):
 
 
 def _partition_boundaries(vectors, fps, p, n, f, sep, is_peak, near_end, turned):
-    # The changes of the kernel partition
-    # (tvmedit.engine.parse.partition) of the novelty's rows, each read on the novelty's top within
-    # PEAK_REACH_S of it: no boundary where that stays under ``partition_floor`` of the
-    # threshold, a turn where the veto says so. Near the ends, where a segment may not be
-    # ``min_cluster`` long, a novelty peak of STRONG_EDGE times the threshold, as before, if
-    # no change is within ``min_cluster`` of it. (Taken first, such peaks cost the suite
-    # CMU 13_30 turning's first change, 1.8 s in.)
+    # The changes of the kernel partition (tvmedit.engine.parse.partition) of the novelty's
+    # rows, each read on the novelty's top within PEAK_REACH_S of it: no boundary where that
+    # stays under ``partition_floor`` of the threshold, a turn where the veto says so. Near the
+    # ends, where a segment may not be ``min_cluster`` long, a novelty peak of STRONG_EDGE
+    # times the threshold, if no change is within ``min_cluster`` of it: taken after the
+    # partition's changes, so that such a peak never crowds out a change the partition found.
     bounds, claimed, turns = [], [], []
 
     def take(t, at):

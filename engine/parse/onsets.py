@@ -41,8 +41,8 @@ __all__ = ["onset", "settle", "energy_distance", "turned_away", "TURN_DEGREES", 
 TURN_DEGREES = 10.0
 
 #: Greatest ratio of the turned frames' distance to the old poses, turned back, to their
-#: distance unturned, for :func:`turned_away`. On the turning takes it was designed on, true
-#: turns gave 0.18-0.75 and the changes of exercise it must not take for turns 0.82-0.97.
+#: distance unturned, for :func:`turned_away`: a true turn, undone, brings the frames well
+#: nearer the old poses, while a change of exercise that only looks turned barely does.
 TURN_EXPLAINS = 0.8
 
 
@@ -123,10 +123,7 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
     [0, 64]
     """
     v = np.asarray(vectors, dtype=np.float64)
-    step = max(1, int(round(fps / 10.0)))      # about 10 fps, as the novelty is computed
-    rows = block_means(v, step)
-    alt = (block_means(np.asarray(other, dtype=np.float64), step)
-           if other is not None and (use_other or other_weight > 0) else None)
+    step, rows, alt = _views(v, other, use_other, other_weight, fps)
     f, n = fps / step, len(rows)
     block = lambda P: _whole_periods(P, window, f, step)  # noqa: E731
 
@@ -134,10 +131,8 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
     out = [0]
     gap, k = max(1, int(round(min_gap * f))), int(round(reach * f))
     for i in range(1, len(clusters)):
-        # Never nearer a neighbour than min_gap, nor nearer than it already is.
         b, prev, nxt = old[i] // step, out[-1] // step, old[i + 1] // step
-        lo = max(prev + max(1, min(gap, b - prev)), b - k)
-        hi = min(nxt - max(1, min(gap, nxt - b)), b + k)
+        lo, hi = _reach(b, prev, nxt, gap, k)
         before, after = block(periods[i - 1]), block(periods[i])
         a0, a1 = max(0, lo - before), min(n, hi + after)
         if hi < lo:
@@ -152,6 +147,23 @@ def settle(vectors, clusters, periods, fps, window=4.0, reach=1.5, min_gap=2.0, 
         at = lo + int(np.argmax(score))
         out.append(old[i] if at == b else min(len(v) - 1, at * step))
     return out
+
+
+def _views(v, other, use_other, other_weight, fps):
+    """The step to about 10 fps, and the parser's rows and ``other``'s (None where unread) at it."""
+    step = max(1, int(round(fps / 10.0)))      # about 10 fps, as the novelty is computed
+    rows = block_means(v, step)
+    alt = (block_means(np.asarray(other, dtype=np.float64), step)
+           if other is not None and (use_other or other_weight > 0) else None)
+    return step, rows, alt
+
+
+def _reach(b, prev, nxt, gap, k):
+    """Rows lo..hi a boundary at row ``b`` may move to: within ``k`` of it, and never nearer
+    the boundaries ``prev`` and ``nxt`` than ``gap``, nor nearer than it already is."""
+    lo = max(prev + max(1, min(gap, b - prev)), b - k)
+    hi = min(nxt - max(1, min(gap, nxt - b)), b + k)
+    return lo, hi
 
 
 def _period_profile(view, a0, a1, lo, hi, before, after):
@@ -248,7 +260,7 @@ def turned_away(rows, theta, start, left, peak, fps, reference=10.0):
 
     Each of those frames (at about 10 fps) is matched with the ``reference`` seconds of the
     old cluster before ``left`` turned by every whole number of azimuth bins; the turn that
-    brings it nearest is its angle. See the module docstring, *Not a turn*.
+    brings it nearest is its angle. See the module docstring, *The onset of a slow transition*.
 
     Parameters
     ----------
@@ -257,7 +269,7 @@ def turned_away(rows, theta, start, left, peak, fps, reference=10.0):
     theta : slice
         The azimuth histogram's columns.
     start, left, peak : int
-        The old cluster's first frame, the frame the onset step would take, the boundary.
+        The old cluster's first frame, the frame :func:`onset` would take, the boundary.
     fps : float
     reference : float
         Seconds of the old cluster whose poses stand for it.

@@ -25,7 +25,7 @@ BEFORE = {"novelty_pace": 0.0, "turn_ratio": 0.0, "novelty_components": 0, "head
 
 #: ``novelty_threshold`` where it is not given: on whitened rows (``novelty_components`` > 0),
 #: in units of the take's own spread, and on the rows as they are (chosen on the development
-#: suite, ``benchmarks/accuracy.py``).
+#: suite, :mod:`tvmedit.engine.lab.accuracy`).
 WHITENED_THRESHOLD = 0.9
 RAW_THRESHOLD = 0.05
 

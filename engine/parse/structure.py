@@ -265,6 +265,11 @@ def _period_reader(v, fps, p, w, theta, centred_rows=None):
     return PeriodReader(v, fps, w, p, theta, centred_rows)
 
 
+def _starting_at(starts, frames):
+    # Clusters that start at ``starts`` (0 first, increasing) and cover frames 0..frames-1.
+    return [(a, b - 1) for a, b in zip(starts, starts[1:] + [frames])]
+
+
 def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
     # The rows about each frame's own centre, smoothed once for the turn veto, the mirror test
     # and the test of frames only turned.
@@ -293,14 +298,14 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
         # on those rows and the parser's together (``settle_free``).
         periods = periods or [period(cs, ce) for cs, ce in clusters]
         near = {i for i, (cs, _) in enumerate(clusters) if i and near_turn(cs)}
-        starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
-                        other=free, use_other=near, other_weight=p.settle_free)
+        settled = lambda use: settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach,  # noqa: E731
+                                     p.min_cluster, other=free, use_other=use, other_weight=p.settle_free)
+        starts = settled(near)
         back = {i for i, (cs, _) in enumerate(clusters) if i and i not in near and turned_back(i, starts[i], cs)}
         if back:
-            starts = settle(v, clusters, periods, fps, p.novelty_window, p.refine_reach, p.min_cluster,
-                            other=free, use_other=near | back, other_weight=p.settle_free)
+            starts = settled(near | back)
         if starts != [cs for cs, _ in clusters]:
-            clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
+            clusters = _starting_at(starts, len(v))
             periods = None
     if p.onset_reach > 0:
         # Each boundary moves back from its novelty peak to where the motion left the
@@ -317,7 +322,7 @@ def _parse_energy(v, fps, p, w, theta, n, step, centred=None):
 
         starts = [0] + [max(start_of(i, cs), clusters[i - 1][0] + 1) for i, (cs, _) in enumerate(clusters) if i]
         if starts != [cs for cs, _ in clusters]:
-            clusters = [(a, b - 1) for a, b in zip(starts, starts[1:] + [len(v)])]
+            clusters = _starting_at(starts, len(v))
             periods = None
     if p.partition > 0:
         # With the partition only: a cluster that settling and onsets left shorter than the
