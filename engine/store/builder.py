@@ -55,9 +55,7 @@ __all__ = ["build", "derive", "report_of", "check_target", "library_features", "
 FEATURE_CHUNK = 32
 
 
-
-# --- worker tasks: module-level so that processes and dask can run them -----------------
-
+# Worker tasks stay at module level so that processes and dask can pickle them.
 def _read(path, skip_bad_frames, orientation=None, detail="full"):
     """``(frame, None)``, or ``(None, reason)`` for a bad frame when skipping; raises otherwise."""
     try:
@@ -258,8 +256,6 @@ def library_features(old, key, bins):
     return None
 
 
-# --- structure, database, graph -----------------------------------------------------------
-
 #: What the cheap stages make: automatic parses, corrected structures, database, graph.
 _Analysis = NamedTuple("_Analysis", [("parses", dict), ("structures", dict), ("nodes", list),
                                      ("graph", object), ("corrections", object)])
@@ -297,8 +293,6 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
         run.say(f"warning: {advice(nodes, better)}")
     return _Analysis(parses, structures, nodes, graph, corrections)
 
-
-# --- meshes and the rest of the library ---------------------------------------------------
 
 def _write_library(tmp, old, sequences, computed, padded, settings, analysis, meshes, run):
     """Everything but the meshes: features, structure, database, graph, names, manifest last."""
@@ -343,8 +337,6 @@ def _union(a, b):
     """The box ``(low, high)`` around the boxes ``a`` and ``b``."""
     return np.minimum(a[0], b[0]).tolist(), np.maximum(a[1], b[1]).tolist()
 
-
-# --- the build ----------------------------------------------------------------------------
 
 def _open_inputs(inputs, fps, log, frame=None):
     """Open every input sequence (no mesh read yet, but a few to detect its frame of

@@ -135,8 +135,6 @@ class Corrections:
     def copy(self):
         return Corrections.from_json(self.to_json(), self.source)
 
-    # --- edits, as the inspector makes them ------------------------------------------------
-
     def _add(self, name, kind, frame):
         ops = getattr(self.of(name), kind)
         frame = int(frame)
@@ -209,8 +207,6 @@ class Corrections:
         """Leave motion ``name`` (of ``sequence``) out of the database."""
         if name not in self.of(sequence).drop:
             self.of(sequence).drop.append(str(name))
-
-    # --- as data ----------------------------------------------------------------------------
 
     def to_json(self):
         """``{"sequences": {name: {...}}}`` with empty parts left out."""
@@ -322,8 +318,6 @@ def _frames_of(entry):
     for k, frame in enumerate(entry.representatives):
         yield f"representatives[{k}]", frame
 
-
-# --- applying: structure ------------------------------------------------------------------
 
 def _nearest(candidates, frame, reach):
     near = [c for c in candidates if abs(c - frame) <= reach]
@@ -529,8 +523,6 @@ def apply_structures(parses, vectors, corrections, thetas=None, say=None, centre
                                   centred=centreds.get(name), source=corrections.source, name=name, say=say)
             if corrections.sequences.get(name) else parse for name, parse in parses.items()}
 
-
-# --- applying: database -------------------------------------------------------------------
 
 def apply_database(nodes, structures, corrections, whole=True):
     """The database ``nodes`` (from :func:`tvmedit.engine.graph.database.build_database` on the corrected

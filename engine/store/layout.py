@@ -1,55 +1,44 @@
 """The library's on-disk format, written and read in this one place.
 
 A library is a directory written by :func:`tvmedit.build` and opened by
-:class:`tvmedit.engine.store.library.Library`; nothing in it is parsed while playing. Its files:
+:class:`tvmedit.engine.store.library.Library`. Nothing in it is parsed while playing: every
+array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
 
 ``manifest.json``
-    format version, tvmedit version, build parameters, and per sequence its name, fps,
-    frame count, rows in ``features.npy`` (and ``features_centred.npy``), r width, origin,
-    feature cache key, frame files
-    (resolved path, size, mtime_ns) and skipped frames; the size of every file below (checked
-    on open), the bounds of the stored meshes and their largest vertex and face counts.
-``features.npy``
-    (T, D) float32: one feature vector per frame of every sequence in order (eq. (1)-(4)),
-    r histograms zero-padded to the library's widest, then theta, then phi.
-``features_centred.npy``
-    optional: histograms about each frame's own centre (:attr:`tvmedit.engine.features.Features.centred`,
-    which the parser's turn veto reads), laid out as ``features.npy``; the manifest gives each
-    sequence's ``centred_rows`` and ``centred_r_bins``.
-``structure.json``
-    per sequence, its parsed structure (section 4): clusters, textons, the atom-distance curve.
-``database.json``
-    the motion database (section 5): nodes with id, default name, sequence, inclusive frame
-    range, cluster, texton distance and intensity.
-``graph.json``
+    format version, tvmedit version, build parameters; per sequence its name, fps, frame count,
+    rows in ``features.npy`` (and ``features_centred.npy``), r width, origin, feature cache key,
+    frame files (resolved path, size, mtime_ns) and skipped frames; the size of every file
+    below (checked on open), the stored meshes' bounds and largest vertex and face counts.
+``features.npy``, ``features_centred.npy``
+    (T, D) float32, one feature vector per frame of every sequence in order (eq. (1)-(4)):
+    r histograms zero-padded to the library's widest, then theta, then phi. The optional
+    second file holds the histograms about each frame's own centre (which the parser's turn
+    veto reads), laid out alike, with ``centred_rows`` and ``centred_r_bins`` per sequence.
+``structure.json``, ``database.json``
+    per sequence its parsed structure (section 4); the motion database (section 5): nodes
+    with id, default name, sequence, inclusive frame range, cluster, texton distance, intensity.
+``graph.json``, ``graph.graphml``
     the complete graph's weights ``[[i, j, w], ...]`` (eq. (12)), transition frames
-    ``[[i, j, exit, entry], ...]`` (eq. (10), frames within each node's sequence) and mu; the
-    pruned graph (eq. (14)) is rebuilt from them on open.
-``graph.graphml``
-    the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
-``positions.npy``, ``colours.npy``, ``normals.npy``, ``faces.npy``, ``frames.npy``, ``frame_keys.npy``
-    the stored frames' flat mesh arrays and their ranges (:mod:`tvmedit.engine.store.arrays`).
+    ``[[i, j, exit, entry], ...]`` (eq. (10)) and mu, from which the pruned graph (eq. (14)) is
+    rebuilt on open; the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
+``positions.npy`` ... ``frame_keys.npy``, ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
+    the stored frames' flat mesh arrays and their ranges (:mod:`tvmedit.engine.store.arrays`); only
+    where some frame is textured, its texture coordinates beside ``positions``, the texels frame
+    after frame, and each frame's first texel, height and width.
 ``blend_*.npy``, ``blends.json``
-    the in-between frames (:mod:`tvmedit.engine.inbetween.blend`) as the frames above (no keys; texture rows into
-    ``textures.npy``), run after run; per graph edge ``{"from", "to", "first", "count", "jump",
-    "steps", "exit", "entry"}`` (first row, Chamfer of the cut and of each step in metres, exit
-    and entry ``[sequence, frame]``); ``wraps`` likewise per closed loop (:mod:`tvmedit.engine.inbetween.loops`:
-    from = to, exit the end, entry the start, ``at``, ``texton``); ``natural_step``, ``blend_frames``,
-    ``feature_keys``, ``pair_steps`` (``[sequence, frame, step]`` the natural step is the median of).
-``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
-    only where some stored frame is textured: texture coordinates beside ``positions``, the
-    images' texels one frame after another, and each frame's first texel, height and width.
-``names.json``
-    optional; node names given with ``tvmedit rename`` (``{"id": "name"}``).
-``corrections.json``, ``parse.json``
-    only where the parse was corrected by hand (:mod:`tvmedit.engine.store.corrections`): the corrections,
-    and the automatic parse they were applied to (as ``structure.json``, which then holds the
-    corrected one).
+    the in-between frames (:mod:`tvmedit.engine.inbetween.blend`) laid out as the frames above
+    (no keys), run after run; per graph edge ``{"from", "to", "first", "count", "jump", "steps", "exit",
+    "entry"}`` (first row, Chamfer of the cut and of each step in metres, ``[sequence, frame]``
+    exited and entered); ``wraps`` likewise per closed loop (:mod:`tvmedit.engine.inbetween.loops`,
+    with ``at`` and ``texton``); ``natural_step``, ``blend_frames``, ``feature_keys``, and
+    ``pair_steps`` (``[sequence, frame, step]`` the natural step is the median of).
+``names.json``, ``corrections.json``, ``parse.json``
+    optional: node names given with ``tvmedit rename`` (``{"id": "name"}``); the corrections by
+    hand (:mod:`tvmedit.engine.store.corrections`) and the automatic parse they were applied to
+    (``structure.json`` then holds the corrected one).
 
-Only the frames of database textons are stored (after a correction by hand, possibly
-some more: :mod:`tvmedit.engine.store.meshfiles` keeps a library's arrays rather than copy them), and
-the in-between frames of the transitions. Every array opens with
-``np.load(..., mmap_mode="r")``, so opening reads only the small JSON files.
+Only the frames of database textons (after a correction by hand, maybe more: :mod:`.meshfiles`
+keeps a library's arrays rather than copy them) and the transitions' in-between frames are stored.
 """
 
 import dataclasses
@@ -89,8 +78,6 @@ def tvmedit_version():
         return "0.0.0+unknown"
 
 
-# --- writing ------------------------------------------------------------------------------
-
 def _json_default(value):
     if isinstance(value, np.integer):
         return int(value)
@@ -110,7 +97,7 @@ def write_json(path, data):
     Path(path).write_text(json.dumps(data, default=_json_default, separators=(",", ":")))
 
 
-#: The files of the stored meshes (:class:`MeshWriter` writes them).
+#: The files of the stored meshes (:class:`tvmedit.engine.store.arrays.MeshWriter` writes them).
 MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
               "uvs.npy", "textures.npy", "texture_frames.npy")
 
@@ -118,7 +105,7 @@ MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frame
 def link_meshes(library, folder):
     """Give ``folder`` the stored meshes of ``library`` (a :class:`tvmedit.engine.store.library.Library`) as
     they are: hard links, copies where links cannot be made. Nothing in a library is changed in
-    place, so the two may share them. Returns what :class:`MeshWriter` would: an object with
+    place, so the two may share them. Returns what :class:`~tvmedit.engine.store.arrays.MeshWriter` would: an object with
     ``frames``, ``bounds`` and ``max_counts``."""
     import os
     import shutil
@@ -268,8 +255,6 @@ def write_manifest(folder, data):
                              if path.name in CHECKED_FILES})
     write_json(folder / "manifest.json", data)
 
-
-# --- reading ------------------------------------------------------------------------------
 
 def _rebuild_hint(path):
     return f"rebuild it with {build_call(None, path, force=True)}"

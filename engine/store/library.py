@@ -111,8 +111,6 @@ class Library:
         return (f"Library({str(self.path)!r}: {len(self.sequences)} sequences, "
                 f"{len(self._nodes)} motions, {self.manifest['counts']['stored_frames']} stored frames)")
 
-    # --- parameters, sequences, structure, features --------------------------------------
-
     @property
     def params(self):
         """Build parameters: ``bins``, ``structure``, ``mu``, ``skip_bad_frames``, ``connect``."""
@@ -218,8 +216,6 @@ class Library:
         return layout.read_features(self.manifest, self._record(name), BinSizes(**self.params["bins"]),
                                        self._features, lambda: self._centred)
 
-    # --- the database and the graph ------------------------------------------------------
-
     def _read_nodes(self, renamed=True):
         nodes = [Node(**row) for row in layout.read_json(self.path, "database.json")]
         names = layout.read_names(self.path) if renamed else {}
@@ -304,8 +300,6 @@ class Library:
         except OSError:
             pass  # the export is a convenience; names.json is what tvmedit reads
         return nodes[i]
-
-    # --- meshes: the MeshSource protocol -------------------------------------------------
 
     @cached_property
     @_reads_format
@@ -453,8 +447,6 @@ class Library:
     def max_counts(self):
         """``(max_vertices, max_faces)`` over every stored frame."""
         return tuple(int(n) for n in self.manifest["max_counts"])
-
-    # --- summaries and edits ---------------------------------------------------------------
 
     @_reads_format
     def info(self):

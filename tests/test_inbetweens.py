@@ -1,0 +1,61 @@
+"""The in-between frames of a library (tvmedit.engine.store.inbetweens): made, stored, reused.
+
+Libraries are built from the first frames of the real mocap take 13_30; every run points
+``XDG_CACHE_HOME`` at a temporary folder, so no test reads or fills the user's feature cache.
+"""
+
+import pytest
+
+from tvmedit import build
+from tvmedit.engine.store.inbetweens import loop_frames
+from tvmedit.engine.store.rebuild import rebuild
+
+
+def _inputs(take):
+    """Two sequences cut from one take: frames 0-59 and 100-159."""
+    return [("gym", str(take / "frame_000[0-5]?.ply")), ("gym2", str(take / "frame_001[0-5]?.ply"))]
+
+
+# Short snippets of one take rarely repeat a texton; the database then says so.
+pytestmark = pytest.mark.filterwarnings("ignore:no motion cluster repeats:UserWarning")
+
+
+@pytest.fixture(autouse=True)
+def _cache_home(tmp_path, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+
+
+@pytest.fixture(scope="module")
+def built(take_13_30, tmp_path_factory):
+    """A library of two sequences, built serially without the cache."""
+    out = tmp_path_factory.mktemp("lib") / "gym.lib"
+    return build(_inputs(take_13_30), out, workers=1, cache=False)
+
+
+def test_every_transition_gets_frames_in_steps_smaller_than_its_cut(built):
+    runs = built.blend_runs()
+    assert set(runs) == set(built.graph.edges) and runs
+    for run in runs.values():
+        assert run["count"] > 0 and len(run["steps"]) == run["count"] + 1
+        assert max(run["steps"]) < run["jump"]
+    assert built.natural_step > 0
+
+
+@pytest.mark.parametrize("count", [0, 3])
+def test_a_given_blend_count_gives_every_transition_that_many(take_13_30, tmp_path, count):
+    library = build(_inputs(take_13_30), tmp_path / "lib", workers=1, cache=False, blend_frames=count)
+    assert library.params["blend_frames"] == count
+    assert {run["count"] for run in library.blend_runs().values()} == {count}
+
+
+def test_the_frames_loops_are_closed_onto_are_stored(built):
+    rooms = {n.id: built.structure(n.sequence).clusters[n.cluster] for n in built.nodes}
+    frames = loop_frames(built.graph, built.params["blend_frames"], rooms)
+    assert frames <= set(built.stored_frames())
+
+
+def test_a_rebuild_copies_every_run_that_comes_out_the_same(built, tmp_path):
+    report = rebuild(built, tmp_path / "again.lib")
+    assert report["blend_made"] == 0
+    for name in ("blend_positions.npy", "blend_faces.npy", "blend_frames.npy"):
+        assert (tmp_path / "again.lib" / name).read_bytes() == (built.path / name).read_bytes()
