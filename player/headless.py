@@ -53,7 +53,8 @@ def render_frame(source, key, camera=None, size=(640, 480), grid=False, backgrou
 
 
 def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit_deg_per_s=0.0,
-                  progress=True, grid=False, background=BACKGROUND, samples=4, force=False, shading="auto"):
+                  progress=True, grid=False, background=BACKGROUND, samples=4, force=False, shading="auto",
+                  capture_fps=None, smooth=True):
     """Render ``keys`` in order into ``out`` and return its path.
 
     The kind of output follows ``out``'s suffix: ``.mp4`` (H.264, yuv420p; an odd width or
@@ -65,9 +66,14 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     Parameters
     ----------
     source : MeshSource
-    keys : iterable of (sequence_name, frame_index), one per output frame
+    keys : iterable of (sequence_name, frame_index), the frames shown one after another
     out : str or Path
     fps : frames per second of the output (and of the orbit)
+    capture_fps : the rate ``keys`` are shown at; None: one output frame per key. Given, the
+        output keeps their timing: ``len(keys) / capture_fps`` seconds at ``fps``, each output
+        frame the surface at its instant (:func:`tvmedit.engine.inbetween.instants.instants`)
+    smooth : draw the surface between two frames where the source holds the step's field
+        (``instant_field``); False: each frame held until the next (the capture as it is)
     camera : ``Camera``; default frames ``source.bounds()`` so that no orbit angle cuts it
     orbit_deg_per_s : the camera turns this many degrees of azimuth per second of output
     progress : show a progress bar
@@ -89,13 +95,14 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     _check_output(out, kind, force, source)
     out.parent.mkdir(parents=True, exist_ok=True)
     base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
-    bar = tqdm(keys, desc=f"render {out.name}", unit="frame", disable=not progress)
+    shown = list(_shown(source, keys, capture_fps, fps, smooth))
+    bar = tqdm(shown, desc=f"render {out.name}", unit="frame", disable=not progress)
     # A folder is swapped in whole; a file is written under a temporary name with its suffix.
     target = safewrite.replacing_folder(out, kind="frames") if kind == "folder" else safewrite.replacing_file(out)
     try:
         with target as temporary, _renderer(source, (width, height), grid, background, samples) as renderer:
-            frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps), shading)
-                      for i, key in enumerate(bar))
+            frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps), shading, instant)
+                      for i, (key, instant) in enumerate(bar))
             _WRITERS[kind](frames, temporary, (width, height), fps)
     finally:
         bar.close()
@@ -103,13 +110,16 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
 
 
 def render(edit, out, size=(640, 480), **options):
-    """Render an edit: ``render_frames(edit.library, edit.schedule keys, out, size, **options)``.
+    """Render an edit: ``render_frames(edit.library, edit.schedule keys, out, size, **options)``,
+    at the edit's own timing (``capture_fps=edit.fps`` unless given).
 
     ``edit.library`` is a MeshSource; ``edit.schedule`` lists frames as ``(sequence, frame)``
     pairs or as schedule entries (their ``.key``, which names in-between frames too).
     """
     keys = [item.key if hasattr(item, "key") else (item.sequence, item.frame) if hasattr(item, "sequence")
             else tuple(item) for item in edit.schedule]
+    options.setdefault("capture_fps", getattr(edit, "fps", None))
+    options.setdefault("fps", options["capture_fps"] or 10)
     return render_frames(edit.library, keys, out, size=size, **options)
 
 
@@ -204,9 +214,29 @@ def _renderer(source, size, grid, background, samples):
         renderer.release()
 
 
-def _draw(renderer, source, key, camera, shading="auto"):
-    renderer.draw(source.frame_mesh(key), camera, texture=texture_of(source, key, shading))
+def _draw(renderer, source, key, camera, shading="auto", instant=None):
+    renderer.draw(source.frame_mesh(key), camera, texture=texture_of(source, key, shading), instant=instant)
     return renderer.read()
+
+
+def _shown(source, keys, capture_fps, fps, smooth):
+    """``(key, instant)`` of each output frame: the frame, and ``(field, s)`` of the step to
+    the next one or None (the frame as stored). A step's field is fetched once and passed as
+    the same object to the frames inside it, so the renderer uploads it once."""
+    from ..engine.inbetween.instants import instants
+
+    if capture_fps is None:
+        yield from ((key, None) for key in keys)
+        return
+    fields = getattr(source, "instant_field", None) if smooth else None
+    last = (None, None)
+    for index, s in instants(len(keys), capture_fps, fps):
+        if fields is None or s == 0 or index + 1 >= len(keys):
+            yield keys[index], None
+            continue
+        if last[0] != index:
+            last = (index, fields(keys[index], keys[index + 1]))
+        yield keys[index], None if last[1] is None else (last[1], s)
 
 
 def _camera(camera, bounds, size, all_azimuths=False):

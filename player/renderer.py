@@ -69,6 +69,7 @@ class Renderer:
         self._uploaded = None  # the mesh tuple now in the buffers
         self._texture = None  # the frame's texture image on the GPU, reused while its size holds
         self._uploaded_texture = None  # the (uv, image) tuple now in the uv buffer and texture
+        self._uploaded_field = None  # the step's field now in the offset buffer
         if antialias not in ANTIALIAS:
             raise ValueError(f"antialias should be one of {', '.join(ANTIALIAS)}, got {antialias!r}")
         self._reserve(*max_counts)
@@ -104,7 +105,7 @@ class Renderer:
         self._grid_corners = ctx.buffer(corners)
         self._grid_vao = ctx.vertex_array(self._grid_program, [(self._grid_corners, "2f", "in_corner")])
 
-    def draw(self, mesh, camera, framebuffer=None, texture=None):
+    def draw(self, mesh, camera, framebuffer=None, texture=None, instant=None):
         """Draw one frame.
 
         Parameters
@@ -116,6 +117,10 @@ class Renderer:
         texture : (uv (N, 2) float32, image (H, W, 3) uint8) to draw the frame's texture
             instead of its vertex colours, as ``MeshSource.frame_texture`` returns; None for
             vertex colours
+        instant : (field (N, 3) float16, s) to draw the surface at fraction ``s`` of the step to
+            the next frame shown, ``positions + s * field`` (the vertex shader adds it; the field
+            is uploaded when a new one is passed, ``s`` is a uniform), as
+            ``Library.instant_field`` gives the field; None for the frame as stored
         """
         positions, colours, faces, normals = mesh
         n_faces = len(faces)
@@ -130,6 +135,14 @@ class Renderer:
                 self._buffers["in_normal"].write(_contiguous(normals, np.float32))
             self._buffers["index"].write(_contiguous(faces, np.uint32))
             self._uploaded = mesh
+        moving = instant is not None and instant[0] is not None
+        if moving and instant[0] is not self._uploaded_field:
+            field = instant[0]
+            if np.shape(field) != (len(positions), 3):
+                raise ValueError(f"the step's field should be ({len(positions)}, 3) like the positions, "
+                                 f"got shape {np.shape(field)}")
+            self._buffers["in_offset"].write(_contiguous(field, np.float16))
+            self._uploaded_field = field
         if texture is not None and texture is not self._uploaded_texture:
             self._upload_texture(*texture, len(positions))
             self._uploaded_texture = texture
@@ -149,7 +162,7 @@ class Renderer:
 
         facets = normals is None
         textured = texture is not None
-        program = self._program(facets, textured)
+        program = self._program(facets, textured, moving)
         projection = camera.projection_matrix()
         if framebuffer is None:
             # Draw the own framebuffer upside down: GL reads rows bottom-up, so ``read`` then
@@ -163,8 +176,10 @@ class Renderer:
         if textured:
             self._texture.use(0)
             program["albedo_map"].value = 0
+        if moving:
+            program["instant"].value = float(instant[1])
         if n_faces:
-            self._vao(facets, textured).render(moderngl.TRIANGLES, vertices=3 * n_faces)
+            self._vao(facets, textured, moving).render(moderngl.TRIANGLES, vertices=3 * n_faces)
         if self.grid:
             self._draw_grid(target, camera, view, projection)
 
@@ -174,7 +189,9 @@ class Renderer:
         elif target is not output and framebuffer is None:
             # Only pixels near the mesh can change, so the pass covers the mesh's box on screen;
             # ``read`` takes the rest of the image straight from the scene.
-            self._fxaa_box = _screen_box(positions, view_projection, self.size)
+            shown = positions if not moving else (
+                np.asarray(positions, np.float32) + np.float32(instant[1]) * np.asarray(instant[0], np.float32))
+            self._fxaa_box = _screen_box(shown, view_projection, self.size)
             self._fxaa(output, self._fxaa_box)
         elif target is not output:
             self._fxaa(output, output.viewport)
@@ -226,12 +243,14 @@ class Renderer:
         for vao in self._vaos.values():
             vao.release()
         self._vaos = {}
+        self._uploaded_field = None  # a grown buffer starts empty
         old = self._buffers or {}
         self._buffers = {
             "in_position": self._grown(old.get("in_position"), vertices * 12),
             "in_colour": self._grown(old.get("in_colour"), vertices * 3),
             "in_normal": self._grown(old.get("in_normal"), vertices * 12),
             "in_uv": self._grown(old.get("in_uv"), vertices * 8),
+            "in_offset": self._grown(old.get("in_offset"), vertices * 6),
             "index": self._grown(old.get("index"), faces * 12),
         }
         self._vertex_capacity, self._face_capacity = vertices, faces
@@ -243,18 +262,19 @@ class Renderer:
             buffer.release()
         return self.ctx.buffer(reserve=nbytes, dynamic=True)
 
-    def _program(self, facets, textured=False):
-        key = (facets, textured)
+    def _program(self, facets, textured=False, moving=False):
+        key = (facets, textured, moving)
         if key not in self._programs:
-            defines = {**({"FACET_NORMALS": 1} if facets else {}), **({"TEXTURED": 1} if textured else {})}
+            defines = {**({"FACET_NORMALS": 1} if facets else {}), **({"TEXTURED": 1} if textured else {}),
+                       **({"MOVING": 1} if moving else {})}
             self._programs[key] = load_program(self.ctx, "mesh", **defines)
         return self._programs[key]
 
-    def _vao(self, facets, textured=False):
-        key = (facets, textured)
+    def _vao(self, facets, textured=False, moving=False):
+        key = (facets, textured, moving)
         if key not in self._vaos:
-            b, program = self._buffers, self._program(facets, textured)
-            formats = {"in_position": "3f", "in_colour": "3f1", "in_normal": "3f", "in_uv": "2f"}
+            b, program = self._buffers, self._program(facets, textured, moving)
+            formats = {"in_position": "3f", "in_colour": "3f1", "in_normal": "3f", "in_uv": "2f", "in_offset": "3f2"}
             # Only attributes the compiled program kept: drivers drop unused ones.
             content = [(b[name], fmt, name) for name, fmt in formats.items() if name in program]
             self._vaos[key] = self.ctx.vertex_array(program, content, b["index"], index_element_size=4)

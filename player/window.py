@@ -77,12 +77,15 @@ class PlayerApp(CameraControls):
     hold_seconds : how long a motion queued with Shift+key keeps looping once it begins
     walker : a Walker of :mod:`tvmedit.engine.playback.wander`, or None: with nothing queued,
         walk on to motions it draws instead of looping the one playing
+    smooth : place the body by the redraw clock, between the frame on screen and the next one
+        (the source's ``instant_field``, :mod:`tvmedit.engine.inbetween.instants`); False, or a
+        source without them: each frame held until the next, the capture as it is
 
     Times (``now``) are seconds on one monotonic clock, passed in by the caller.
     """
 
     def __init__(self, graph, source, order, start, fps=10.0, forbidden=(), aspect=4 / 3, log=None,
-                 clock_zero=0.0, print_=None, shading="auto", hold_seconds=3.0, walker=None):
+                 clock_zero=0.0, print_=None, shading="auto", hold_seconds=3.0, walker=None, smooth=True):
         check_shading(source, shading)
         self.graph = graph
         self.source = source
@@ -108,6 +111,10 @@ class PlayerApp(CameraControls):
         self._reach = None          # (node, motions unreachable from it), see unreachable()
         self._mesh = None
         self._texture = None
+        self._field = None          # (field, next entry) of the step from the frame on screen
+        self.smooth = bool(smooth) and getattr(source, "smooth", False)
+        self.shown_at = None        # when the frame on screen appeared (its slot)
+        self._paused_at = None
         self._bounds = source.bounds()
         self.camera = self.home_camera(aspect)
 
@@ -137,6 +144,8 @@ class PlayerApp(CameraControls):
         self.entry = self.playhead.advance()
         self._mesh = None
         self._texture = None
+        self._field = None
+        self.shown_at = self.slot
         self.frames_shown += 1
         return True
 
@@ -149,6 +158,8 @@ class PlayerApp(CameraControls):
         if self._restarted:
             self._next_slot = now + self.period
             self._restarted = False
+        if self.shown_at is None:
+            self.shown_at = now
         self._write({"t": round(now - self.clock_zero, 6), "node": _plain(self.entry.node),
                      "sequence": self.entry.sequence, "frame": int(self.entry.frame),
                      **({} if self.entry.blend is None else {"blend": self.entry.to_json()["blend"]}),
@@ -165,6 +176,23 @@ class PlayerApp(CameraControls):
     def texture(self):
         """The texture of the frame on screen (``(uv, image)``), None to draw vertex colours."""
         return self._texture if self.mesh() is not None else None
+
+    def instant(self, now):
+        """``(field, s)``: how far the body on screen is on its way to the next frame at ``now``
+        (``s`` the share of the frame's period gone by, below 1), for ``Renderer.draw``; None
+        to draw the frame as stored (not smooth, paused, or no field for this step). The next
+        frame is asked of the playhead once per frame (:meth:`Playhead.peek`)."""
+        if not self.smooth or self.entry is None or self.shown_at is None:
+            return None
+        if self.paused:
+            now = self._paused_at
+        if self._field is None:
+            upcoming = self.playhead.peek()
+            self._field = (self.source.instant_field(self.entry.key, upcoming.key), upcoming)
+        if self._field[0] is None:
+            return None
+        s = min(max((now - self.shown_at) / self.period, 0.0), 0.999)
+        return self._field[0], s
 
     def seconds_to_next_key(self, now):
         """Seconds until the next queued motion begins, None when the queue is empty."""
@@ -245,7 +273,10 @@ class PlayerApp(CameraControls):
             self.paused = False
             if self._next_slot is not None:
                 self._next_slot = now + self._pause_left
+                if self.shown_at is not None:   # the body goes on from where it stopped
+                    self.shown_at = self._next_slot - self.period
         else:
+            self._paused_at = now
             self.paused = True
             self._pause_left = max(self._next_slot - now, 0.0) if self._next_slot is not None else 0.0
 
@@ -514,7 +545,8 @@ class Window:
             self.ctx.screen.use()
             self.ctx.screen.clear(*self.renderer.background)
         else:
-            self.renderer.draw(mesh, self.app.camera, framebuffer=self.ctx.screen, texture=self.app.texture())
+            self.renderer.draw(mesh, self.app.camera, framebuffer=self.ctx.screen, texture=self.app.texture(),
+                               instant=self.app.instant(now))
         if self._screenshot:
             self._screenshot = False
             self._save_screenshot()

@@ -12,6 +12,10 @@
 // ``in_uv``, v = 0 at the image's bottom row) instead of the vertex colours: text on a card held
 // up to a depth camera stays readable, which vertex colours blur away. The light is still
 // computed per vertex and applied to each texel.
+// Define MOVING to draw the surface at fraction ``instant`` of a step to the next frame shown:
+// each vertex moves by ``instant`` times its displacement ``in_offset`` (half floats), so the
+// body moves at the display's rate while the frame's arrays are uploaded once per step
+// (``tvmedit.engine.inbetween.instants``).
 
 // Camera space, pointing towards the lights. A face looking straight at the camera receives
 // ambient + key + fill of about 1.0, so it shows its stored colour.
@@ -48,6 +52,10 @@ uniform mat4 view;
 uniform mat4 projection;
 
 in vec3 in_position;
+#ifdef MOVING
+uniform float instant;
+in vec3 in_offset;
+#endif
 #ifdef TEXTURED
 in vec2 in_uv;
 out vec2 v_uv;
@@ -63,7 +71,11 @@ in vec3 in_normal;
 #endif
 
 void main() {
+#ifdef MOVING
+    vec4 p = view * vec4(in_position + instant * in_offset, 1.0);
+#else
     vec4 p = view * vec4(in_position, 1.0);
+#endif
 #ifdef TEXTURED
     v_uv = in_uv;
 #endif

@@ -152,3 +152,19 @@ def test_a_one_shot_rests_by_replaying_and_plays_as_compose():
     head.queue(0)
     planned = [e.frame for e in compose(G, [1, 0]).schedule]
     assert [head.advance().frame for _ in range(len(planned))] == planned
+
+
+def test_peek_shows_the_frame_advance_plays_next_through_queues_and_walks(small_library):
+    """The player draws the body on its way to :meth:`Playhead.peek`; a wrong peek would show
+    it moving toward one frame and then jump to another."""
+    from tvmedit import Library
+
+    library = Library.open(small_library)
+    walker = library.wander(seed=4).walker()
+    for head in (Playhead(library.graph, 0), Playhead(library.graph, walker.first(), walker=walker)):
+        nodes, rng = sorted(library.graph.nodes), random.Random(1)
+        for k in range(1500):
+            if k % 170 == 60:
+                head.queue(rng.choice(nodes), hold=rng.choice([0, 7]))
+            peeked = head.peek()
+            assert head.advance() == peeked, k

@@ -17,7 +17,10 @@ playing, or already last in the queue, is ignored.
   Esc, Q           quit
 
 Playback runs at the library's frame rate on its own clock; the window redraws at the
-display rate in between. With --log every displayed sequence frame is written as one JSON
+display rate in between, and the body moves at the redraw's rate too: each redraw shows it
+at its own instant between the frame on screen and the next, from the display-rate
+in-betweens the library holds (--no-smooth shows each stored frame until the next, the
+capture as it is; a library built before them plays so, and the player says how to rebuild). With --log every displayed sequence frame is written as one JSON
 line, {"t", "node", "sequence", "frame", "queue"} (t in seconds since start, node ids as in
 `tvmedit info --json`; an in-between frame also has "blend": [[from, to], i], a frame of
 a loop's closing "blend": [[n, n], i]). Lines with an "event" key are not frames: "start" (first line),
@@ -58,6 +61,7 @@ def add_arguments(parser):
     parser.add_argument("--hold-seconds", type=options.hold_seconds, default=3.0, metavar="N",
                         help="how long Shift+key holds a motion once it begins (default 3)")
     options.add_shading(parser)
+    options.add_smooth(parser)
     options.add_wander(parser, length=False)
 
 
@@ -105,7 +109,11 @@ def run(args):
     try:
         app = PlayerApp(graph, library, order, start, fps=fps, forbidden=forbidden,
                         aspect=args.size[0] / args.size[1], log=log, clock_zero=_CLOCK_ZERO,
-                        shading=args.shading, hold_seconds=args.hold_seconds, walker=walker)
+                        shading=args.shading, hold_seconds=args.hold_seconds, walker=walker,
+                        smooth=args.smooth)
+        note = options.smooth_note(library, args, float("inf"), fps).strip()
+        if note:
+            print(note, file=sys.stderr)
         app.write_header(_WALL_ZERO, library=str(args.library))
         for node in keys[1:]:
             app.queue(node, time.perf_counter())

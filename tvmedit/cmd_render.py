@@ -12,9 +12,11 @@ a textured capture at most 12 tiles of 640x480, 4 a row, large enough to read pr
 held card. A longer motion (a one-shot stretch of a real capture) is shown by frames spread
 evenly over it, each labelled with its frame number.
 
---durations, --at and --hold set how long the legs last, as for `tvmedit path`; the video has
-exactly as many frames as that schedule (at --fps other than the library's, it plays faster
-or slower, frame for frame).
+--durations, --at and --hold set how long the legs last, as for `tvmedit path`; the video
+lasts as long as that schedule plays. --fps N writes N frames a second of it (MP4 at 30 or 60
+from a 10 fps capture): each output frame shows the body at its own instant, between two
+stored frames, from the display-rate in-betweens the library holds (--no-smooth holds each
+stored frame instead, the capture as it is; a library built before them does so too).
 """
 
 import dataclasses
@@ -44,7 +46,8 @@ def add_arguments(parser):
     parser.add_argument("--orbit", type=options.finite, default=0.0, metavar="DEG_PER_S",
                         help="turn the camera this many degrees per second (free viewpoint)")
     parser.add_argument("--fps", type=options.positive, default=None,
-                        help="output frame rate (default: the library's)")
+                        help="output frame rate (default: the library's); the edit's timing is kept")
+    options.add_smooth(parser)
     parser.add_argument("--grid", action="store_true", help="draw a floor grid")
     options.add_shading(parser)
     parser.add_argument("--force", action="store_true",
@@ -73,6 +76,7 @@ def run(args):
     from tvmedit.engine.errors import TvmError
     from tvmedit.engine.store.library import Library
     from tvmedit import player
+    from tvmedit.engine.inbetween.instants import instants
 
     options.check_wander(args)
     timing = options.check_timing(args) if args.node is None and len(args.keys) >= 2 and not args.wander else {}
@@ -108,9 +112,11 @@ def run(args):
         camera = camera_for(library, size, args.camera, args.orbit) if args.camera else None
         out = player.render(edit, args.out, size=size, fps=fps, camera=camera,
                             orbit_deg_per_s=args.orbit, progress=not args.quiet, grid=args.grid,
-                            shading=args.shading,
+                            shading=args.shading, smooth=args.smooth,
                             force=args.force)
     except (ValueError, FileExistsError) as error:
         raise TvmError(str(error).rstrip(".") + ".") from None
-    print(f"wrote {len(edit.schedule)} frames ({len(edit.schedule) / fps:.1f} s at {fps:g} fps) to {out}")
+    frames = len(instants(len(edit.schedule), edit.fps or fps, fps))
+    seconds = len(edit.schedule) / (edit.fps or fps)
+    print(f"wrote {frames} frames ({seconds:.1f} s at {fps:g} fps) to {out}" + options.smooth_note(library, args, fps, edit.fps))
     return 0

@@ -305,3 +305,19 @@ def add_shading(parser):
     parser.add_argument("--shading", choices=("auto", "texture", "colour"), default="auto",
                         help="draw each frame's texture (texture) or its vertex colours (colour); "
                              "default auto: the texture where the capture has one")
+
+
+def add_smooth(parser):
+    """--smooth / --no-smooth, for play, render and export."""
+    parser.add_argument("--smooth", action=argparse.BooleanOptionalAction, default=True,
+                        help="show the body between stored frames at the display's rate, from the library's "
+                             "display-rate in-betweens (default); --no-smooth shows the capture as it is")
+
+
+def smooth_note(library, args, fps, capture_fps):
+    """One line for a library without display-rate in-betweens asked to show more frames a
+    second than it stores: what it shows, and how to rebuild it; '' otherwise."""
+    if not args.smooth or library.smooth or not capture_fps or fps <= capture_fps:
+        return ""
+    return (f"\nnote: {library.path} has no display-rate in-betweens (built before them, or with --no-smooth), "
+            f"so each stored frame is held; rebuild it for smooth motion: tvmedit build ... -o {library.path} --force")

@@ -88,7 +88,7 @@ def has_sound(library):
     return False
 
 
-def export_edit(edit, out, force=False, progress=False, fmt=None):
+def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smooth=True):
     """Write ``edit`` (a composition of ``library.edit``) as frames into folder ``out``.
 
     Parameters
@@ -100,6 +100,10 @@ def export_edit(edit, out, force=False, progress=False, fmt=None):
     force : replace a previous export at ``out`` (see :func:`tvmedit.engine.safewrite.check_target`)
     progress : show a progress bar on stderr
     fmt : one of :data:`FORMATS`, or None for the library's own (:func:`default_format`)
+    fps : frames a second to write, the edit's timing kept (:func:`tvmedit.engine.inbetween.instants.instants`);
+        None: one frame per schedule frame, at the capture's rate
+    smooth : write the surfaces the player shows between stored frames (the display-rate
+        in-betweens the library holds); False: each stored frame held until the next
 
     Returns
     -------
@@ -118,30 +122,35 @@ def export_edit(edit, out, force=False, progress=False, fmt=None):
         schedule = edit.schedule
         textures = []
         pool = None
+        capture_fps = library.sequence(schedule[0].sequence).fps if schedule else None
+        shown = _shown(library, schedule, capture_fps, fps, smooth)
         if fmt == "ply":
-            names = (_write_ply_frame(library, entry, tmp, index) for index, entry in enumerate(schedule))
+            names = (_write_ply_frame(library, item, tmp, index) for index, item in enumerate(shown))
         else:
             # Encoding (Draco, JPG, PNG) releases the GIL: frames are written on every core, in order.
             pool = ThreadPoolExecutor(max_workers=os.cpu_count() or 1)
             names = pool.map(lambda job: _write_captured(library, job[1], fmt, tmp, f"frame_{job[0]:05d}"),
-                             enumerate(schedule))
+                             enumerate(shown))
         if progress:
             from tqdm import tqdm
-            names = tqdm(names, total=len(schedule), desc="export", unit="frame", leave=False)
+            names = tqdm(names, total=len(shown), desc="export", unit="frame", leave=False)
         try:
-            for index, (entry, name) in enumerate(zip(schedule, names)):
+            for index, (item, name) in enumerate(zip(shown, names)):
                 if fmt != "ply":
                     name, texture = name
                     textures.append(texture)
+                entry = item[0]
                 frames.append({"index": index, "file": name, **entry.to_json(),
-                               "source_file": _source_file(library, entry.sequence, entry.frame)})
+                               "source_file": _source_file(library, entry.sequence, entry.frame),
+                               **_instant_json(item, schedule, fps)})
         finally:
             if pool is not None:    # nothing left writing into the folder, whatever happened
                 pool.shutdown(cancel_futures=True)
-        fps = library.sequence(schedule[0].sequence).fps if schedule else None
+        fps = capture_fps if fps is None else fps
         record = {
             "library": str(Path(library.path).resolve()),
             "fps": fps,
+            **({"capture_fps": capture_fps} if fps != capture_fps else {}),
             "keys": [int(k) for k in edit.keys],
             "legs": edit.legs_json(),
             "key_starts": list(edit.starts),
@@ -157,23 +166,63 @@ def export_edit(edit, out, force=False, progress=False, fmt=None):
     return record
 
 
-def _write_ply_frame(library, entry, folder, index):
-    """One frame as binary PLY with its vertex colours, in tvmedit's frame; returns its file name."""
+def _shown(library, schedule, capture_fps, fps, smooth):
+    """``(entry, schedule index, s, field)`` of each output frame: schedule frame ``index`` and
+    the field of its step to the next, to be moved ``s`` of the way (field None: as stored).
+    With ``fps`` None, one output frame per schedule frame."""
+    from ..inbetween.instants import instants
+
+    if fps is None:
+        return [(entry, index, 0.0, None) for index, entry in enumerate(schedule)]
+    shown, last = [], (None, None)
+    for index, s in instants(len(schedule), capture_fps, fps):
+        field = None
+        if smooth and s > 0 and index + 1 < len(schedule):
+            if last[0] != index:
+                last = (index, library.instant_field(schedule[index].key, schedule[index + 1].key))
+            field = last[1]
+        shown.append((schedule[index], index, s if field is not None else 0.0, field))
+    return shown
+
+
+def _instant_json(item, schedule, fps):
+    """What ``edit.json`` says of an output frame written at ``fps``: the schedule frame it
+    shows (``schedule_index``) and, between two, the next one and how far (``at``)."""
+    if fps is None:
+        return {}
+    entry, index, s, _ = item
+    if not s:
+        return {"schedule_index": index}
+    return {"schedule_index": index, "at": s, "next": schedule[index + 1].to_json()}
+
+
+def _frame_mesh(library, item):
+    """``(positions, colours, faces)`` of an output frame: the stored mesh, moved ``s`` of its step."""
+    from ..inbetween.instants import moved
+
+    entry, _, s, field = item
     positions, colours, faces, _ = library.frame_mesh(entry.key)
+    return (positions if field is None else moved(positions, field, s)), colours, faces
+
+
+def _write_ply_frame(library, item, folder, index):
+    """One frame as binary PLY with its vertex colours, in tvmedit's frame; returns its file name."""
+    positions, colours, faces = _frame_mesh(library, item)
     name = f"frame_{index:05d}.ply"
     write_ply(folder / name, positions, faces, colours)
     return name
 
 
-def _write_captured(library, entry, fmt, folder, stem):
+def _write_captured(library, item, fmt, folder, stem):
     """One frame in ``fmt``, with its texture where the frame has one; returns (mesh file, texture file).
 
     A captured frame (not an in-between one) whose file is of the format asked is copied as
     it came, with its texture: lossless, and as fast as a copy."""
-    copied = _copy_captured(library, entry, fmt, folder, stem) if entry.blend is None else None
+    entry = item[0]
+    copied = _copy_captured(library, entry, fmt, folder, stem) if entry.blend is None and item[3] is None else None
     if copied is not None:
         return copied
-    positions, colours, faces, _ = library.frame_mesh(entry.key)
+    positions, colours, faces = _frame_mesh(library, item)
     texture = library.frame_texture(entry.key) if library.textured else None
     uv, image = texture if texture is not None else (None, None)
     if fmt == "glb":

@@ -9,10 +9,10 @@ offline, at build time, and the library stores the frames it makes beside the te
 
 Method: surface alignment, as Prada et al. (2016) blend meshes without correspondence. A
 smooth, non-rigid displacement field carries the outgoing frame ``a`` onto the incoming
-surface ``b`` (:func:`align`), and another carries ``b`` back onto ``a``. The in-between frame
-at time ``t`` (``0 < t < 1``) is ``a`` warped by ``t`` times the first field while ``t < 1/2``,
-and ``b`` warped back by ``1 - t`` times the second from then on: the cut falls in the middle,
-where the two nearly coincide. Every in-between frame is therefore one captured frame's own
+surface ``b`` (:func:`align`), and another carries ``b`` back onto ``a``'s half-way warp
+(:func:`fields_of`). The in-between frame at time ``t`` (``0 < t < 1``) is ``a`` warped by
+``t`` times the first field while ``t < 1/2``, and ``b`` warped back by ``2 (1 - t)`` times the
+second from then on: the cut falls in the middle, where the two meet. Every in-between frame is therefore one captured frame's own
 mesh with its own colours (and texture), moved smoothly: its area is that of a real frame,
 and it is never two people at once, as a blend of two surfaces would be.
 
@@ -39,7 +39,7 @@ import numpy as np
 from ..capture.normals import vertex_normals
 
 __all__ = ["MAX_FRAMES", "preload", "kdtree", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
-           "BlendRun", "blend", "frame_count", "side", "check_count"]
+           "BlendRun", "blend", "fields_of", "frame_count", "side", "check_count"]
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
@@ -173,7 +173,7 @@ def _level_nodes(sigma):
     return int(min(NODES, max(MIN_NODES, NODES * (SIGMAS[-1] / sigma) ** 2 * LEVEL_DENSITY)))
 
 
-def align(moving, still, seed=0):
+def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS):
     """A smooth displacement of every vertex of ``moving`` that lays it onto ``still``.
 
     Non-rigid ICP with symmetric nearest-point forces, smoothed by a Gaussian over nodes
@@ -187,6 +187,9 @@ def align(moving, still, seed=0):
         Vertices of the frame to reach.
     seed : int
         Seed of the node sampling (the result is deterministic).
+    sigmas, steps : tuple of float, int
+        The radii, coarse to fine, and the iterations at each: two frames a capture step
+        apart need fewer and finer ones (:mod:`.instants`) than a transition's cut.
 
     Returns
     -------
@@ -200,14 +203,14 @@ def align(moving, still, seed=0):
     pulls = still[_sample(still, TARGET_POINTS, seed + 1)]
     still_tree = _kdtree(still)
     nodes, shift = moving[:0], np.zeros((0, 3))
-    for sigma in SIGMAS:
+    for sigma in sigmas:
         count = min(len(order), _level_nodes(sigma))
         if count > len(nodes):
             more = moving[order[len(nodes):count]]
             carried = _follow(more, nodes, shift) if len(nodes) else np.zeros_like(more)
             nodes, shift = np.vstack([nodes, more]), np.vstack([shift, carried])
         kernel = _smoother(nodes, sigma)
-        for _ in range(STEPS):
+        for _ in range(steps):
             warped = nodes + shift
             pull = still[still_tree.query(warped)[1]] - warped
             nearest = _kdtree(warped).query(pulls)[1]
@@ -279,15 +282,30 @@ def side(index, count):
 
 
 def _run(outgoing, incoming, fields, count):
-    """The ``count`` in-between frames at times ``k / (count + 1)``, cut at the middle."""
+    """The ``count`` in-between frames at times ``k / (count + 1)``, cut at the middle: the
+    outgoing frame moved ``t`` of the way by ``fields[0]``, then the incoming frame moved back
+    by ``2 (1 - t)`` times ``fields[1]``, which lays it on the outgoing frame's half-way warp."""
     frames = []
     for index in range(count):
         t = (index + 1) / (count + 1)
         if side(index, count) == 0:
             frames.append(_warp(outgoing, fields[0], t, 0))
         else:
-            frames.append(_warp(incoming, fields[1], 1.0 - t, 1))
+            frames.append(_warp(incoming, fields[1], 2.0 * (1.0 - t), 1))
     return frames
+
+
+def fields_of(a, b, seed=0):
+    """The two fields of a run from ``a`` to ``b``: ``a`` laid onto ``b``, and ``b`` laid onto
+    the half-way surface ``a + field / 2``, not onto ``a``.
+
+    Two fields fitted apart (``a`` onto ``b``, ``b`` onto ``a``) disagree where the fit is
+    poor, and the run switches from one to the other in its middle: there a forearm the fits
+    carried differently jumps, a few hundred vertices moving far while the mean step stays
+    small. Fitting the second onto the first one's middle makes the two warps meet where the
+    run switches, to the residual of one fit between surfaces half as far apart."""
+    forward = align(a, b, seed)
+    return forward, align(b, a + 0.5 * forward, seed)
 
 
 def _steps(ends, frames, stop=None):
@@ -358,7 +376,7 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
     jump = chamfer(a, b, ends[0][1], ends[1][1], stride=4)
     if count == 0 or (count is None and jump <= natural):
         return BlendRun([], [jump], jump)
-    fields = (align(a, b, seed), align(b, a, seed))
+    fields = fields_of(a, b, seed)
     n = max(frame_count(jump, natural), 1) if count is None else count
     previous = None
     while True:

@@ -235,6 +235,29 @@ class Playhead:
             return closing
         return ScheduleEntry(visit.node, visit.sequence, frame)
 
+    def peek(self):
+        """The frame :meth:`advance` will return next, without playing it (the player draws the
+        body on its way there, :mod:`tvmedit.engine.inbetween.instants`).
+
+        Where a walker is to choose the next motion now, it chooses here (what :meth:`advance`
+        would do first); a key motion queued before the next :meth:`advance` may still change it.
+        """
+        if self._blending:
+            return self._blending[0]
+        visit = self._visit
+        if self.walker is not None and not self._plan and not self._queue and visit.exit is None:
+            self._walk_step(visit)
+        if visit.remaining() == 0:
+            visit = self._plan[0]
+            a = visit.arrival
+            blend = blend_entries(self.graph, a.source, a.target)
+            if blend:
+                return blend[0]
+            return ScheduleEntry(visit.node, visit.sequence, visit.entry)
+        frame = visit.start + (visit.entry - visit.start + visit.shown) % visit.length
+        closing = self._closing(visit, frame)
+        return closing if closing is not None else ScheduleEntry(visit.node, visit.sequence, frame)
+
     def _walk_step(self, visit):
         """Plan the walk's next motion from ``visit``: its edge, and the extra cycles to play first."""
         target = self.walker.next(visit.node)

@@ -39,7 +39,7 @@ from . import featurecache
 from . import layout
 from . import meshfiles
 from ..inbetween.blend import preload
-from .inbetweens import blend_library, loop_frames
+from .inbetweens import blend_library, instant_library, loop_frames
 from ..errors import InputError, TvmError
 from ..features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
                        moves_across)
@@ -105,6 +105,7 @@ class _Run:
         self.stages = {}
         self.read_frames = 0
         self.started = time.perf_counter()
+        self.blends = self.instants = None
 
     def stage(self, name, fn, *args):
         """Run one stage and record how long it took."""
@@ -325,10 +326,12 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
         records,
         params={"bins": bins.to_json(), "structure": settings.params, "mu": settings.mu,
                 "skip_bad_frames": settings.skip_bad_frames, "connect": settings.connect,
-                "blend_frames": settings.blend_frames, "keep_frames": settings.keep_frames},
+                "blend_frames": settings.blend_frames, "keep_frames": settings.keep_frames,
+                "smooth": settings.smooth},
         feature_columns={"r": width, "theta": bins.n_theta, "phi": bins.n_phi, "centred_r": centred_width},
         counts={"frames": row, "nodes": len(nodes), "edges": graph.number_of_edges(),
-                "stored_frames": meshes.frames, "blend_frames": run.blends["frames"]},
+                "stored_frames": meshes.frames, "blend_frames": run.blends["frames"],
+                "display_steps": run.instants["pairs"] if run.instants else 0},
         bounds=_union(meshes.bounds, run.blends["bounds"] if run.blends["frames"] else meshes.bounds),
         max_counts=np.maximum(meshes.max_counts, run.blends["max_counts"]).tolist()))
 
@@ -381,7 +384,7 @@ def _open_old(out, open_library):
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
           units=None, mirror=None, body_frame=True, connect="auto", corrections=None, blend_frames=None,
-          keep_frames="motions", open_library=None):
+          keep_frames="motions", smooth=True, open_library=None):
     """Write a library from TVM sequences and return its report (``engine.build``, that is
     :func:`tvmedit.engine.store.library.build`, returns it opened).
 
@@ -427,6 +430,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         Store the frames of the database motions only (default), or every frame of every
         sequence (``tvmedit.engine.store.settings.KEEP_FRAMES``): a larger library whose corrections by hand
         never read a frame file, even with the capture folder gone.
+    smooth : bool
+        Make the display-rate in-betweens (:mod:`tvmedit.engine.inbetween.instants`), the default:
+        every step the player and renderer show gets a field, so the body moves at the
+        display's rate; False: a smaller library that plays at the capture's rate.
     open_library : callable or None
         Opens the library being replaced (``Library.open``), to reuse its features,
         corrections and meshes; None: nothing is reused from it.
@@ -439,7 +446,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
 
     run = _Run(progress, log)
     out = Path(out).absolute()
-    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames, keep_frames)
+    settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames, keep_frames, smooth)
     given = None if corrections is None else Corrections.coerce(corrections or None)
     sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror,
                                                 "body_frame": bool(body_frame)})
@@ -494,6 +501,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
                            pool, run.bar, old, keep_natural, rooms)
+    run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
+                             run.blends["data"], settings.blend_frames, pool, run.bar) if settings.smooth else None
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 
@@ -526,6 +535,7 @@ def report_of(derived):
         "blend_frames": run.blends["frames"],
         "blend_seconds": run.blends["seconds"],
         "blend_made": run.blends["made"],
+        "display_steps": run.instants["pairs"] if run.instants else 0,
         "read_frames": run.read_frames,
         "corrected": sorted(name for name, c in analysis.corrections.sequences.items() if c),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)

@@ -13,7 +13,7 @@ import numpy as np
 from ..inbetween.blend import blend, frame_count, natural_step, side, texton_steps
 from ..inbetween.loops import close_loop, plan, window
 
-__all__ = ["blend_library", "NATURAL_PAIRS"]
+__all__ = ["blend_library", "instant_library", "NATURAL_PAIRS"]
 
 #: Consecutive texton frame pairs a build measures the natural step on, at most (spread
 #: evenly over the textons): the median of 240 is as good as of all, and a 60 fps take
@@ -287,3 +287,86 @@ def _copied(old, run, wrap=False):
         frames.append((np.array(positions), np.array(colours), np.array(faces), np.array(normals),
                        index if wrap else side(index, count)))
     return frames, steps, jump, 0.0
+
+
+def _displayed(folder, ids):
+    """``(positions, normals)`` of the meshes ``ids`` of the library being written: a stored
+    frame's row, or ``-1 - k`` for its ``k``-th in-between frame."""
+    from .arrays import frame_offsets, mesh_arrays
+
+    meshes, tables = [], {}
+    for mesh_id in ids:
+        prefix = "blend_" if mesh_id < 0 else ""
+        if prefix not in tables:
+            arrays = mesh_arrays(folder, prefix)
+            tables[prefix] = (arrays, frame_offsets(folder, arrays, prefix))
+        arrays, offsets = tables[prefix]
+        v0, nv = offsets[-1 - mesh_id if mesh_id < 0 else mesh_id, :2].tolist()
+        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["normals"][v0:v0 + nv])))
+    return meshes
+
+
+def _field_task(task):
+    """The fields of a few display steps: ``(folder, [(from id, to id), ...])`` -> list of
+    float16 (N, 3) (:func:`tvmedit.engine.inbetween.instants.step_field`); a mesh read once."""
+    from ..inbetween.instants import step_field
+
+    folder, pairs = task
+    ids = list(dict.fromkeys(i for pair in pairs for i in pair))
+    meshes = dict(zip(ids, _displayed(folder, ids)))
+    return [step_field(meshes[a][0], *meshes[b]) for a, b in pairs]
+
+
+#: Display steps a worker's task fits, at most (a few frames' fits: scheduling stays cheap
+#: and every core busy to the end).
+FIELDS_PER_TASK = 6
+
+
+def instant_library(folder, names, graph, blends, count, pool, bar=None):
+    """Make and store the field of every step a schedule of the library shows
+    (:mod:`tvmedit.engine.inbetween.instants`), a build's stage after the in-between frames:
+    ``instant_pairs.npy`` (per step: from mesh id, to mesh id, first row, rows) and
+    ``instant_fields.npy`` (float16, a row per vertex of each step's first mesh).
+
+    ``blends`` is what ``blends.json`` holds (:func:`blend_library`'s ``data``); with ``count``
+    0 (the paper's cut) the cut itself gets no field. Returns ``{"pairs", "seconds"}``.
+    """
+    import time
+
+    from .arrays import frame_keys, frame_offsets, mesh_arrays
+    from ..inbetween.instants import display_pairs
+
+    started = time.perf_counter()
+    offsets = frame_offsets(folder, mesh_arrays(folder))
+    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    nodes = [(d["sequence"], d["start"], d["end"]) for _, d in sorted(graph.nodes(data=True))]
+    edges = [e for e in blends["edges"] if count != 0 or e["count"]]
+    pairs = display_pairs(nodes, edges, blends.get("wraps", []), lambda seq, frame: rows[seq, frame])
+    blend_offsets = frame_offsets(folder, mesh_arrays(folder, "blend_"), "blend_") if blends["edges"] or \
+        blends.get("wraps") else np.zeros((0, 4), np.int64)
+    sizes = [int((blend_offsets[-1 - a] if a < 0 else offsets[a])[1]) for a, _ in pairs]
+    table = np.zeros((len(pairs), 4), np.int64)
+    table[:, :2] = pairs if pairs else np.zeros((0, 2))
+    table[:, 3] = sizes
+    table[:, 2] = np.cumsum(sizes) - sizes
+    fields = np.lib.format.open_memmap(folder / "instant_fields.npy", mode="w+", dtype=np.float16,
+                                       shape=(int(sum(sizes)), 3))
+    chunks = [pairs[k:k + FIELDS_PER_TASK] for k in range(0, len(pairs), FIELDS_PER_TASK)]
+    progress = bar(len(pairs), "in-betweens", unit="step") if bar is not None else None
+    try:
+        made = pool.map(_field_task, ((str(folder), chunk) for chunk in chunks))
+        k = 0
+        for chunk_fields in made:
+            for field in chunk_fields:
+                first, size = table[k, 2:].tolist()
+                fields[first:first + size] = field
+                k += 1
+            if progress is not None:
+                progress.update(len(chunk_fields))
+    finally:
+        if progress is not None:
+            progress.close()
+    fields.flush()
+    del fields
+    np.save(folder / "instant_pairs.npy", table)
+    return {"pairs": len(pairs), "seconds": time.perf_counter() - started}

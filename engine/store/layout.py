@@ -66,7 +66,8 @@ CHECKED_FILES = ("features.npy", "features_centred.npy", "structure.json", "data
                  "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
                  "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json",
                  "blends.json", "blend_positions.npy", "blend_colours.npy", "blend_normals.npy",
-                 "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy", "blend_texture_frames.npy")
+                 "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy", "blend_texture_frames.npy",
+                 "instant_pairs.npy", "instant_fields.npy")
 
 def tvmedit_version():
     """The installed tvmedit's version, recorded in every manifest."""

@@ -374,6 +374,51 @@ class Library:
         arrays, offsets, row, _ = self._locate(key)
         return self._mesh_at(arrays, offsets, row, f"frame {key[1]} of {key[0]}")
 
+    @cached_property
+    @_reads_format
+    def _instants(self):
+        """``({(from id, to id): (first, rows)}, fields)`` of the display steps, or None."""
+        if "instant_pairs.npy" not in self.manifest.get("files", {}):
+            return None
+        table = layout.load_array(self.path, "instant_pairs.npy")
+        fields = layout.load_array(self.path, "instant_fields.npy")
+        if table.ndim != 2 or table.shape[1] != 4 or fields.ndim != 2 or fields.shape[1] != 3 or (
+                len(table) and int((table[:, 2] + table[:, 3]).max()) > len(fields)):
+            raise layout.damaged(self.path, ValueError("instant_pairs.npy does not match instant_fields.npy"))
+        return {(a, b): (first, rows) for a, b, first, rows in table.tolist()}, fields
+
+    @property
+    def smooth(self):
+        """Whether the library holds display-rate in-betweens (:meth:`instant_field`); a
+        library built before them, or with ``smooth=False``, plays at the capture's rate."""
+        return self._instants is not None
+
+    def _mesh_id(self, key):
+        """The id the display steps name mesh ``key`` by: its stored row, or ``-1 - row`` of an
+        in-between frame."""
+        sequence, frame, *blend = key
+        if blend and blend[0] is not None:
+            return -1 - self._blend_row(blend[0])
+        return self._row(sequence, frame)
+
+    @_reads_format
+    def instant_field(self, key, next_key):
+        """The float16 (N, 3) displacement that carries mesh ``key``'s N vertices onto mesh
+        ``next_key``'s surface (:mod:`tvmedit.engine.inbetween.instants`): the surface at fraction
+        ``s`` of the step is ``positions + s * field``. None where the library holds none for
+        this step (built before them, or a step no schedule of it shows)."""
+        if self._instants is None or next_key is None:
+            return None
+        found = self._instants[0].get((self._mesh_id(key), self._mesh_id(next_key)))
+        if found is None:
+            return None
+        first, rows = found
+        _, offsets, row, _ = self._locate(key)
+        if rows != int(offsets[row, 1]):
+            raise layout.damaged(self.path, ValueError(f"the display step from {key} has {rows} rows for "
+                                                       f"{int(offsets[row, 1])} vertices"))
+        return self._instants[1][first:first + rows]
+
     def blend_row(self, row):
         """:meth:`frame_mesh` of the ``row``-th in-between frame stored (runs one after another,
         as ``blends.json`` lists them)."""

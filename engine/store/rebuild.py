@@ -79,7 +79,8 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     params = library.params
     settings = Settings.of(BinSizes(**params["bins"]), StructureParams.recorded(params["structure"]),
                            params["mu"] if mu is None else mu, params.get("skip_bad_frames", False),
-                           library.connect, params.get("blend_frames"), params.get("keep_frames", "motions"))
+                           library.connect, params.get("blend_frames"), params.get("keep_frames", "motions"),
+                           params.get("smooth", True))
     corrections = library.corrections() if corrections is None else Corrections.coerce(corrections)
     sequences, computed = [], []
     for record in library.manifest["sequences"]:

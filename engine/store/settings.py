@@ -30,9 +30,11 @@ class Settings(NamedTuple):
     connect: str = "auto"
     blend_frames: int | None = None
     keep_frames: str = "motions"
+    smooth: bool = True     # make the display-rate in-betweens (tvmedit.engine.inbetween.instants)
 
     @classmethod
-    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None, keep_frames="motions"):
+    def of(cls, bins, structure, mu, skip_bad_frames, connect="auto", blend_frames=None, keep_frames="motions",
+           smooth=True):
         from ..parse import structure as structure_module
         from ..inbetween.blend import check_count
         from ..graph.connect import MODES
@@ -45,7 +47,7 @@ class Settings(NamedTuple):
                                         f"{', '.join(map(repr, KEEP_FRAMES))}.")
         return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
                    MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect,
-                   check_count(blend_frames), keep_frames)
+                   check_count(blend_frames), keep_frames, bool(smooth))
 
 
 def _check_mu(mu):

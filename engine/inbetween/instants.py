@@ -1,0 +1,200 @@
+"""A surface at every instant: in-between geometry for each step the player and renderer show.
+
+A capture at 10 fps changes the body ten times a second; the player redraws at 60 Hz or more
+and a video may be written at 30 or 60 fps. Between two frames shown one after the other, ``a``
+then ``b`` (two frames of a texton, a loop's wrap, or the frames of a transition's run), the
+surface at fraction ``s`` of the step (``0 <= s < 1``) is
+
+    ``a + s * F``,  where ``F`` = :func:`tvmedit.engine.inbetween.blend.align` (``a`` onto ``b``),
+
+``a``'s own mesh, colours and texture carried smoothly onto ``b``'s surface; at ``s = 1`` ``b``
+itself takes over. One alignment serves the three kinds of step, as it serves transitions.
+
+Why one field a step, forward, rather than ``a`` forward and ``b`` back meeting in the middle:
+where the two fields are fitted apart they disagree, and the switch in the middle shows it as
+a jump of the limbs they carried differently. Carried all the way, ``a`` lies on ``b``'s
+surface when ``b`` takes over, so the switch moves the surface by the fit's residual alone (a
+centimetre or two at the 99th percentile where a step moves limbs ten), and only the sampling
+of the surface (which vertices, which colours) changes there, as at any captured frame. It
+also costs half: one fit and one field per step.
+
+Why stored as a float16 displacement of ``a``'s vertices, per step: it is the least that
+gives the motion, six bytes a vertex beside the frame's 50-odd (positions, normals, colours,
+faces), and half-precision resolves a displacement of up to 0.5 m to a quarter of a millimetre.
+The player's work per displayed frame stays an upload and a draw: the displacement is an
+attribute, ``s`` a uniform, and the vertex shader adds them (``shaders/mesh.glsl``). Normals are
+the frame's own: over one step a normal turns little.
+
+Which steps: every pair of frames some schedule shows one after the other
+(:func:`display_pairs`): consecutive frames of each texton, its wrap (last frame to first, or
+through the frames that close its loop), and each edge's exit frame, its run and its entry
+frame. A step no field was made for (a library built before them) is shown as captured.
+
+The fit for a step is coarse-to-fine over :data:`SIGMAS` with :data:`STEPS` iterations each:
+two frames a capture step apart differ by centimetres, not by a transition's cut, and the
+finer, fewer levels fit them as closely at a quarter of the cost.
+"""
+
+import numpy as np
+
+from .blend import align, kdtree
+
+__all__ = ["SIGMAS", "STEPS", "step_field", "display_pairs", "instants", "moved", "surface_distances",
+           "step_measures"]
+
+#: Gaussian radii (metres), coarse to fine, of a step's fit, and iterations at each.
+SIGMAS = (0.12, 0.06, 0.03)
+STEPS = 2
+
+
+def step_field(a, b, b_normals=None, seed=0):
+    """The float16 displacement (N, 3) of ``a``'s N vertices that lays them on ``b``'s surface.
+
+    The fit (:func:`tvmedit.engine.inbetween.blend.align`) leaves each vertex a few millimetres
+    off ``b``, in sampling noise as much as in error; given ``b``'s vertex normals, each is then
+    moved along its nearest ``b`` vertex's normal onto that vertex's tangent plane, which halves
+    what is left (what ``b`` changes when it takes over), at one k-d tree query.
+
+    >>> a = np.random.default_rng(0).random((300, 3)); field = step_field(a, a + [0.0, 0.0, 0.01])
+    >>> field.dtype.name, bool(abs(np.median(field[:, 2]) - 0.01) < 0.002)
+    ('float16', True)
+    """
+    field = align(a, b, seed, sigmas=SIGMAS, steps=STEPS)
+    if b_normals is not None and len(b):
+        warped = np.asarray(a, np.float32) + field
+        nearest = kdtree(np.asarray(b)).query(warped)[1]
+        normals = np.asarray(b_normals, np.float32)[nearest]
+        off = np.einsum("ij,ij->i", warped - np.asarray(b, np.float32)[nearest], normals)
+        field -= off[:, None] * normals
+    return field.astype(np.float16)
+
+
+def moved(positions, field, s):
+    """``positions + s * field`` as float32: the surface at fraction ``s`` of a step (what the
+    shader draws, for writing it to a file).
+
+    >>> moved(np.zeros((1, 3), np.float32), np.ones((1, 3), np.float16), 0.25).tolist()
+    [[0.25, 0.25, 0.25]]
+    """
+    out = np.asarray(field, dtype=np.float32) * np.float32(s)
+    out += np.asarray(positions, dtype=np.float32)
+    return out
+
+
+def display_pairs(nodes, edges, wraps, row):
+    """Every step some schedule of a library shows, as pairs of mesh ids.
+
+    Parameters
+    ----------
+    nodes : iterable of (sequence, start, end)
+        The textons.
+    edges : iterable of dict
+        ``blends.json``'s edges: ``exit`` and ``entry`` ``[sequence, frame]``, ``first`` and
+        ``count`` of its run of in-between frames.
+    wraps : iterable of dict
+        ``blends.json``'s loop closings: ``texton`` ``[sequence, start, end]``, ``at``,
+        ``first`` and ``count``.
+    row : callable
+        ``row(sequence, frame)`` -> the mesh id of a stored frame; in-between frame ``k`` is
+        ``-1 - k``.
+
+    Returns
+    -------
+    list of (int, int)
+        Unique, in a fixed order.
+
+    >>> rows = lambda seq, f: f
+    >>> display_pairs([("a", 0, 2)], [], [], rows)
+    [(0, 1), (1, 2), (2, 0)]
+    >>> display_pairs([("a", 0, 5)], [], [{"texton": ["a", 0, 5], "at": "end", "first": 0, "count": 2}], rows)[-3:]
+    [(3, -1), (-1, -2), (-2, 0)]
+    """
+    pairs = []
+    for seq, start, end in nodes:
+        pairs += [(row(seq, f), row(seq, f + 1)) for f in range(start, end)]
+        pairs.append((row(seq, end), row(seq, start)))
+    for wrap in wraps:
+        seq, start, end = wrap["texton"]
+        run = [-1 - (wrap["first"] + k) for k in range(wrap["count"])]
+        if not run:
+            continue
+        if wrap["at"] == "end":
+            chain = [row(seq, end - len(run)), *run, row(seq, start)]
+        else:
+            chain = [row(seq, end), *run, row(seq, start + len(run))]
+        pairs += list(zip(chain, chain[1:]))
+    for edge in edges:
+        chain = [row(*edge["exit"]), *(-1 - (edge["first"] + k) for k in range(edge["count"])), row(*edge["entry"])]
+        pairs += list(zip(chain, chain[1:]))
+    return list(dict.fromkeys(pairs))
+
+
+def instants(count, capture_fps, fps):
+    """Where each output frame of a schedule of ``count`` frames at ``capture_fps`` lies when
+    written at ``fps``: ``(index, s)``, between schedule frames ``index`` and ``index + 1``.
+
+    The schedule's timing is kept: frame ``k`` is shown at ``k / capture_fps`` seconds, and the
+    output lasts as long (``count / capture_fps`` seconds).
+
+    >>> instants(2, 10, 30)
+    [(0, 0.0), (0, 0.333), (0, 0.667), (1, 0.0), (1, 0.333), (1, 0.667)]
+    >>> instants(4, 10, 5)
+    [(0, 0.0), (2, 0.0)]
+    """
+    total = int(round(count * fps / capture_fps))
+    out = []
+    for j in range(max(total, 1)):
+        x = j * capture_fps / fps
+        index = min(int(np.floor(x + 1e-9)), count - 1)
+        out.append((index, round(float(min(max(x - index, 0.0), 1.0)), 3)))
+    return out
+
+
+def surface_distances(points, positions, faces, tree=None, near=4):
+    """Distance (metres) from each of ``points`` to the surface of mesh ``(positions, faces)``.
+
+    The nearest point of the surface lies on a triangle of one of the ``near`` vertices nearest
+    to the point (scipy's k-d tree finds them); each such triangle's nearest point is trimesh's
+    (:func:`trimesh.triangles.closest_point`, vectorised). Unlike the distance to the nearest
+    vertex, two samplings of one surface are 0 apart, so a step measures motion, not sampling.
+
+    >>> square = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    >>> surface_distances(np.array([[0.5, 0.5, 0.1]]), square, np.array([[0, 1, 2], [1, 3, 2]])).round(6).tolist()
+    [0.1]
+    """
+    from trimesh.triangles import closest_point
+
+    positions = np.asarray(positions, dtype=np.float64)
+    faces = np.asarray(faces, dtype=np.int64)
+    points = np.asarray(points, dtype=np.float64)
+    tree = kdtree(positions) if tree is None else tree
+    near = min(near, len(positions))
+    _, nearest = tree.query(points, k=near)
+    nearest = nearest.reshape(len(points), near)
+    # The faces of each vertex, as one flat table: (vertex, face) pairs sorted by vertex.
+    order = np.argsort(faces.ravel(), kind="stable")
+    owner = faces.ravel()[order]
+    face_of = order // 3
+    begin = np.searchsorted(owner, np.arange(len(positions)))
+    end = np.searchsorted(owner, np.arange(len(positions)), side="right")
+    best = np.linalg.norm(positions[nearest[:, 0]] - points, axis=1)   # an isolated vertex still counts
+    for k in range(near):
+        v = nearest[:, k]
+        counts = end[v] - begin[v]
+        if not counts.sum():
+            continue
+        who = np.repeat(np.arange(len(points)), counts)
+        slot = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+        tri = face_of[np.repeat(begin[v], counts) + slot]
+        distance = np.linalg.norm(closest_point(positions[faces[tri]], points[who]) - points[who], axis=1)
+        np.minimum.at(best, who, distance)
+    return best
+
+
+def step_measures(a, b, stride=2):
+    """The mean and 99th percentile of the point-to-surface distances, both ways, between two
+    displayed meshes ``(positions, faces)`` (every ``stride``-th vertex measured): how far the
+    surface moves in one step, and how far its farthest few hundred points move."""
+    d = np.concatenate([surface_distances(a[0][::stride], b[0], b[1]),
+                        surface_distances(b[0][::stride], a[0], a[1])])
+    return float(d.mean()), float(np.percentile(d, 99))
