@@ -221,22 +221,17 @@ def _draw(renderer, source, key, camera, shading="auto", instant=None):
 
 def _shown(source, keys, capture_fps, fps, smooth):
     """``(key, instant)`` of each output frame: the frame, and ``(field, s)`` of the step to
-    the next one or None (the frame as stored). A step's field is fetched once and passed as
-    the same object to the frames inside it, so the renderer uploads it once."""
-    from ..engine.inbetween.instants import instants
+    the next one or None (the frame as stored); see :func:`tvmedit.engine.inbetween.instants.shown`.
+    A step's field is the same object for the frames inside it, so the renderer uploads it once."""
+    from ..engine.inbetween.instants import shown
 
     if capture_fps is None:
         yield from ((key, None) for key in keys)
         return
     fields = getattr(source, "instant_field", None) if smooth else None
-    last = (None, None)
-    for index, s in instants(len(keys), capture_fps, fps):
-        if fields is None or s == 0 or index + 1 >= len(keys):
-            yield keys[index], None
-            continue
-        if last[0] != index:
-            last = (index, fields(keys[index], keys[index + 1]))
-        yield keys[index], None if last[1] is None else (last[1], s)
+    field_of = (lambda i: fields(keys[i], keys[i + 1])) if fields is not None else (lambda i: None)
+    for index, s, field in shown(len(keys), capture_fps, fps, field_of):
+        yield keys[index], None if field is None else (field, s)
 
 
 def _camera(camera, bounds, size, all_azimuths=False):

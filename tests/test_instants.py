@@ -31,14 +31,25 @@ def _mesh(library, key):
     return np.asarray(positions), np.asarray(faces)
 
 
-def test_every_step_an_edit_or_a_walk_shows_has_a_field_of_its_vertices(library):
+def test_every_step_an_edit_or_a_walk_shows_moves_but_where_the_capture_stands_still(library):
+    """A step gets a field unless the fit would not bring the frame nearer the next one (the
+    body barely moves there); those are few, and small."""
+    natural = np.median([step_measures(_mesh(library, (n.sequence, f)), _mesh(library, (n.sequence, f + 1)), 4)[0]
+                         for n in library.nodes for f in range(n.start, n.end, 4)])
     assert library.smooth
+    steps = held = 0
     for edit in (_edit(library), library.wander(40, seed=2)):
         schedule = edit.schedule
         for a, b in zip(schedule, schedule[1:]):
             field = library.instant_field(a.key, b.key)
-            assert field is not None, f"no field for the step {a.key} -> {b.key}"
-            assert field.shape == (len(library.frame_mesh(a.key)[0]), 3) and field.dtype == np.float16
+            steps += 1
+            if field is None:
+                held += 1
+                captured = step_measures(_mesh(library, a.key), _mesh(library, b.key), 4)[0]
+                assert captured < natural, f"the step {a.key} -> {b.key} moves {captured / natural:.2f} natural steps"
+            else:
+                assert field.shape == (len(library.frame_mesh(a.key)[0]), 3) and field.dtype == np.float16
+    assert held <= 0.1 * steps, (held, steps)
 
 
 def test_a_field_carries_a_frame_onto_the_next_frames_surface(library):
@@ -103,7 +114,8 @@ def test_render_at_30_fps_keeps_the_timing_and_moves_between_stored_frames(libra
 
     smooth = [iio.imread(f).astype(int) for f in sorted(out.glob("frame_*.png"))[:9]]
     still = [iio.imread(f).astype(int) for f in sorted(held.glob("frame_*.png"))[:9]]
-    assert all(np.abs(still[k] - still[k - k % 3]).max() == 0 for k in range(9))   # each frame held
+    # each stored frame shown until the instant nearest the next one
+    assert all(np.abs(still[k] - still[3 * int(k / 3 + 0.5)]).max() == 0 for k in range(7))
     assert all(np.abs(smooth[k] - smooth[k - 1]).mean() > 0 for k in (1, 2, 4, 5))  # the body moves within
     assert np.abs(smooth[0] - still[0]).max() == 0                                   # stored frames as stored
 

@@ -131,6 +131,11 @@ def add_arguments(parser):
                             "onto the entry frame; 0 keeps the paper's cut (default: as many as keep "
                             "every step at or below the natural step between captured frames)")
 
+    group.add_argument("--smooth", action=argparse.BooleanOptionalAction, default=True,
+                       help="make the display-rate in-betweens, so the body moves at the display's rate in "
+                            "play, render --fps and export --fps (default); --no-smooth: a smaller library "
+                            "that shows the capture's rate")
+
     group.add_argument("--keep-frames", choices=KEEP_FRAMES, default="motions",
                        help="motions (default): store the frames of the database motions only; all: store "
                             "every frame, a larger library whose corrections by hand (tvmedit correct, "
@@ -177,7 +182,7 @@ def run(args):
                     cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror,
                     body_frame=args.body_frame,
                     corrections=False if args.no_corrections else args.corrections,
-                    blend_frames=args.blend_frames, keep_frames=args.keep_frames)
+                    blend_frames=args.blend_frames, keep_frames=args.keep_frames, smooth=args.smooth)
     if args.quiet:
         return 0
     report = library.report
@@ -186,7 +191,8 @@ def run(args):
         f"{report['clusters']} clusters, {report['nodes']} database motions, "
         f"{report['edges']} graph edges"
         + (f" ({report['added']} added so every motion reaches every other)" if report.get("added") else "")
-        + f", {report['stored_frames']} frames stored (+{report['blend_frames']} in-between), "
+        + f", {report['stored_frames']} frames stored (+{report['blend_frames']} in-between"
+        + (f", {report['display_steps']} steps smoothed" if report.get("display_steps") else "") + "), "
         f"in {report['seconds']:.1f} s ({report['workers']})"
         + (f"; features reused for {len(reused)} of {report['sequences']} sequence(s)" if reused else "")
         + (f"; corrections by hand applied to {', '.join(report['corrected'])}" if report["corrected"] else ""))

@@ -168,21 +168,15 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
 
 def _shown(library, schedule, capture_fps, fps, smooth):
     """``(entry, schedule index, s, field)`` of each output frame: schedule frame ``index`` and
-    the field of its step to the next, to be moved ``s`` of the way (field None: as stored).
-    With ``fps`` None, one output frame per schedule frame."""
-    from ..inbetween.instants import instants
+    the field of its step to the next, to be moved ``s`` of the way (field None: as stored;
+    :func:`tvmedit.engine.inbetween.instants.shown`). With ``fps`` None, one output frame per
+    schedule frame."""
+    from ..inbetween.instants import shown
 
     if fps is None:
         return [(entry, index, 0.0, None) for index, entry in enumerate(schedule)]
-    shown, last = [], (None, None)
-    for index, s in instants(len(schedule), capture_fps, fps):
-        field = None
-        if smooth and s > 0 and index + 1 < len(schedule):
-            if last[0] != index:
-                last = (index, library.instant_field(schedule[index].key, schedule[index + 1].key))
-            field = last[1]
-        shown.append((schedule[index], index, s if field is not None else 0.0, field))
-    return shown
+    field_of = (lambda i: library.instant_field(schedule[i].key, schedule[i + 1].key)) if smooth else (lambda i: None)
+    return [(schedule[index], index, s, field) for index, s, field in shown(len(schedule), capture_fps, fps, field_of)]
 
 
 def _instant_json(item, schedule, fps):

@@ -167,13 +167,13 @@ def _smoother(nodes, sigma):
     return sparse.coo_matrix((weights, (pairs["i"], pairs["j"])), shape=(len(nodes),) * 2)
 
 
-def _level_nodes(sigma):
+def _level_nodes(sigma, most=NODES):
     """Nodes that carry the field at Gaussian radius ``sigma``: about as many per
-    ``sigma``-wide patch of the surface as at the finest radius, at most :data:`NODES`."""
-    return int(min(NODES, max(MIN_NODES, NODES * (SIGMAS[-1] / sigma) ** 2 * LEVEL_DENSITY)))
+    ``sigma``-wide patch of the surface as at the finest radius, at most ``most``."""
+    return int(min(most, max(MIN_NODES, most * (SIGMAS[-1] / sigma) ** 2 * LEVEL_DENSITY)))
 
 
-def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS):
+def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow=FOLLOW, still_tree=None):
     """A smooth displacement of every vertex of ``moving`` that lays it onto ``still``.
 
     Non-rigid ICP with symmetric nearest-point forces, smoothed by a Gaussian over nodes
@@ -187,9 +187,12 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS):
         Vertices of the frame to reach.
     seed : int
         Seed of the node sampling (the result is deterministic).
-    sigmas, steps : tuple of float, int
-        The radii, coarse to fine, and the iterations at each: two frames a capture step
-        apart need fewer and finer ones (:mod:`.instants`) than a transition's cut.
+    sigmas, steps, nodes, follow : tuple of float, int, int, int
+        The radii, coarse to fine, the iterations at each, the nodes at the finest and the
+        nodes each vertex follows: two frames a capture step apart need fewer of each
+        (:mod:`.instants`) than a transition's cut.
+    still_tree : cKDTree, optional
+        :func:`kdtree` of ``still``, where the caller has it.
 
     Returns
     -------
@@ -198,16 +201,17 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS):
     """
     moving = np.asarray(moving, dtype=np.float64)
     still = np.asarray(still, dtype=np.float64)
-    order = _sample(moving, NODES, seed)
+    most = nodes
+    order = _sample(moving, most, seed)
     order = order[np.random.default_rng(seed).permutation(len(order))]
     pulls = still[_sample(still, TARGET_POINTS, seed + 1)]
-    still_tree = _kdtree(still)
+    still_tree = _kdtree(still) if still_tree is None else still_tree
     nodes, shift = moving[:0], np.zeros((0, 3))
     for sigma in sigmas:
-        count = min(len(order), _level_nodes(sigma))
+        count = min(len(order), _level_nodes(sigma, most))
         if count > len(nodes):
             more = moving[order[len(nodes):count]]
-            carried = _follow(more, nodes, shift) if len(nodes) else np.zeros_like(more)
+            carried = _follow(more, nodes, shift, follow) if len(nodes) else np.zeros_like(more)
             nodes, shift = np.vstack([nodes, more]), np.vstack([shift, carried])
         kernel = _smoother(nodes, sigma)
         for _ in range(steps):
@@ -221,12 +225,12 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS):
             # Normalised convolution: every pull counts once, so the many points of a limb
             # that moved away outweigh the few nodes nearest to them and drag the limb along.
             shift += (kernel @ pull + pull) / (kernel @ weight + weight)[:, None]
-    return _follow(moving, nodes, shift)
+    return _follow(moving, nodes, shift, follow)
 
 
-def _follow(vertices, nodes, shift):
+def _follow(vertices, nodes, shift, follow=FOLLOW):
     """The nodes' displacement carried to every vertex: a Gaussian average of its nearest nodes."""
-    k = min(FOLLOW, len(nodes))
+    k = min(follow, len(nodes))
     distance, index = _kdtree(nodes).query(vertices, k=k)
     distance, index = distance.reshape(len(vertices), k), index.reshape(len(vertices), k)
     scale = np.maximum(distance[:, -1:], 1e-9)

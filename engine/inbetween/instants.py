@@ -31,24 +31,29 @@ through the frames that close its loop), and each edge's exit frame, its run and
 frame. A step no field was made for (a library built before them) is shown as captured.
 
 The fit for a step is coarse-to-fine over :data:`SIGMAS` with :data:`STEPS` iterations each:
-two frames a capture step apart differ by centimetres, not by a transition's cut, and the
-finer, fewer levels fit them as closely at a quarter of the cost.
+two frames a capture step apart differ by centimetres, not by a transition's cut, and fewer,
+finer levels fit them as closely for a fraction of the cost.
 """
 
 import numpy as np
 
 from .blend import align, kdtree
 
-__all__ = ["SIGMAS", "STEPS", "step_field", "display_pairs", "instants", "moved", "surface_distances",
+__all__ = ["SIGMAS", "STEPS", "KEEP", "step_field", "helps", "display_pairs", "instants", "shown", "moved", "surface_distances",
            "step_measures"]
 
-#: Gaussian radii (metres), coarse to fine, of a step's fit, and iterations at each.
-SIGMAS = (0.12, 0.06, 0.03)
+#: Gaussian radii (metres), coarse to fine, of a step's fit, iterations at each, nodes at the
+#: finest radius and nodes a vertex follows: fewer than a transition's, and as close a fit for
+#: two frames a capture step apart at two thirds of the cost (``benchmarks/display_rate.py``).
+SIGMAS = (0.12, 0.05)
 STEPS = 2
+NODES = 1000
+FOLLOW = 4
 
 
-def step_field(a, b, b_normals=None, seed=0):
-    """The float16 displacement (N, 3) of ``a``'s N vertices that lays them on ``b``'s surface.
+def step_field(a, b, b_normals=None, seed=0, a_normals=None):
+    """The float16 displacement (N, 3) of ``a``'s N vertices that lays them on ``b``'s surface,
+    or None where it would not bring ``a`` closer to ``b`` (:func:`helps`).
 
     The fit (:func:`tvmedit.engine.inbetween.blend.align`) leaves each vertex a few millimetres
     off ``b``, in sampling noise as much as in error; given ``b``'s vertex normals, each is then
@@ -59,14 +64,55 @@ def step_field(a, b, b_normals=None, seed=0):
     >>> field.dtype.name, bool(abs(np.median(field[:, 2]) - 0.01) < 0.002)
     ('float16', True)
     """
-    field = align(a, b, seed, sigmas=SIGMAS, steps=STEPS)
+    a = np.asarray(a, np.float32)
+    b = np.asarray(b, np.float32)
+    tree = kdtree(b)
+    field = align(a, b, seed, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow=FOLLOW, still_tree=tree)
     if b_normals is not None and len(b):
-        warped = np.asarray(a, np.float32) + field
-        nearest = kdtree(np.asarray(b)).query(warped)[1]
+        warped = a + field
+        nearest = tree.query(warped)[1]
         normals = np.asarray(b_normals, np.float32)[nearest]
-        off = np.einsum("ij,ij->i", warped - np.asarray(b, np.float32)[nearest], normals)
+        off = np.einsum("ij,ij->i", warped - b[nearest], normals)
         field -= off[:, None] * normals
+        if a_normals is not None and not helps(a, a_normals, b, b_normals, field, tree):
+            return None
     return field.astype(np.float16)
+
+
+#: A step's field is kept where the surface it carries ``a`` to is at most this share as far
+#: from ``b`` as ``a`` is (mean and 99th percentile): elsewhere the two frames differ by the
+#: capture's noise, not by motion, and the frame is better shown as captured.
+KEEP = 0.5
+#: ... and where it moves ``a``'s surface along its normals at most this many times as far as
+#: ``b`` lies from ``a``.
+BULGE = 1.5
+
+
+def helps(a, a_normals, b, b_normals, field, tree_b, stride=4):
+    """Whether ``a + field`` is nearer ``b`` than ``a`` is, by :data:`KEEP`: point-to-plane
+    distances both ways (every ``stride``-th vertex; a plane through the nearest vertex, along
+    its normal), so that two samplings of one surface count as 0 apart, as in
+    :func:`step_measures`.
+
+    >>> p = np.random.default_rng(1).random((400, 3)); n = np.tile([0.0, 0.0, 1.0], (400, 1))
+    >>> helps(p, n, p + [0, 0, 0.02], n, np.tile(np.float32([0, 0, 0.02]), (400, 1)), kdtree(p + [0, 0, 0.02]))
+    True
+    """
+    def plane(points, surface, normals, tree):
+        index = tree.query(points)[1]
+        return np.abs(np.einsum("ij,ij->i", points - surface[index], normals[index]))
+
+    moved_a = a + field
+    b_part = b[::stride]
+    ahead = plane(a[::stride], b, b_normals, tree_b)
+    before = np.concatenate([ahead, plane(b_part, a, a_normals, kdtree(a))])
+    after = np.concatenate([plane(moved_a[::stride], b, b_normals, tree_b),
+                            plane(b_part, moved_a, a_normals, kdtree(moved_a))])
+    # How far the field moves a's surface off itself: no more than b lies off it, or the
+    # surfaces in between bulge out of both (a fit pulled along noise or an open border).
+    bulge = np.abs(np.einsum("ij,ij->i", field[::stride], np.asarray(a_normals, np.float32)[::stride]))
+    return bool(after.mean() <= KEEP * before.mean() and np.percentile(after, 99) <= KEEP * np.percentile(before, 99)
+                and bulge.mean() <= BULGE * ahead.mean() and np.percentile(bulge, 99) <= BULGE * np.percentile(ahead, 99))
 
 
 def moved(positions, field, s):
@@ -148,6 +194,33 @@ def instants(count, capture_fps, fps):
         index = min(int(np.floor(x + 1e-9)), count - 1)
         out.append((index, round(float(min(max(x - index, 0.0), 1.0)), 3)))
     return out
+
+
+def shown(count, capture_fps, fps, field_of):
+    """What each output frame of a schedule of ``count`` frames written at ``fps`` shows:
+    ``(index, s, field)``, schedule frame ``index`` moved ``s`` of the way along ``field``
+    (None: as stored). ``field_of(index)`` gives the field of the step from frame ``index``
+    to the next, or None; it is asked once per step, in order.
+
+    Where a step has no field (a library built before them, or a step where the capture moves
+    by its own noise), the output shows the stored frame nearest in time, so that the step
+    falls in the middle, as it would at the capture's rate, and does not add to the next.
+
+    >>> fields = {0: "F"}
+    >>> list(shown(3, 10, 20, fields.get))
+    [(0, 0.0, None), (0, 0.5, 'F'), (1, 0.0, None), (2, 0.0, None), (2, 0.0, None), (2, 0.0, None)]
+    """
+    last = (None, None)
+    for index, s in instants(count, capture_fps, fps):
+        if s == 0 or index + 1 >= count:
+            yield index, 0.0, None
+            continue
+        if last[0] != index:
+            last = (index, field_of(index))
+        if last[1] is not None:
+            yield index, s, last[1]
+        else:
+            yield (index + 1 if s >= 0.5 else index), 0.0, None
 
 
 def surface_distances(points, positions, faces, tree=None, near=4):

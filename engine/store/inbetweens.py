@@ -314,7 +314,7 @@ def _field_task(task):
     folder, pairs = task
     ids = list(dict.fromkeys(i for pair in pairs for i in pair))
     meshes = dict(zip(ids, _displayed(folder, ids)))
-    return [step_field(meshes[a][0], *meshes[b]) for a, b in pairs]
+    return [step_field(meshes[a][0], *meshes[b], a_normals=meshes[a][1]) for a, b in pairs]
 
 
 #: Display steps a worker's task fits, at most (a few frames' fits: scheduling stays cheap
@@ -329,11 +329,12 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None):
     ``instant_fields.npy`` (float16, a row per vertex of each step's first mesh).
 
     ``blends`` is what ``blends.json`` holds (:func:`blend_library`'s ``data``); with ``count``
-    0 (the paper's cut) the cut itself gets no field. Returns ``{"pairs", "seconds"}``.
+    0 (the paper's cut) the cut itself gets no field. Returns ``{"pairs"`` (fields stored),
+    ``"steps"`` (steps looked at), ``"seconds"}``.
     """
     import time
 
-    from .arrays import frame_keys, frame_offsets, mesh_arrays
+    from .arrays import NpyStream, frame_keys, frame_offsets, mesh_arrays
     from ..inbetween.instants import display_pairs
 
     started = time.perf_counter()
@@ -342,31 +343,21 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None):
     nodes = [(d["sequence"], d["start"], d["end"]) for _, d in sorted(graph.nodes(data=True))]
     edges = [e for e in blends["edges"] if count != 0 or e["count"]]
     pairs = display_pairs(nodes, edges, blends.get("wraps", []), lambda seq, frame: rows[seq, frame])
-    blend_offsets = frame_offsets(folder, mesh_arrays(folder, "blend_"), "blend_") if blends["edges"] or \
-        blends.get("wraps") else np.zeros((0, 4), np.int64)
-    sizes = [int((blend_offsets[-1 - a] if a < 0 else offsets[a])[1]) for a, _ in pairs]
-    table = np.zeros((len(pairs), 4), np.int64)
-    table[:, :2] = pairs if pairs else np.zeros((0, 2))
-    table[:, 3] = sizes
-    table[:, 2] = np.cumsum(sizes) - sizes
-    fields = np.lib.format.open_memmap(folder / "instant_fields.npy", mode="w+", dtype=np.float16,
-                                       shape=(int(sum(sizes)), 3))
     chunks = [pairs[k:k + FIELDS_PER_TASK] for k in range(0, len(pairs), FIELDS_PER_TASK)]
     progress = bar(len(pairs), "in-betweens", unit="step") if bar is not None else None
+    table, stream = [], NpyStream(folder / "instant_fields.npy", np.float16, 3)
     try:
         made = pool.map(_field_task, ((str(folder), chunk) for chunk in chunks))
-        k = 0
-        for chunk_fields in made:
-            for field in chunk_fields:
-                first, size = table[k, 2:].tolist()
-                fields[first:first + size] = field
-                k += 1
+        for chunk, chunk_fields in zip(chunks, made):
+            for (a, b), field in zip(chunk, chunk_fields):
+                if field is not None:   # None: the step is shown as captured (instants.helps)
+                    table.append((a, b, stream.rows, len(field)))
+                    stream.append(field)
             if progress is not None:
                 progress.update(len(chunk_fields))
     finally:
+        stream.close()
         if progress is not None:
             progress.close()
-    fields.flush()
-    del fields
-    np.save(folder / "instant_pairs.npy", table)
-    return {"pairs": len(pairs), "seconds": time.perf_counter() - started}
+    np.save(folder / "instant_pairs.npy", np.array(table, np.int64).reshape(-1, 4))
+    return {"pairs": len(table), "steps": len(pairs), "seconds": time.perf_counter() - started}
