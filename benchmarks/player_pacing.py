@@ -12,12 +12,18 @@ the camera with xdotool while it plays, and reads the log back:
 * start-up: from spawning the process to the first frame on screen (target < 1 s);
 * redraw rate: window redraws per second over the run (target >= 60 Hz), and the player's
   CPU milliseconds per redraw, the steadier figure on a shared machine (llvmpipe draws on
-  the CPU).
+  the CPU);
+* motion at the display's rate: with the camera still, screenshots of the window (ffmpeg's
+  X11 grab) at up to 100 a second for 1.5 s, and how many times a second the body changes between
+  two of them, with the display-rate in-betweens (``--smooth``, target >= 50) and without
+  (``--no-smooth``, the capture's 10).
 
 Run it on a quiet machine: on 2 shared cores any other load shows up in all three.
 """
 
 import argparse
+import ctypes
+import ctypes.util
 import json
 import os
 import shutil
@@ -45,7 +51,9 @@ def library():
 
     take = synth_take("gym", cycles=3, vertices=17000)
     out = CACHE / f"library-{take.name}"
-    if not (out / "manifest.json").exists():
+    from tvmedit import Library
+
+    if not (out / "manifest.json").exists() or not Library.open(out).smooth:
         print(f"building {out.name} ...", flush=True)
         engine.build([str(take)], out, workers=2, cache=False, force=True)
     return out
@@ -91,6 +99,70 @@ def drive(env, keys, seconds):
         step += 1
 
 
+class _XImage(ctypes.Structure):
+    _fields_ = [("width", ctypes.c_int), ("height", ctypes.c_int), ("xoffset", ctypes.c_int),
+                ("format", ctypes.c_int), ("data", ctypes.POINTER(ctypes.c_uint8)), ("byte_order", ctypes.c_int),
+                ("bitmap_unit", ctypes.c_int), ("bitmap_bit_order", ctypes.c_int), ("bitmap_pad", ctypes.c_int),
+                ("depth", ctypes.c_int), ("bytes_per_line", ctypes.c_int), ("bits_per_pixel", ctypes.c_int)]
+
+
+class Screen:
+    """Screenshots of a box of an X display through Xlib's XGetImage (ctypes: no tool to spawn
+    per shot, a millisecond or two each)."""
+
+    def __init__(self, display):
+        self.x11 = ctypes.cdll.LoadLibrary(ctypes.util.find_library("X11"))
+        self.x11.XOpenDisplay.restype = ctypes.c_void_p
+        self.x11.XDefaultRootWindow.argtypes = [ctypes.c_void_p]
+        self.x11.XDefaultRootWindow.restype = ctypes.c_ulong
+        self.x11.XGetImage.argtypes = [ctypes.c_void_p, ctypes.c_ulong, ctypes.c_int, ctypes.c_int, ctypes.c_uint,
+                                       ctypes.c_uint, ctypes.c_ulong, ctypes.c_int]
+        self.x11.XGetImage.restype = ctypes.POINTER(_XImage)
+        self.x11.XFree.argtypes = [ctypes.c_void_p]
+        self.display = self.x11.XOpenDisplay(display.encode())
+        self.root = self.x11.XDefaultRootWindow(self.display)
+
+    def grab(self, x, y, width, height):
+        image = self.x11.XGetImage(self.display, self.root, x, y, width, height, 0xFFFFFFFF, 2)  # ZPixmap
+        line = image.contents.bytes_per_line
+        pixels = np.ctypeslib.as_array(image.contents.data, shape=(height * line,)).copy()
+        self.x11.XFree(image.contents.data)
+        self.x11.XFree(image)
+        return pixels.reshape(height, line)[:, :width * 4].reshape(height, width, 4)[:, :, :3]
+
+
+def body_changes(lib_path, start, env, size, smooth, seconds=1.5, rate=100.0):
+    """Changes of the body a second between screenshots of a player left alone (camera still),
+    and screenshots a second (up to ``rate``): the middle of the window, away from the text on
+    screen."""
+    player = subprocess.Popen([sys.executable, "-m", "tvmedit", "play", str(lib_path), str(start), "--seconds", "8",
+                               "--size", size, "--smooth" if smooth else "--no-smooth"],
+                              env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=env, capture_output=True,
+                                text=True, timeout=30).stdout.split()[0]
+        geometry = subprocess.run(["xdotool", "getwindowgeometry", "--shell", window], env=env, capture_output=True,
+                                  text=True, timeout=10).stdout
+        where = dict(line.split("=") for line in geometry.split())
+        x, y, width, height = (int(where[k]) for k in ("X", "Y", "WIDTH", "HEIGHT"))
+        box = (x + width // 4, y + height // 5, width // 2, height - height // 5 - height // 8)
+        screen = Screen(env["DISPLAY"])
+        time.sleep(1.5)
+        shots, changes, previous = 0, 0, None
+        began = time.monotonic()
+        while (now := time.monotonic()) - began < seconds:
+            shot = screen.grab(*box).astype(np.int16)
+            if previous is not None and np.abs(shot - previous).max() > 8:
+                changes += 1
+            previous, shots = shot, shots + 1
+            time.sleep(max(0.0, began + shots / rate - time.monotonic()))
+        elapsed = time.monotonic() - began
+    finally:
+        player.kill()
+        player.wait()
+    return changes / elapsed, shots / elapsed
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=30.0)
@@ -123,6 +195,8 @@ def main():
         try:
             drive(env, keys, args.seconds)
             out, err = player.communicate(timeout=args.seconds + 60)
+            seen = {smooth: body_changes(lib_path, start, env, args.size, smooth)
+                    for smooth in (True, False)}
         finally:
             if player.poll() is None:
                 player.kill()
@@ -161,6 +235,12 @@ def main():
     print(f"redraws: {redraw_hz:.1f} Hz over the run (target {REDRAW_TARGET_HZ:.0f} Hz: "
           f"{'met' if redraw_hz >= REDRAW_TARGET_HZ else 'NOT met'}); {cpu_ms:.1f} ms of player CPU per redraw, "
           f"{1000 / cpu_ms:.0f} Hz if one core were its own")
+    if True:
+        (smooth_hz, smooth_shots), (plain_hz, plain_shots) = seen[True], seen[False]
+        print(f"motion: the body changes {smooth_hz:.0f} times a second between screenshots with the display-rate "
+              f"in-betweens ({smooth_shots:.0f} screenshots a second; target 50: "
+              f"{'met' if smooth_hz >= 50 else 'NOT met'}), {plain_hz:.0f} without (--no-smooth, "
+              f"{plain_shots:.0f} screenshots a second)")
     load = os.getloadavg()[0]
     if load > (os.cpu_count() or 1):
         print(f"note: load average {load:.1f} on {os.cpu_count()} cores during the run; figures are pessimistic")
