@@ -38,7 +38,7 @@ import numpy as np
 
 from ..capture.normals import vertex_normals
 
-__all__ = ["MAX_FRAMES", "preload", "kdtree", "chamfer", "texton_steps", "natural_step", "surface_area", "align",
+__all__ = ["MAX_FRAMES", "preload", "kdtree", "chamfer", "chamfer_and_tail", "texton_steps", "natural_step", "surface_area", "align",
            "BlendRun", "blend", "fields_of", "frame_count", "side", "check_count"]
 
 #: Most in-between frames one transition gets.
@@ -102,19 +102,33 @@ def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
     >>> chamfer(a, b)
     0.5
     """
+    return chamfer_and_tail(a, b, tree_a, tree_b, stride)[0]
+
+
+def chamfer_and_tail(a, b, tree_a=None, tree_b=None, stride=1):
+    """:func:`chamfer`, and the 99th percentile of the same distances both ways: the few
+    hundred vertices of a hand or a forearm that move far while the mean stays small.
+
+    >>> a = np.zeros((1, 3)); b = np.array([[0.0, 0.0, 0.5]])
+    >>> chamfer_and_tail(a, b)
+    (0.5, 0.5)
+    """
     tree_a = _kdtree(a) if tree_a is None else tree_a
     tree_b = _kdtree(b) if tree_b is None else tree_b
     a_part, b_part = np.asarray(a)[::stride], np.asarray(b)[::stride]
-    return 0.5 * float(tree_b.query(a_part)[0].mean() + tree_a.query(b_part)[0].mean())
+    ab, ba = tree_b.query(a_part)[0], tree_a.query(b_part)[0]
+    return 0.5 * float(ab.mean() + ba.mean()), float(np.percentile(np.concatenate([ab, ba]), 99))
 
 
-def texton_steps(frames):
+def texton_steps(frames, tails=False):
     """Chamfer distances between consecutive frames of one texton (every 4th vertex averaged).
 
     Parameters
     ----------
     frames : list of (N_k, 3) float
         Vertex positions of the texton's frames in play order.
+    tails : bool
+        Give each step as ``(chamfer, 99th percentile)`` (:func:`chamfer_and_tail`).
 
     Returns
     -------
@@ -123,8 +137,9 @@ def texton_steps(frames):
         *natural step* (:func:`natural_step`).
     """
     trees = [_kdtree(np.asarray(p)) for p in frames]
-    return [chamfer(frames[k], frames[k + 1], trees[k], trees[k + 1], stride=4)
-            for k in range(len(frames) - 1)]
+    steps = [chamfer_and_tail(frames[k], frames[k + 1], trees[k], trees[k + 1], stride=4)
+             for k in range(len(frames) - 1)]
+    return steps if tails else [mean for mean, _ in steps]
 
 
 def natural_step(steps):
@@ -313,22 +328,23 @@ def fields_of(a, b, seed=0):
 
 
 def _steps(ends, frames, stop=None):
-    """Chamfer steps from the exit frame through ``frames`` to the entry frame; ``ends`` holds
-    ``(points, tree)`` of the exit and entry frames (built once per transition). With ``stop``,
-    None as soon as one step reaches it: the middle step, where the run switches from one
-    frame's warp to the other's and the fields' residual shows, is measured first, so a count
-    that would not help is told by one step rather than all (the same answer, sooner)."""
+    """Chamfer steps from the exit frame through ``frames`` to the entry frame, and their
+    99th percentiles; ``ends`` holds ``(points, tree)`` of the exit and entry frames (built
+    once per transition). With ``stop``, None as soon as one step reaches it: the middle step,
+    where the run switches from one frame's warp to the other's and the fields' residual
+    shows, is measured first, so a count that would not help is told by one step rather than
+    all (the same answer, sooner)."""
     points = [ends[0][0], *(f[0] for f in frames), ends[1][0]]
     trees = {0: ends[0][1], len(points) - 1: ends[1][1]}
-    steps = [0.0] * (len(points) - 1)
+    steps, tails = [0.0] * (len(points) - 1), [0.0] * (len(points) - 1)
     for i in sorted(range(len(steps)), key=lambda i: abs(2 * i + 1 - len(steps))):
         for k in (i, i + 1):
             if k not in trees:
                 trees[k] = _kdtree(points[k])
-        steps[i] = chamfer(points[i], points[i + 1], trees[i], trees[i + 1], stride=4)
+        steps[i], tails[i] = chamfer_and_tail(points[i], points[i + 1], trees[i], trees[i + 1], stride=4)
         if stop is not None and steps[i] >= stop:
             return None
-    return steps
+    return steps, tails
 
 
 def check_count(count):
@@ -356,7 +372,7 @@ def frame_count(jump, natural):
     return int(np.clip(np.ceil(jump / natural) - 1, 0, MAX_FRAMES))
 
 
-def blend(outgoing, incoming, natural, count=None, seed=0):
+def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     """In-between frames from the exit frame ``outgoing`` to the entry frame ``incoming``.
 
     Parameters
@@ -370,6 +386,10 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
         all stay at or below ``natural``; 0 makes none (the paper's cut).
     seed : int
         Seed of :func:`align`'s sampling.
+    tail : float or None
+        The natural step's 99th percentile (:func:`chamfer_and_tail`): with no ``count``
+        given, the run also takes frames until no step's 99th percentile exceeds it, so that
+        no limb jumps where the mean stays small.
 
     Returns
     -------
@@ -377,18 +397,19 @@ def blend(outgoing, incoming, natural, count=None, seed=0):
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
     ends = ((a, _kdtree(a)), (b, _kdtree(b)))
-    jump = chamfer(a, b, ends[0][1], ends[1][1], stride=4)
-    if count == 0 or (count is None and jump <= natural):
+    jump, cut_tail = chamfer_and_tail(a, b, ends[0][1], ends[1][1], stride=4)
+    if count == 0 or (count is None and jump <= natural and (tail is None or cut_tail <= tail)):
         return BlendRun([], [jump], jump)
     fields = fields_of(a, b, seed)
     n = max(frame_count(jump, natural), 1) if count is None else count
     previous = None
     while True:
         frames = _run(outgoing, incoming, fields, n)
-        steps = _steps(ends, frames, None if previous is None else 0.95 * max(previous.steps))
-        if steps is None:
+        measured = _steps(ends, frames, None if previous is None else 0.95 * max(previous.steps))
+        if measured is None:
             return _finished(previous)  # the cut's own residual dominates: more frames would not help
-        run = BlendRun(frames, steps, jump)
-        if count is not None or max(run.steps) <= natural or n >= MAX_FRAMES:
+        run = BlendRun(frames, measured[0], jump)
+        within = max(run.steps) <= natural and (tail is None or max(measured[1]) <= tail)
+        if count is not None or within or n >= MAX_FRAMES:
             return _finished(run)
         previous, n = run, n + 1

@@ -124,7 +124,7 @@ def closed_at(shown, frame, start, end, count, at, left):
     return index
 
 
-def close_loop(meshes, start, end, at, limit, natural):
+def close_loop(meshes, start, end, at, limit, natural, tail=None):
     """The closing frames of one texton's loop (:func:`plan` gives ``at`` and ``limit``).
 
     Parameters
@@ -139,6 +139,10 @@ def close_loop(meshes, start, end, at, limit, natural):
         Most frames to warp.
     natural : float
         The library's natural step.
+    tail : float or None
+        Its 99th percentile (:func:`tvmedit.engine.inbetween.blend.chamfer_and_tail`): a wrap
+        whose farthest vertices jump beyond it, and the capture's own at that phase, is closed
+        too, and a closing must keep its steps' percentiles within it.
 
     Returns
     -------
@@ -151,7 +155,7 @@ def close_loop(meshes, start, end, at, limit, natural):
     """
     import numpy as np
 
-    from .blend import BlendRun, align, chamfer, kdtree
+    from .blend import BlendRun, align, chamfer_and_tail, kdtree
     from ..capture.normals import vertex_normals
 
     cache = {}
@@ -164,15 +168,18 @@ def close_loop(meshes, start, end, at, limit, natural):
         return cache[frame]
 
     def step(a, b):
-        return chamfer(a[0], b[0], a[3], b[3], stride=4)
+        return chamfer_and_tail(a[0], b[0], a[3], b[3], stride=4)
 
-    jump = step(mesh(end), mesh(start))
+    jump, jump_tail = step(mesh(end), mesh(start))
     if natural <= 0 or limit <= 0:
         return BlendRun([], [jump], jump)
-    goal = max(natural, pace(lambda frame: mesh(frame)[:3], start, end, at))
-    if jump <= goal:
+    own = pace(lambda frame: mesh(frame)[:3], start, end, at, tails=True)
+    goal, goal_tail = max(natural, own[0]), max(tail or 0.0, own[1])
+    # A step's size against the goal, by its mean and (given the library's) its tail.
+    size = (lambda m, t: max(m / goal, t / goal_tail)) if tail else (lambda m, t: m / goal)
+    if size(jump, jump_tail) <= 1.0:
         return BlendRun([], [jump], jump)
-    fields, best = {}, None
+    fields, best, best_sizes = {}, None, None
     for count in range(1, limit + 1):
         frames, targets = window(start, end, at, count)
         run = []
@@ -185,30 +192,34 @@ def close_loop(meshes, start, end, at, limit, natural):
             run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
         ends = (frames[0] - 1, start) if at == "end" else (end, frames[-1] + 1)
         points = [mesh(ends[0]), *run, mesh(ends[1])]
-        steps = [0.0] * (len(points) - 1)
-        stop = None if best is None else 0.95 * max(best.steps)
+        figures, sizes = [(0.0, 0.0)] * (len(points) - 1), [0.0] * (len(points) - 1)
+        stop = None if best is None else 0.95 * max(best_sizes)
         # The step at the wrap first: a count that would not help is told by it alone.
-        for i in sorted(range(len(steps)), reverse=at == "end"):
-            steps[i] = step(points[i], points[i + 1])
-            if stop is not None and steps[i] >= stop:
+        for i in sorted(range(len(sizes)), reverse=at == "end"):
+            figures[i] = step(points[i], points[i + 1])
+            sizes[i] = size(*figures[i])
+            if stop is not None and sizes[i] >= stop:
                 break
-        if stop is not None and max(steps) >= stop:
+        if stop is not None and max(sizes) >= stop:
             break  # more frames would not help
-        best = BlendRun([(p, c, f, None, i) for i, (p, c, f, _) in enumerate(run)], steps, jump)
-        if max(steps) <= goal:
+        best = BlendRun([(p, c, f, None, i) for i, (p, c, f, _) in enumerate(run)], [m for m, _ in figures], jump)
+        best_sizes = sizes
+        if max(sizes) <= 1.0:
             break
-    if max(best.steps) >= jump:  # the warps' own residual outweighs the wrap: keep the cut
+    if max(best_sizes) >= size(jump, jump_tail):  # the warps' own residual outweighs the wrap: keep the cut
         return BlendRun([], [jump], jump)
     best.frames = [(p, c, f, vertex_normals(p, f), i) for p, c, f, _, i in best.frames]
     return best
 
 
-def pace(meshes, start, end, at):
+def pace(meshes, start, end, at, tails=False):
     """The step the capture itself makes where the loop wraps: from the neighbouring repetition
     into the texton's first frame (``start - 1`` to ``start``, ``at="end"``) or out of its last
     (``end`` to ``end + 1``). A fast motion steps more than the library's natural step in every
-    frame; its wrap pops only where it jumps more than the capture does there."""
-    from .blend import chamfer
+    frame; its wrap pops only where it jumps more than the capture does there. With ``tails``,
+    ``(step, 99th percentile)``."""
+    from .blend import chamfer_and_tail
 
     pair = (start - 1, start) if at == "end" else (end, end + 1)
-    return chamfer(meshes(pair[0])[0], meshes(pair[1])[0], stride=4)
+    figures = chamfer_and_tail(meshes(pair[0])[0], meshes(pair[1])[0], stride=4)
+    return figures if tails else figures[0]

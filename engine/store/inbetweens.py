@@ -38,10 +38,11 @@ def _stored(folder, rows):
 
 def _steps_task(task):
     """Steps between consecutive texton frames of the library being written:
-    ``(folder, [[row, next row, ...], ...])`` -> list of float, the steps of each run of rows
-    one after another (as :func:`texton_steps`; a frame's k-d tree serves both its pairs)."""
+    ``(folder, [[row, next row, ...], ...])`` -> list of ``(step, tail)``, the steps of each run
+    of rows one after another (as :func:`texton_steps` with tails; a frame's k-d tree serves
+    both its pairs)."""
     folder, runs = task
-    return [step for run in runs for step in texton_steps([mesh[0] for mesh in _stored(folder, run)])]
+    return [step for run in runs for step in texton_steps([mesh[0] for mesh in _stored(folder, run)], tails=True)]
 
 
 def _runs(pairs):
@@ -57,9 +58,9 @@ def _runs(pairs):
 
 
 def _natural(folder, rows, graph, pool, known):
-    """The natural step of the library being written, over at most :data:`NATURAL_PAIRS`
-    pairs of consecutive texton frames spread evenly over them, and ``{(sequence, frame):
-    step}`` of those pairs. A pair in ``known`` (the library being replaced measured it, on
+    """The natural step of the library being written and its 99th percentile (medians over at
+    most :data:`NATURAL_PAIRS` pairs of consecutive texton frames spread evenly over them), and
+    ``{(sequence, frame): (step, tail)}`` of those pairs. A pair in ``known`` (the library being replaced measured it, on
     the same frame files) is not measured again: a correction of a few motions measures only
     the pairs of their new textons, not the 240 of every texton (1.3 s of the 2,033-frame gym's
     correction on one core, before)."""
@@ -76,24 +77,25 @@ def _natural(folder, rows, graph, pool, known):
     chunks = [chunk for chunk in chunks if chunk]
     tasks = ((str(folder), [[rows[q] for q in run] for run in chunk]) for chunk in chunks)
     measured = dict(zip(todo, (step for steps in pool.map(_steps_task, tasks) for step in steps)))
-    steps = {p: known[p] if p in known else measured[p] for p in pairs}
-    return natural_step([list(steps.values())]), steps
+    steps = {p: tuple(known[p]) if p in known else tuple(measured[p]) for p in pairs}
+    return (natural_step([[mean for mean, _ in steps.values()]]), natural_step([[tail for _, tail in steps.values()]]),
+            steps)
 
 
 def _blend_task(task):
-    """One edge's run, ``("edge", folder, exit row, entry row, natural, count)``, or one
-    texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit), natural)``
+    """One edge's run, ``("edge", folder, exit row, entry row, natural, count, tail)``, or one
+    texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit), natural, tail)``
     (the rows of the texton's frames and of its neighbours' that it may be closed onto) ->
     ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
     import time
 
     started = time.process_time()
     if task[0] == "edge":
-        _, folder, exit_row, entry_row, natural, count = task
-        run = blend(*_stored(folder, (exit_row, entry_row)), natural, count)
+        _, folder, exit_row, entry_row, natural, count, tail = task
+        run = blend(*_stored(folder, (exit_row, entry_row)), natural, count, tail=tail)
     else:
-        _, folder, rows, (start, end, at, limit), natural = task
-        run = close_loop(lambda frame: _stored(folder, (rows[frame],))[0], start, end, at, limit, natural)
+        _, folder, rows, (start, end, at, limit), natural, tail = task
+        run = close_loop(lambda frame: _stored(folder, (rows[frame],))[0], start, end, at, limit, natural, tail)
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
@@ -120,12 +122,12 @@ def loop_frames(graph, count, rooms):
     return frames
 
 
-def _tasks(folder, edges, loops, rows, natural, count, reuse):
+def _tasks(folder, edges, loops, rows, natural, count, reuse, tail=None):
     """The runs to make (not copied from the library being replaced): edges, then loop closings."""
     fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
-    tasks = [("edge", str(folder), rows[a], rows[b], natural, count) for a, b in fresh]
+    tasks = [("edge", str(folder), rows[a], rows[b], natural, count, tail) for a, b in fresh]
     tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit, end + limit + 1) if (seq, f) in rows},
-               (start, end, at, limit), natural)
+               (start, end, at, limit), natural, tail)
               for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end, at, limit) not in reuse]
     return tasks
 
@@ -175,17 +177,17 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     offsets = frame_offsets(folder, arrays).tolist()
     rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
     data = _old_data(old, keys)
-    known = {(name, frame): step for name, frame, step in data.get("pair_steps", [])}
+    known = {(row[0], row[1]): (row[2], row[3]) for row in data.get("pair_steps", []) if len(row) == 4}
     if keep_natural and data.get("natural_step", 0) > 0:
-        natural, measured = float(data["natural_step"]), known
+        natural, tail, measured = float(data["natural_step"]), data.get("natural_tail"), known
     else:
-        natural, measured = _natural(folder, rows, graph, pool, known)
+        natural, tail, measured = _natural(folder, rows, graph, pool, known)
     textures = _textures(folder, len(arrays["positions"]), len(offsets))
-    reuse = _old_runs(data, natural, count)
+    reuse = _old_runs(data, natural, count, tail)
     edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
              for u, v, d in sorted(graph.edges(data=True))]
     loops = _loops(graph, count, rooms or {})
-    tasks = _tasks(folder, edges, loops, rows, natural, count, reuse)
+    tasks = _tasks(folder, edges, loops, rows, natural, count, reuse, tail)
     plans = {u: limit for u, _, (_, limit) in loops}
     made = pool.map(_blend_task, tasks)
     progress = bar(len(edges) + len(loops), "blends", unit="run") if bar is not None else None
@@ -215,8 +217,9 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     finally:
         if progress is not None:
             progress.close()
-    data = {"natural_step": natural, "blend_frames": count, "feature_keys": keys, "edges": records,
-            "wraps": closings, "pair_steps": [[name, frame, step] for (name, frame), step in measured.items()]}
+    data = {"natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys,
+            "edges": records, "wraps": closings,
+            "pair_steps": [[name, frame, *step] for (name, frame), step in measured.items()]}
     return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(tasks),
             "bounds": writer.bounds, "max_counts": writer.max_counts}
 
@@ -248,12 +251,12 @@ def _old_data(old, keys):
                 pair_steps=[row for row in data.get("pair_steps", []) if row[0] in same])
 
 
-def _old_runs(data, natural, count):
+def _old_runs(data, natural, count, tail=None):
     """``{(exit, entry): (first row, count, jump, steps)}`` of the runs of the old library's
     ``data`` (:func:`_old_data`) that a new build would make the same: same count option, and
     a run :func:`blend` gives again at this natural step (:func:`_same_run`; a correction that
     changes the motions changes the natural step a little, and should not make every run again)."""
-    if not data or data.get("blend_frames") != count:
+    if not data or data.get("blend_frames") != count or (count is None and data.get("natural_tail") != tail):
         return {}
     runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
             for e in data["edges"] if count is not None or _same_run(e, data["natural_step"], natural)}

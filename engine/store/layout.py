@@ -31,7 +31,12 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     "entry"}`` (first row, Chamfer of the cut and of each step in metres, ``[sequence, frame]``
     exited and entered); ``wraps`` likewise per closed loop (:mod:`tvmedit.engine.inbetween.loops`,
     with ``at`` and ``texton``); ``natural_step``, ``blend_frames``, ``feature_keys``, and
-    ``pair_steps`` (``[sequence, frame, step]`` the natural step is the median of).
+    ``pair_steps`` (``[sequence, frame, step, tail]`` the natural step and ``natural_tail``, its
+    99th percentile, are the medians of).
+``instant_pairs.npy``, ``instant_fields.npy``
+    the display-rate in-betweens (:mod:`tvmedit.engine.inbetween.instants`): per step a
+    schedule can show, ``[from, to, first row, rows]`` (mesh ids: a stored frame's row, ``-1 -
+    k`` for in-between frame ``k``), and the float16 displacement of each step's first mesh.
 ``names.json``, ``corrections.json``, ``parse.json``
     optional: node names given with ``tvmedit rename`` (``{"id": "name"}``); the corrections by
     hand (:mod:`tvmedit.engine.store.corrections`) and the automatic parse they were applied to
