@@ -130,6 +130,7 @@ def test_mesh_arrays_are_flat_memory_mapped_and_read_only_when_used(built):
     frames = np.load(built / "frames.npy")
     assert frames.shape == (len(library.stored_frames()), 4)
     blends = sum(run["count"] for run in library.blend_runs().values())
+    blends += sum(wrap["count"] for wrap in library.blend_data().get("wraps", []))  # loop closings
     assert np.load(built / "blend_frames.npy").shape == (blends, 4)
     assert (frames[1:, 0] == frames[:-1, 0] + frames[:-1, 1]).all()
     positions = library.frame_mesh(library.stored_frames()[0])[0]
