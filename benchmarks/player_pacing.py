@@ -175,7 +175,7 @@ def main():
         return 0
 
     from tvmedit.engine.store.library import Library
-    from tvmedit.player.window import motion_keys
+    from tvmedit.player.app import motion_keys
 
     lib_path = library()
     lib = Library.open(lib_path)

@@ -14,7 +14,7 @@ from tvmedit import Library
 from tvmedit.engine.inbetween.instants import instants, moved, step_measures, surface_distances
 from tvmedit.player.camera import Camera
 from tvmedit.player.renderer import Renderer
-from tvmedit.player.window import PlayerApp
+from tvmedit.player.app import PlayerApp
 
 
 @pytest.fixture(scope="module")

@@ -21,7 +21,7 @@ from conftest import ROOT
 from tvmedit.engine.errors import NoPath
 from tvmedit.engine.graph.search import best_path
 from tvmedit.player.source import ArraySource
-from tvmedit.player.window import MAX_LAG_S, PlayerApp, motion_keys
+from tvmedit.player.app import MAX_LAG_S, PlayerApp, motion_keys
 
 
 def _tiny_source_and_graph():

@@ -99,7 +99,8 @@ def run(args):
     if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
         raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
 
-    from tvmedit.player.window import PlayerApp, Window
+    from tvmedit.player.app import PlayerApp
+    from tvmedit.player.window import Window
 
     try:
         log = open(args.log, "w", encoding="utf-8") if args.log else None

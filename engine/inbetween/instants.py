@@ -80,8 +80,8 @@ def step_field(a, b, b_normals=None, seed=0, a_normals=None):
 
 
 #: A step's field is kept where the surface it carries ``a`` to is at most this share as far
-#: from ``b`` as ``a`` is (mean and 99th percentile): elsewhere the two frames differ by the
-#: capture's noise, not by motion, and the frame is better shown as captured.
+#: from ``b`` as ``a`` is (mean and 99th percentile, point to plane): elsewhere the two frames
+#: differ by the capture's noise, not by motion, and the frame is better shown as captured.
 KEEP = 0.5
 #: ... and where it moves ``a``'s surface along its normals at most this many times as far as
 #: ``b`` lies from ``a``.
@@ -89,30 +89,26 @@ BULGE = 1.5
 
 
 def helps(a, a_normals, b, b_normals, field, tree_b, stride=4):
-    """Whether ``a + field`` is nearer ``b`` than ``a`` is, by :data:`KEEP`: point-to-plane
-    distances both ways (every ``stride``-th vertex; a plane through the nearest vertex, along
-    its normal), so that two samplings of one surface count as 0 apart, as in
-    :func:`step_measures`.
+    """Whether ``a + field`` is nearer ``b`` than ``a`` is, by :data:`KEEP`, and moves ``a``'s
+    surface off itself no farther than :data:`BULGE` times that: point-to-plane distances of
+    every ``stride``-th vertex to ``b`` (a plane through the nearest vertex, along its normal),
+    so that two samplings of one surface count as 0 apart, as in :func:`step_measures`.
 
     >>> p = np.random.default_rng(1).random((400, 3)); n = np.tile([0.0, 0.0, 1.0], (400, 1))
     >>> helps(p, n, p + [0, 0, 0.02], n, np.tile(np.float32([0, 0, 0.02]), (400, 1)), kdtree(p + [0, 0, 0.02]))
     True
     """
-    def plane(points, surface, normals, tree):
-        index = tree.query(points)[1]
-        return np.abs(np.einsum("ij,ij->i", points - surface[index], normals[index]))
+    def plane(points):
+        index = tree_b.query(points)[1]
+        return np.abs(np.einsum("ij,ij->i", points - b[index], np.asarray(b_normals, np.float32)[index]))
 
-    moved_a = a + field
-    b_part = b[::stride]
-    ahead = plane(a[::stride], b, b_normals, tree_b)
-    before = np.concatenate([ahead, plane(b_part, a, a_normals, kdtree(a))])
-    after = np.concatenate([plane(moved_a[::stride], b, b_normals, tree_b),
-                            plane(b_part, moved_a, a_normals, kdtree(moved_a))])
+    before, after = plane(a[::stride]), plane((a + field)[::stride])
     # How far the field moves a's surface off itself: no more than b lies off it, or the
     # surfaces in between bulge out of both (a fit pulled along noise or an open border).
     bulge = np.abs(np.einsum("ij,ij->i", field[::stride], np.asarray(a_normals, np.float32)[::stride]))
-    return bool(after.mean() <= KEEP * before.mean() and np.percentile(after, 99) <= KEEP * np.percentile(before, 99)
-                and bulge.mean() <= BULGE * ahead.mean() and np.percentile(bulge, 99) <= BULGE * np.percentile(ahead, 99))
+    tail = lambda d: np.percentile(d, 99)  # noqa: E731
+    return bool(after.mean() <= KEEP * before.mean() and tail(after) <= KEEP * tail(before)
+                and bulge.mean() <= BULGE * before.mean() and tail(bulge) <= BULGE * tail(before))
 
 
 def moved(positions, field, s):
