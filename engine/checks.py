@@ -18,7 +18,7 @@ import numbers
 
 from .errors import ParameterError
 
-__all__ = ["MAX_FPS", "MAX_LOOPS", "number", "whole"]
+__all__ = ["MAX_FPS", "MAX_LOOPS", "number", "whole", "listed"]
 
 #: Highest frame rate accepted anywhere (capture, analysis, output); work grows with it.
 MAX_FPS = 1000
@@ -73,3 +73,26 @@ def whole(name, value, *, at_least=None, at_most=None, hint=""):
     if result != int(result):
         raise ParameterError(f"{name}={value} must be a whole number.")
     return int(result)
+
+
+def listed(name, value, what="motion ids or names"):
+    """``value`` as a list, or one sentence where it is not a list of items: a string (or bytes,
+    or a mapping) would otherwise be read one character or key at a time, so that
+    ``edit('01')`` went from motion 0 to motion 1. None stays None.
+
+    >>> listed("keys", ("walk", 3))
+    ['walk', 3]
+    >>> listed("keys", "01")
+    Traceback (most recent call last):
+    ...
+    tvmedit.engine.errors.ParameterError: keys='01' should be a list of motion ids or names, not a string: write ['01'] for one.
+    """
+    if value is None:
+        return None
+    if isinstance(value, (str, bytes, dict)):
+        kind = "a mapping" if isinstance(value, dict) else "a string"
+        raise ParameterError(f"{name}={value!r} should be a list of {what}, not {kind}: write [{value!r}] for one.")
+    try:
+        return list(value)
+    except TypeError:
+        raise ParameterError(f"{name}={value!r} should be a list of {what}.") from None

@@ -4,16 +4,19 @@ The command line prints ``str(error)`` after ``error:`` and exits non-zero, with
 """
 
 
-def summarise(names, limit=3):
-    """Names for a one-line message: ``a, b`` or, when long, ``412 files, e.g. a, b, c``.
+def summarise(names, limit=3, noun="files", separator=", "):
+    """Names for a one-line message: ``a, b`` or, when long, ``412 files, e.g. a, b, c``: a
+    message lists a few, never ten thousand.
 
     >>> summarise(["a", "b"]), summarise([str(i) for i in range(5)])
     ('a, b', '5 files, e.g. 0, 1, 2')
+    >>> summarise(["x (empty)", "y (NaN)", "z (empty)", "w (empty)"], noun="frames", separator="; ")
+    '4 frames, e.g. x (empty); y (NaN); z (empty)'
     """
     names = [str(n) for n in names]
     if len(names) <= limit:
-        return ", ".join(names)
-    return f"{len(names)} files, e.g. {', '.join(names[:limit])}"
+        return separator.join(names)
+    return f"{len(names)} {noun}, e.g. {separator.join(names[:limit])}"
 
 
 class TvmError(Exception):

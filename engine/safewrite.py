@@ -244,7 +244,7 @@ def note_written(folder, *names):
 def _marker(folder):
     try:
         data = json.loads((Path(folder) / MARKER).read_text())
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return None
     ok = isinstance(data, dict) and isinstance(data.get("kind"), str) and isinstance(data.get("files"), list)
     return data if ok else None
@@ -254,7 +254,7 @@ def _legacy_library(folder):
     # Libraries built before the marker existed are known by their manifest.
     try:
         data = json.loads((Path(folder) / "manifest.json").read_text())
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return False
     return isinstance(data, dict) and "format" in data and "tvmedit" in data
 
@@ -275,8 +275,12 @@ def _foreign(folder):
 
 
 def refuse_inside(out, inputs=()):
-    """Refuse an output inside another tvmedit output or inside one of ``inputs``."""
+    """Refuse an output inside another tvmedit output, inside one of ``inputs``, or below a
+    file (``notes.txt/out.mp4``)."""
     resolved = Path(os.path.abspath(out))
+    for parent in resolved.parents:
+        if parent.exists() and not parent.is_dir():
+            raise OutputError(f"{out} cannot be written: {parent} is a file, not a folder; choose another output.")
     holders = [source for source in map(Path, map(os.path.abspath, inputs))
                if resolved == source or source in resolved.parents]
     inside_input = lambda source: OutputError(  # noqa: E731

@@ -93,6 +93,8 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
     if kind == "mp4":
         width, height = width - width % 2, height - height % 2
     _check_output(out, kind, force, source)
+    if hasattr(source, "verify"):   # a library: its frames hold the bytes written, or nothing is
+        source.verify(source.MESH_FILES)
     out.parent.mkdir(parents=True, exist_ok=True)
     base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
     shown = list(_shown(source, keys, capture_fps, fps, smooth))

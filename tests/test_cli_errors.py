@@ -62,3 +62,54 @@ def test_quiet_build_still_warns_about_skipped_frames(synth_walk, tmp_path):
     assert result.returncode == 0, result.stderr
     assert "skipped 1 bad frame" in result.stderr and "frame_00041.ply" in result.stderr
     assert "built" not in result.stderr  # the summary is what -q leaves out
+
+
+def test_an_output_below_a_file_names_the_file(small_library, tmp_path):
+    (tmp_path / "notes.txt").write_text("mine")
+    for command in (["render", small_library, "0", "1", "-o", tmp_path / "notes.txt" / "out.mp4"],
+                    ["export", small_library, "0", "1", "-o", tmp_path / "notes.txt" / "edit"]):
+        result = tvmedit(*command)
+        assert result.returncode == 2 and "notes.txt is a file, not a folder" in result.stderr, result.stderr
+        assert "Errno" not in result.stderr and (tmp_path / "notes.txt").read_text() == "mine"
+
+
+def test_a_string_where_a_list_is_expected_is_refused_naming_the_type(small_library):
+    from tvmedit.engine.errors import ParameterError
+
+    library = Library.open(small_library)
+    for call, says in ((lambda: library.edit("01"), "keys='01' should be a list"),
+                       (lambda: library.edit([0, 1], durations="57"), "durations='57' should be a list"),
+                       (lambda: library.wander(5, only="gym/01"), "only='gym/01' should be a list")):
+        with pytest.raises(ParameterError, match=says):
+            call()
+
+
+def test_a_name_is_one_printable_line(small_library, tmp_path):
+    import shutil
+
+    copy = tmp_path / "copy.tvmlib"
+    shutil.copytree(small_library, copy)
+    for name in ("new\nname", "esc\x1b[31mred"):
+        result = tvmedit("rename", copy, "0", name)
+        assert result.returncode == 2 and "one line of printable characters" in result.stderr, result.stderr
+    assert Library.open(copy).nodes[0].name == Library.open(small_library).nodes[0].name
+
+
+def test_a_deeply_nested_corrections_file_is_one_sentence(small_library, tmp_path):
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 100000 + "]" * 100000)
+    result = tvmedit("correct", small_library, deep, "-o", tmp_path / "out.tvmlib")
+    assert result.returncode == 2 and "deep.json is not valid JSON" in result.stderr
+    assert "Traceback" not in result.stderr and not (tmp_path / "out.tvmlib").exists()
+
+
+@pytest.mark.parametrize("command", ["play", "inspect"])
+def test_seconds_must_be_a_positive_number(small_library, command):
+    result = tvmedit(command, small_library, "--seconds", "nan")
+    assert result.returncode == 2 and "--seconds" in result.stderr and "not 'nan'" in result.stderr
+
+
+def test_a_long_path_says_a_looping_texton_once_with_its_count(small_library):
+    result = tvmedit("path", small_library, "0", "1", "--loops", "3000")
+    assert result.returncode == 0, result.stderr
+    assert max(map(len, result.stdout.splitlines())) < 200 and "(x" in result.stdout

@@ -158,7 +158,7 @@ def test_truncated_missing_or_foreign_files_are_named_with_the_rebuild(built, tm
 
 @pytest.mark.parametrize("names, words", [
     ([1, 2], r"must hold a JSON object of motion names such as \{\"3\": \"squats\"\}, not \[1, 2\]"),
-    ({"0": 7}, r"maps '0' to 7, but it must map motion ids to names"),
+    ({"0": 7}, r"maps '0' to 7, but it must map motion ids to one-line names"),
     ({"first": "walk"}, r"maps 'first' to 'walk'"),
     ({"0": "12"}, r"maps '0' to '12'"),
     ({"0": "same", "1": "same"}, r"gives motions 0 and 1 the same name 'same'"),

@@ -47,7 +47,8 @@ def add_arguments(parser):
     parser.add_argument("--frame", type=int, default=0, help="frame to put the playhead on first")
     parser.add_argument("--size", metavar="WxH", default="1024x720", type=options.size,
                         help="window size (default 1024x720)")
-    parser.add_argument("--seconds", type=float, default=None, help="quit by itself after this many seconds")
+    parser.add_argument("--seconds", type=options.positive, default=None,
+                        help="quit by itself after this many seconds")
 
 
 def run(args):

@@ -101,10 +101,21 @@ def run(args):
 
 
 def _ranges(frames):
-    """'14-15,10-13' for [14, 15, 10, 11, 12, 13]: consecutive runs of a cyclic play."""
+    """'14-15,10-13' for [14, 15, 10, 11, 12, 13]: consecutive runs of a cyclic play; a run
+    repeated, as a looping texton's, is written once with its count (``10-13 (x500)``).
+
+    >>> _ranges([14, 15, 10, 11, 12, 13] + [10, 11, 12, 13] * 3)
+    '14-15,10-13 (x4)'
+    """
     parts, first = [], frames[0]
     for a, b in zip(frames, frames[1:] + [None]):
         if b != a + 1:
             parts.append(f"{first}-{a}" if a != first else f"{a}")
             first = b
-    return ",".join(parts)
+    grouped = []
+    for part in parts:
+        if grouped and grouped[-1][0] == part:
+            grouped[-1][1] += 1
+        else:
+            grouped.append([part, 1])
+    return ",".join(part if count == 1 else f"{part} (x{count})" for part, count in grouped)

@@ -56,7 +56,8 @@ def add_arguments(parser):
                         help="playback rate, frames per second (default: the library's)")
     parser.add_argument("--log", metavar="FILE.jsonl", default=None,
                         help="write one JSON line per displayed sequence frame")
-    parser.add_argument("--seconds", type=float, default=None, help="quit by itself after this many seconds")
+    parser.add_argument("--seconds", type=options.positive, default=None,
+                        help="quit by itself after this many seconds")
     parser.add_argument("--stats", action="store_true", help="print frame and redraw rates on exit")
     parser.add_argument("--hold-seconds", type=options.hold_seconds, default=3.0, metavar="N",
                         help="how long Shift+key holds a motion once it begins (default 3)")

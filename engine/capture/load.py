@@ -302,7 +302,7 @@ def _sidecar(paths):
         return {}
     try:
         data = json.loads(candidate.read_text())
-    except (OSError, ValueError) as error:
+    except (OSError, ValueError, RecursionError) as error:
         raise InputError(f"{candidate} is not valid JSON ({error}); fix or remove it.") from None
     if not isinstance(data, dict):
         raise InputError(f"{candidate} must hold a JSON object such as {{\"fps\": 10}}.")
@@ -513,7 +513,8 @@ def iter_frames(paths, skip_bad_frames=False, skipped=None, orientation=None, de
 def warn_skipped(skipped):
     """One warning that lists every skipped frame and why."""
     if skipped:
-        listing = "; ".join(f"{p.name} ({reason.split('; ')[0]})" for p, reason in skipped)
+        listing = summarise([f"{p.name} ({reason.split('; ')[0]})" for p, reason in skipped], noun="frames",
+                            separator="; ")
         warnings.warn(f"skipped {len(skipped)} bad frame(s): {listing}", SkippedFramesWarning, stacklevel=3)
 
 

@@ -83,7 +83,7 @@ def has_sound(library):
             try:
                 if json.loads((folder / name).read_text()).get("audio"):
                     return True
-            except (OSError, ValueError, AttributeError):
+            except (OSError, ValueError, RecursionError, AttributeError):
                 continue
     return False
 
@@ -115,6 +115,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         raise ParameterError(f"format {fmt!r} is not one of {', '.join(FORMATS)}.")
     out = Path(out)
     _check_target(out, force, library)
+    library.verify(library.MESH_FILES)  # damage on disk stops the export before its first frame
     # Checked again before the swap: the folder may have changed meanwhile.
     recheck = lambda target: _check_target(target, force, library)  # noqa: E731
     with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp:

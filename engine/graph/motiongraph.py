@@ -408,8 +408,9 @@ def node_by_key(graph_or_nodes, key):
 def rename(graph_or_nodes, key, name):
     """Give the node that ``key`` names (see :func:`node_by_key`) a new name; returns its id.
 
-    A name must be unique, non-empty and not all digits (digits are read as an id).
-    Leading and trailing spaces are dropped.
+    A name must be unique, non-empty, not all digits (digits are read as an id) and one line
+    of printable characters (a newline or an escape code would break every table that lists
+    it). Leading and trailing spaces are dropped.
 
     Examples
     --------
@@ -427,6 +428,9 @@ def rename(graph_or_nodes, key, name):
     new = str(name).strip()
     if not new or new.isdigit():
         raise TvmError(f"{name!r} cannot name a motion; use a name with at least one non-digit")
+    if not new.isprintable():
+        raise TvmError(f"{name!r} cannot name a motion: it holds a line break or a control character; "
+                       "use one line of printable characters")
     for other, existing in _names(graph_or_nodes).items():
         if existing == new and other != i:
             raise TvmError(f"the name {new!r} is already taken by motion {other}; pick another")

@@ -40,7 +40,7 @@ from . import layout
 from . import meshfiles
 from ..inbetween.blend import preload
 from .inbetweens import blend_library, instant_library, loop_frames
-from ..errors import InputError, TvmError
+from ..errors import InputError, TvmError, summarise
 from ..features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
                        moves_across)
 from ..capture.load import expand_inputs, open_sequence, rate_assumed, read_frame
@@ -225,7 +225,7 @@ def _sequence_features(sequence, bins, skip_bad_frames, pool, old, cache, run):
         run.say(f"features of {sequence.name}: reused from {where} ({len(entry.features)} frames)")
     if entry.skipped:
         run.say(f"{sequence.name}: skipped {len(entry.skipped)} bad frame(s): "
-                + "; ".join(f"{Path(p).name}" for p, _ in entry.skipped))
+                + summarise([Path(p).name for p, _ in entry.skipped], noun="frames", separator="; "))
     entry.stats = {row[0]: row for row in stats}
     return entry
 

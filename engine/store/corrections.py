@@ -228,7 +228,7 @@ class Corrections:
         except OSError as error:
             raise CorrectionError(f"cannot read corrections file {path} ({error.strerror}); "
                                   "give an existing JSON file.") from None
-        except ValueError as error:
+        except (ValueError, RecursionError) as error:
             raise CorrectionError(f"corrections file {path} is not valid JSON ({error}); fix it.") from None
         return cls.from_json(data, str(path))
 

@@ -75,7 +75,7 @@ def read(entry_key, bins, folder=None):
             centred = (Features(data["centred_r"], data["centred_theta"], data["centred_phi"], data["origin"], bins)
                        if "centred_r" in data else None)
             features = Features(data["r"], data["theta"], data["phi"], data["origin"], bins, centred)
-    except (OSError, ValueError, KeyError, EOFError):
+    except (OSError, ValueError, RecursionError, KeyError, EOFError):
         return None
     return features, meta
 

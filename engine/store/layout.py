@@ -58,7 +58,7 @@ from ..errors import LibraryError, build_call, not_a_library
 
 __all__ = ["FORMAT", "CHECKED_FILES", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
-           "write_manifest", "read_manifest", "legacy_foreign", "load_array", "read_json",
+           "write_manifest", "read_manifest", "checksum", "verify", "damaged_files", "legacy_foreign", "load_array", "read_json",
            "read_names", "write_names", "tvmedit_version", "write_corrections", "read_corrections",
            "read_parse", "link_meshes", "read_blends", "write_features", "read_features"]
 
@@ -254,12 +254,46 @@ def manifest(records, params, feature_columns, counts, bounds, max_counts):
     }
 
 
+def checksum(path):
+    """CRC-32 of a file's bytes as 8 hex digits (zlib, a gigabyte a second or more): enough to
+    tell damage of any size from the bytes written, where a file's size alone tells only
+    truncation.
+
+    >>> import tempfile; f = tempfile.NamedTemporaryFile(delete=False); _ = f.write(b"tvm"); f.close()
+    >>> checksum(f.name)
+    'e6dfda0b'
+    """
+    import zlib
+
+    crc = 0
+    with open(path, "rb") as handle:
+        while chunk := handle.read(1 << 22):
+            crc = zlib.crc32(chunk, crc)
+    return f"{crc:08x}"
+
+
 def write_manifest(folder, data):
-    """Record the sizes of the :data:`CHECKED_FILES` in ``folder`` and write ``manifest.json`` last."""
+    """Record the sizes and checksums of the :data:`CHECKED_FILES` in ``folder`` and write
+    ``manifest.json`` last."""
     folder = Path(folder)
-    data = dict(data, files={path.name: path.stat().st_size for path in sorted(folder.iterdir())
-                             if path.name in CHECKED_FILES})
+    names = [path.name for path in sorted(folder.iterdir()) if path.name in CHECKED_FILES]
+    data = dict(data, files={name: (folder / name).stat().st_size for name in names},
+                checksums={name: checksum(folder / name) for name in names})
     write_json(folder / "manifest.json", data)
+
+
+def verify(path, manifest, names=None):
+    """The names of the library's files whose bytes differ from those written (checksums in
+    the manifest; ``names`` limits which), in manifest order; [] for a library built before
+    checksums."""
+    sums = manifest.get("checksums", {})
+    return [name for name in sums if (names is None or name in names) and checksum(Path(path) / name) != sums[name]]
+
+
+def damaged_files(path, names):
+    """The LibraryError for a library whose files ``names`` fail their checksums."""
+    return LibraryError(f"library {path} is damaged: {', '.join(names)} {'does' if len(names) == 1 else 'do'} "
+                        f"not hold the bytes written (changed on disk); {_rebuild_hint(path)}.")
 
 
 def _rebuild_hint(path):
@@ -306,7 +340,7 @@ def read_manifest(path):
         raise LibraryError(f"no library at {path}; build one with {build_call(None, path)}.")
     try:
         data = json.loads(manifest_path.read_text())
-    except (OSError, ValueError) as error:
+    except (OSError, ValueError, RecursionError) as error:
         raise LibraryError(f"library {path} has an unreadable manifest.json ({error}); "
                            f"{_rebuild_hint(path)}.") from None
     version = data.get("format") if isinstance(data, dict) else None
@@ -337,7 +371,7 @@ def read_json(path, name):
     """The JSON file ``name`` of the library at ``path``; LibraryError when it is not JSON."""
     try:
         return json.loads((Path(path) / name).read_text())
-    except (OSError, ValueError) as error:
+    except (OSError, ValueError, RecursionError) as error:
         raise damaged(path, error) from None
 
 
@@ -381,7 +415,7 @@ def read_names(path):
         return {}
     try:
         names = json.loads(names_path.read_text())
-    except ValueError as error:
+    except (ValueError, RecursionError) as error:
         raise LibraryError(f"{names_path} is not valid JSON ({error}); fix it or delete it "
                            "to go back to the default names.") from None
     _check_names(names_path, names)
@@ -408,9 +442,10 @@ def _check_names(names_path, names):
                            f"{{\"3\": \"squats\"}}, not {shown}; fix it or delete it "
                            "to go back to the default names.")
     for key, name in names.items():
-        if not key.strip().isdigit() or not isinstance(name, str) or not name.strip() or name.strip().isdigit():
+        if (not key.strip().isdigit() or not isinstance(name, str) or not name.strip() or name.strip().isdigit()
+                or not name.strip().isprintable()):
             raise LibraryError(f"{names_path} maps {key!r} to {name!r}, but it must map motion ids to "
-                               "names with at least one non-digit, such as {\"3\": \"squats\"}; "
+                               "one-line names with at least one non-digit, such as {\"3\": \"squats\"}; "
                                "fix it or delete it to go back to the default names.")
 
 

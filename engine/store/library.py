@@ -17,7 +17,7 @@ import numpy as np
 
 from . import arrays, layout
 from ..graph.database import Node
-from ..errors import LibraryError, TvmError
+from ..errors import LibraryError, TvmError, build_call
 from .infoschema import INFO_SCHEMA  # re-exported: tvmedit.engine.store.library.INFO_SCHEMA
 from .layout import FORMAT
 
@@ -374,6 +374,24 @@ class Library:
         arrays, offsets, row, _ = self._locate(key)
         return self._mesh_at(arrays, offsets, row, f"frame {key[1]} of {key[0]}")
 
+    #: The files a frame's geometry, colours and in-betweens come from: what export and render
+    #: verify before they write a frame.
+    MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "uvs.npy",
+                  "textures.npy", "texture_frames.npy", "blend_positions.npy", "blend_colours.npy",
+                  "blend_normals.npy", "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy",
+                  "blend_texture_frames.npy", "instant_pairs.npy", "instant_fields.npy")
+
+    def verify(self, names=None):
+        """Raise LibraryError, naming them, where files of the library (``names``: only those)
+        no longer hold the bytes the build wrote (checksums in the manifest: same-size damage
+        that sizes miss); returns the number of files verified. A library built before
+        checksums verifies nothing."""
+        wanted = None if names is None else set(names)
+        bad = layout.verify(self.path, self.manifest, wanted)
+        if bad:
+            raise layout.damaged_files(self.path, bad)
+        return sum(1 for name in self.manifest.get("checksums", {}) if wanted is None or name in wanted)
+
     @cached_property
     @_reads_format
     def _instants(self):
@@ -430,7 +448,26 @@ class Library:
         most_v, most_f = self.max_counts()
         if nv > most_v or nf > most_f or (nf and int(faces.max()) >= nv):
             raise layout.damaged(self.path, ValueError(f"{label} does not match its vertex and face counts"))
-        return a["positions"][v0:v0 + nv], a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
+        positions = a["positions"][v0:v0 + nv]
+        self._check_bounds(positions, label)
+        return positions, a["colours"][v0:v0 + nv], faces, a["normals"][v0:v0 + nv]
+
+    def _check_bounds(self, positions, label):
+        """Refuse a frame whose vertices are not finite or leave the bounds the build recorded:
+        damage on disk caught where the frame is read, for a fraction of a millisecond, before
+        a 300 m vertex reaches a file or the screen."""
+        if not len(positions):
+            return
+        low, high = self.bounds()
+        slack = 1e-3 * max(1.0, max(h - lo for lo, h in zip(low, high)))
+        for k in range(3):  # column by column: numpy reduces (N, 3) over axis 0 far slower
+            column = positions[:, k]
+            least, most = float(column.min()), float(column.max())
+            if not (low[k] - slack <= least and most <= high[k] + slack):
+                raise LibraryError(f"library {self.path} is damaged: {label} has vertices at "
+                                   f"{least:.3g}..{most:.3g} m on axis {'xyz'[k]}, outside the bounds the build "
+                                   f"recorded ({low[k]:.3g}..{high[k]:.3g} m); "
+                                   f"rebuild it with {build_call(None, self.path, force=True)}.")
 
     def source_mesh(self, key):
         """:meth:`frame_mesh` of any frame of a sequence: the stored one, else read from its frame
@@ -546,6 +583,10 @@ class Library:
         from ..graph.motiongraph import node_by_key
         from ..graph.timing import Timing
 
+        from ..checks import listed
+
+        keys, forbid = listed("keys", keys), listed("forbid", forbid)
+        durations, at = listed("durations", durations, "seconds"), listed("at", at, "seconds")
         graph = self.graph
         ids = [node_by_key(graph, key) for key in keys]
         fps = self.sequence(graph.nodes[ids[0]]["sequence"]).fps if ids else None
@@ -566,8 +607,10 @@ class Library:
         motions it may play; ``temperature`` (times the median transition weight) sets how
         freely it takes costly transitions; ``start`` is the motion it begins at.
         """
+        from ..checks import listed
         from ..playback.wander import library_walk
 
+        only, forbid = listed("only", only), listed("forbid", forbid)
         return library_walk(self, seconds, seed=seed, only=only, forbid=forbid, temperature=temperature,
                             start=start)
 

@@ -1,0 +1,58 @@
+"""A library knows its own bytes: damage on disk is found by `check LIB`, and stops export and
+render before they write a frame (checksums in the manifest; each frame within its bounds)."""
+
+import json
+import shutil
+
+import pytest
+
+from interrupt import tvmedit
+from tvmedit import Library
+
+
+def _damaged(library, tmp_path, name, keep_checksums=True):
+    """A copy of ``library`` with 200 bytes of ``name`` flipped, its size kept."""
+    copy = tmp_path / "damaged.tvmlib"
+    shutil.copytree(library, copy)
+    data = bytearray((copy / name).read_bytes())
+    middle = len(data) // 2
+    for k in range(200):
+        data[middle + 7 * k] ^= 0xFF
+    (copy / name).write_bytes(bytes(data))
+    if not keep_checksums:  # a library as built before checksums
+        manifest = json.loads((copy / "manifest.json").read_text())
+        manifest.pop("checksums")
+        (copy / "manifest.json").write_text(json.dumps(manifest))
+    return copy
+
+
+def test_check_lib_passes_a_library_as_built(small_library):
+    result = tvmedit("check", small_library)
+    assert result.returncode == 0 and "hold the bytes written" in result.stdout, result.stderr
+
+
+@pytest.mark.parametrize("name", ["positions.npy", "colours.npy", "features.npy", "faces.npy", "instant_fields.npy"])
+def test_same_size_damage_to_any_array_is_named_by_check(small_library, tmp_path, name):
+    copy = _damaged(small_library, tmp_path, name)
+    result = tvmedit("check", copy)
+    assert result.returncode == 2 and f"{name} does not hold the bytes written" in result.stderr, result.stderr
+    assert "Traceback" not in result.stderr
+
+
+@pytest.mark.parametrize("command", ["export", "render"])
+def test_damage_stops_export_and_render_before_any_frame(small_library, tmp_path, command):
+    copy = _damaged(small_library, tmp_path, "colours.npy")
+    out = tmp_path / ("edit" if command == "export" else "edit.mp4")
+    result = tvmedit(command, copy, "0", "1", "-o", out, "-q")
+    assert result.returncode == 2 and "colours.npy" in result.stderr and not out.exists()
+
+
+def test_without_checksums_a_vertex_off_its_bounds_is_still_caught(small_library, tmp_path):
+    copy = _damaged(small_library, tmp_path, "positions.npy", keep_checksums=False)
+    library = Library.open(copy)
+    frames = library.stored_frames()
+    with pytest.raises(Exception, match="outside the bounds the build recorded"):
+        for key in frames:
+            library.frame_mesh(key)
+    result = tvmedit("check", copy)
+    assert result.returncode == 2 and "outside the bounds" in result.stderr and "Traceback" not in result.stderr
