@@ -367,3 +367,41 @@ def test_advice_for_a_one_motion_take_names_options_that_work(card_library, tmp_
     again = _tvmedit("build", tmp_path / "edit", "-o", tmp_path / "more.tvmlib", "-q", *flags)
     assert again.returncode == 0 and "an edit needs two" not in again.stderr, again.stderr
     assert len(Library.open(tmp_path / "more.tvmlib").nodes) == int(found.group(2))
+
+
+def test_an_ascii_ply_whose_header_undercounts_its_faces_is_refused(tmp_path):
+    """trimesh reads as many faces as the header declares and drops the rest without a word."""
+    import re
+
+    import trimesh
+
+    from tvmedit.engine.capture.load import read_frame
+    from tvmedit.engine.errors import InputError
+
+    sphere = trimesh.creation.icosphere(subdivisions=2)
+    path = tmp_path / "frame_000.ply"
+    sphere.export(path, encoding="ascii")
+    read_frame(path)
+    text = path.read_text()
+    faces = int(re.search(r"element face (\d+)", text).group(1))
+    path.write_text(text.replace(f"element face {faces}", f"element face {faces - 100}"))
+    with pytest.raises(InputError, match=f"declares 162 vertices and {faces - 100} faces .* but it holds"):
+        read_frame(path)
+
+
+def test_an_obj_whose_material_names_a_missing_texture_names_it(tmp_path):
+    """trimesh leaves the missing image out and the frame would draw white."""
+    import trimesh
+    from PIL import Image
+
+    from tvmedit.engine.capture.load import read_frame
+    from tvmedit.engine.errors import InputError
+
+    box = trimesh.creation.box()
+    box.visual = trimesh.visual.TextureVisuals(uv=np.random.default_rng(0).random((len(box.vertices), 2)),
+                                               image=Image.new("RGB", (8, 8), (200, 30, 30)))
+    box.export(tmp_path / "frame_000.obj", file_type="obj")
+    assert read_frame(tmp_path / "frame_000.obj").texture is not None
+    (tmp_path / "material_0.png").unlink()
+    with pytest.raises(InputError, match="names the texture material_0.png, which is missing"):
+        read_frame(tmp_path / "frame_000.obj")

@@ -247,12 +247,34 @@ def read_ply_file(path, detail="full"):
     from .plyfast import read_ply
 
     with open(path, "rb") as handle:
-        textured = b"TextureFile" in handle.read(4096).split(b"end_header")[0]
+        head = handle.read(4096).split(b"end_header")[0]
+    textured = b"TextureFile" in head
+    if b"format ascii" in head:
+        _check_ascii_counts(path)
     fast = None if textured else read_ply(path)
     if fast is not None:
         vertices, faces, colours = fast
         return MeshData(vertices, faces, colours)
     return read_trimesh(path, detail)
+
+
+def _check_ascii_counts(path):
+    """An ASCII PLY holds one line per vertex and per face, as many as its header declares:
+    trimesh reads the counts the header gives and drops the rest, so a header that undercounts
+    would lose faces without a word."""
+    data = Path(path).read_bytes()
+    head, _, body = data.partition(b"end_header")
+    counts = [line.split() for line in head.decode("ascii", "replace").splitlines() if line.startswith("element ")]
+    try:
+        declared = {words[1]: int(words[2]) for words in counts if len(words) == 3}
+    except ValueError:
+        return  # trimesh says what is wrong with such a header
+    lines = sum(1 for line in body.split(b"\n")[1:] if line.strip())
+    if lines != sum(declared.values()):
+        plural = {"vertex": "vertices"}
+        shown = " and ".join(f"{n} {plural.get(name, name + 's') if n != 1 else name}" for name, n in declared.items())
+        raise ValueError(f"its header declares {shown} ({sum(declared.values())} lines) but it holds {lines} "
+                         "lines of data; fix the counts in its header")
 
 
 @register("off", ".off")
@@ -296,6 +318,8 @@ def read_trimesh(path, detail="full"):
     """
     import trimesh
 
+    if Path(path).suffix.lower() == ".obj":
+        _check_obj_textures(path)
     loaded = trimesh.load(path, process=False, maintain_order=True)
     if isinstance(loaded, trimesh.Scene):
         meshes = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if hasattr(loaded, "dump") else []
@@ -322,6 +346,27 @@ def read_trimesh(path, detail="full"):
             if colour is not None:
                 data.colours = np.broadcast_to(colour, (len(vertices), 3))
     return _coloured(data, detail)
+
+
+def _check_obj_textures(path):
+    """The texture images an OBJ's material files name must be there: trimesh leaves a missing
+    one out without a word, and the frame would draw white where the capture had its colours."""
+    path = Path(path)
+    with open(path, "rb") as handle:
+        libraries = [line.split(None, 1)[1].strip().decode("utf-8", "replace")
+                     for line in handle if line.startswith(b"mtllib ") and len(line.split(None, 1)) == 2]
+    for name in libraries:
+        mtl = path.parent / name
+        if not mtl.is_file():
+            raise ValueError(f"its material file {name} is missing; put it beside the frame or remove the "
+                             "mtllib line")
+        for line in mtl.read_text(errors="replace").splitlines():
+            words = line.split()
+            if words and words[0].lower() in ("map_kd", "map_ka") and len(words) > 1:
+                image = mtl.parent / words[-1]
+                if not image.is_file():
+                    raise ValueError(f"its material file {name} names the texture {words[-1]}, which is missing; "
+                                     "put it beside the frame")
 
 
 def _material_image(material):
