@@ -179,14 +179,15 @@ def test_ctrl_c_is_reported_once_by_the_parent(tmp_path):
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                start_new_session=True, preexec_fn=default_sigint)
     deadline = time.monotonic() + 60
-    while not list(out.glob("frame_*.ply")) and time.monotonic() < deadline and process.poll() is None:
+    # The take is written beside its name (.walk.tmp-PID) and renamed into place at the end.
+    while not list(tmp_path.glob(".walk.*/frame_*.ply")) and time.monotonic() < deadline and process.poll() is None:
         time.sleep(0.05)
     assert process.poll() is None, "synth ended before it could be interrupted"
     os.killpg(process.pid, signal.SIGINT)  # what Ctrl-C does: the whole foreground group
     _, err = process.communicate(timeout=60)
     assert process.returncode == 130
     assert err == "interrupted\n"
-    assert not (out / "truth.json").exists()
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_pauses_between_repetitions_hold_the_pose_and_count_in_the_period():
@@ -376,3 +377,21 @@ def test_a_turning_actor_turns_on_its_feet(tmp_path):
     assert np.ptp(np.linalg.norm(centres - centres[0], axis=1)) > 0.15   # and bends
     slid = np.linalg.norm(feet - feet[0], axis=1).max()
     assert slid < 0.12, slid        # the ankles stay put; the toes, 0.1 m in front of them, turn
+
+
+def test_an_interrupted_synth_leaves_nothing_and_a_second_run_makes_the_take(tmp_path):
+    """Ctrl-C after the fifth frame: neither the take's folder nor a temporary one is left."""
+    import signal
+
+    from interrupt import run_signalled
+
+    out = tmp_path / "take"
+    args = ["synth", "--motions", "squats", "--cycles", "2", "--fps", "5", "--vertices", "1500",
+            "--workers", "1", "--out", out, "-q"]
+    result = run_signalled(args, at="tvmedit.engine.lab.synth:write_ply", after=5, signum=signal.SIGINT)
+    assert result.returncode != 0 and "Traceback" not in result.stderr, result.stderr
+    assert list(tmp_path.iterdir()) == []
+    again = subprocess.run([sys.executable, "-m", "tvmedit", *map(str, args)], capture_output=True, text=True)
+    assert again.returncode == 0, again.stderr
+    assert (out / "truth.json").exists() and len(list(out.glob("frame_*.ply"))) == json.loads(
+        (out / "truth.json").read_text())["frames"]

@@ -209,9 +209,28 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
         workers = whole("workers", workers, at_least=1, at_most=1024)
     poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed, rest=rest)
     out = _prepare(out, overwrite)
+    files = ["truth.json", SIDECAR, *(f"frame_{k:05d}.ply" for k in range(len(poses)))]
+    if any(out.iterdir()) or safewrite.holds_cwd(out):
+        # Files of the user's stay beside the take: it is written in place, marked as ours
+        # before the first frame, so that an interrupted run is still replaced by --overwrite.
+        safewrite.mark(out, "take", files=files)
+        return _write_take(out, out, poses, labels, motions, periods, preset, cycles, fps, vertices, seed,
+                           workers, progress, rest, turns, files)
+    # A new take is written beside its name and renamed into place: an interrupted run leaves
+    # nothing, never a folder of some of its frames.
+    out.rmdir()
+    with safewrite.replacing_folder(out) as folder:
+        return _write_take(out, folder, poses, labels, motions, periods, preset, cycles, fps, vertices, seed,
+                           workers, progress, rest, turns, files)
+
+
+def _write_take(out, folder, poses, labels, motions, periods, preset, cycles, fps, vertices, seed, workers,
+                progress, rest, turns, files):
+    """Write the take's frames, ``sequence.json``, ``truth.json`` and marker into ``folder``
+    (``out`` itself, or the temporary folder that becomes it); returns the truth."""
     voxel = float(voxel_size(vertices))
     headings = turn_headings(len(poses), fps, turns, seed)
-    jobs = [(str(out), k, pose, voxel, seed, float(h)) for k, (pose, h) in enumerate(zip(poses, headings))]
+    jobs = [(str(folder), k, pose, voxel, seed, float(h)) for k, (pose, h) in enumerate(zip(poses, headings))]
     counts = _write_frames(jobs, workers, progress, out.name)
     segments = _segments(labels)
     hints = []
@@ -245,8 +264,7 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
                           [round(p, 4) for p in per] for per in periods]},
     }
     # The frame rate beside the frames, where `tvmedit build` reads it (PLY frames carry none).
-    safewrite.write_text(out / SIDECAR, sidecar_json(fps))
-    safewrite.write_text(out / "truth.json", json.dumps(truth, indent=1))
-    safewrite.mark(out, "take", files=["truth.json", SIDECAR,
-                                    *(f"frame_{k:05d}.ply" for k in range(len(jobs)))])
+    safewrite.write_text(folder / SIDECAR, sidecar_json(fps))
+    safewrite.write_text(folder / "truth.json", json.dumps(truth, indent=1))
+    safewrite.mark(folder, "take", files=files)
     return truth
