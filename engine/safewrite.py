@@ -268,10 +268,16 @@ def owner(folder):
 
 
 def _foreign(folder):
-    """Files in ``folder`` that its marker does not list (all of them without a marker)."""
+    """Files in ``folder`` that its marker does not list (all of them without a marker), and
+    folders that hold none of the files it lists (a user's empty folder is the user's too)."""
     marker = _marker(folder)
     written = set(marker["files"]) if marker is not None else set()
-    return [name for name in _files(folder) if name != MARKER and name not in written]
+    files = [name for name in _files(folder) if name != MARKER and name not in written]
+    holders = {str(parent) for name in written for parent in Path(name).parents}
+    folders = [str(p.relative_to(folder)) + "/" for p in sorted(Path(folder).rglob("*"))
+               if p.is_dir() and not p.is_symlink() and str(p.relative_to(folder)) not in holders
+               and not any(p.iterdir())]
+    return files + folders
 
 
 def refuse_inside(out, inputs=()):

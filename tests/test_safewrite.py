@@ -142,3 +142,18 @@ def test_render_and_report_never_replace_what_is_not_theirs(small_library, tmp_p
     result = tvmedit("report", small_library, "-o", folder, "-q", "--force")
     _one_sentence(result)
     assert (folder / "thesis.tex").read_text() == "chapter 1"
+
+
+def test_an_empty_folder_of_the_users_inside_an_output_is_not_replaced(tmp_path):
+    from tvmedit.engine import safewrite
+    from tvmedit.engine.errors import OutputError
+
+    out = tmp_path / "report"
+    with safewrite.replacing_folder(out, kind="report") as folder:
+        (folder / "index.html").write_text("<html>")
+        (folder / "figures").mkdir()
+        (folder / "figures" / "a.png").write_bytes(b"png")
+    safewrite.check_target(out, "report", force=True)          # all of it ours: replaced
+    (out / "mine").mkdir()
+    with pytest.raises(OutputError, match="holds mine/, which tvmedit did not write"):
+        safewrite.check_target(out, "report", force=True)
