@@ -66,10 +66,12 @@ class InspectorApp(CameraControls):
         Width / height of the 3D view.
     """
 
-    def __init__(self, library, corrections_path="corrections.json", out=None, aspect=16 / 7, print_=None):
+    def __init__(self, library, corrections_path="corrections.json", out=None, aspect=16 / 7, print_=None,
+                 force=None):
         self.library = library
         self.path = Path(corrections_path)
         self.out = out
+        self.force = force          # replace an existing --out (None: only LIB itself)
         self.print = print_ or (lambda text: print(text, file=sys.stderr, flush=True))
         self.corrections = (Corrections.load(self.path) if self.path.exists() else library.corrections().copy())
         self.history = []
@@ -198,7 +200,7 @@ class InspectorApp(CameraControls):
         """Write the library again with the corrections (in about a second) and show the new
         graph's summary; returns it (:func:`graph_summary`)."""
         try:
-            self.library = self.library.correct(self.corrections, self.out, force=True if self.out else None)
+            self.library = self.library.correct(self.corrections, self.out, force=self.force)
         except TvmError as error:
             self._say(f"rebuild refused: {error}")
             return None
@@ -211,9 +213,14 @@ class InspectorApp(CameraControls):
         return self.summary
 
     def save(self, path=None):
-        """Write the corrections to ``path`` (default: the path given at start)."""
+        """Write the corrections to ``path`` (default: the path given at start). A save that
+        fails says why on screen and keeps the corrections and the window: nothing is lost."""
         path = Path(path or self.path)
-        self.corrections.save(path)
+        try:
+            self.corrections.save(path)
+        except (TvmError, OSError) as error:
+            detail = error.strerror if isinstance(error, OSError) and error.strerror else str(error)
+            return self._say(f"not saved: {detail}; the corrections are kept, fix the path and press S again")
         return self._say(f"saved {path}")
 
     # --- what the window shows -------------------------------------------------------------

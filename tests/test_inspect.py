@@ -154,3 +154,26 @@ def test_a_frame_outside_the_sequence_is_one_sentence(small_library):
     result = tvmedit("inspect", small_library, "--frame", frames, env={**os.environ, "DISPLAY": ""})
     assert result.returncode == 2 and result.stderr.count("\n") == 1
     assert f"--frame {frames} is outside sequence" in result.stderr and f"0-{frames - 1}" in result.stderr
+
+
+def test_a_failed_save_keeps_the_corrections_and_says_why(library, tmp_path):
+    app = InspectorApp(library, tmp_path / "fix.json", print_=lambda text: None)
+    app.seek(_splittable(library))
+    app.press("t")
+    kept = app.corrections.copy()
+    app.save(tmp_path / "no-such-folder" / "fix.json")
+    assert app.message.startswith("not saved") and "press S again" in app.message
+    assert app.corrections == kept and kept
+    app.save()
+    assert json.loads((tmp_path / "fix.json").read_text())
+
+
+def test_paths_enter_and_s_would_fail_on_are_refused_at_the_start(small_library, tmp_path):
+    from interrupt import tvmedit
+
+    result = tvmedit("inspect", small_library, "--corrections", tmp_path / "missing" / "fix.json")
+    assert result.returncode == 2 and "cannot save corrections to" in result.stderr
+    other = tmp_path / "other.tvmlib"
+    shutil.copytree(small_library, other)
+    result = tvmedit("inspect", small_library, "--out", other, "--corrections", tmp_path / "fix.json")
+    assert result.returncode == 2 and "already exists; pass --force" in result.stderr, result.stderr

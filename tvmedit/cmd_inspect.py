@@ -43,6 +43,8 @@ def add_arguments(parser):
                              "(default: corrections.json; otherwise the library's own corrections)")
     parser.add_argument("--out", metavar="OUT", default=None,
                         help="where Enter writes the rebuilt library (default: replace LIB)")
+    parser.add_argument("--force", action="store_true",
+                        help="let Enter replace an existing library at --out (as tvmedit correct --force)")
     parser.add_argument("--sequence", default=None, help="sequence to show first (default: the first)")
     parser.add_argument("--frame", type=int, default=0, help="frame to put the playhead on first")
     parser.add_argument("--size", metavar="WxH", default="1024x720", type=options.size,
@@ -51,12 +53,32 @@ def add_arguments(parser):
                         help="quit by itself after this many seconds")
 
 
+def _check_paths(args, library):
+    """Refuse at the start what would fail only when the user saves or rebuilds: a corrections
+    file that cannot be written, an --out that Enter would not be allowed to replace."""
+    import tempfile
+    from pathlib import Path
+
+    from tvmedit.engine import safewrite
+
+    path = Path(args.corrections)
+    try:
+        if path.exists() and not path.is_file():
+            raise OSError(0, "it is not a file")
+        with tempfile.NamedTemporaryFile(dir=path.parent if str(path.parent) else "."):
+            pass
+    except OSError as error:
+        raise TvmError(f"cannot save corrections to {path} ({error.strerror or error}); give --corrections a "
+                       "file in a folder you can write to.") from None
+    if args.out is not None and Path(args.out).absolute() != Path(library.path).absolute():
+        safewrite.check_target(args.out, "library", force=args.force)   # one sentence, as correct says it
+
+
 def run(args):
     from tvmedit.engine.store.library import Library
 
-    if args.seconds is not None and args.seconds <= 0:
-        raise TvmError(f"--seconds must be positive, not {args.seconds:g}.")
     library = Library.open(args.library)
+    _check_paths(args, library)
     shown = library.sequence(args.sequence) if args.sequence is not None else library.sequences[0]
     if not 0 <= args.frame < shown.frames:
         raise TvmError(f"--frame {args.frame} is outside sequence {shown.name}, whose frames are "
@@ -68,7 +90,7 @@ def run(args):
     from tvmedit.player.inspect import TIMELINE_SHARE, InspectorApp, InspectorWindow
 
     width, height = args.size
-    app = InspectorApp(library, args.corrections, out=args.out,
+    app = InspectorApp(library, args.corrections, out=args.out, force=args.force or None,
                        aspect=width / (height * (1 - TIMELINE_SHARE)))
     if args.sequence is not None:
         while app.sequence != args.sequence:
