@@ -169,3 +169,20 @@ def test_the_player_places_the_body_by_the_redraw_clock(library):
     plain.tick(0.0)
     plain.displayed(0.0)
     assert plain.instant(0.05) is None
+
+
+def test_a_rebuild_copies_the_fields_of_the_steps_it_did_not_change(small_library, tmp_path):
+    import shutil
+
+    copy = tmp_path / "copy.tvmlib"
+    shutil.copytree(small_library, copy)
+    before = Library.open(copy)
+    node = before.nodes[-1]
+    after = before.correct({"sequences": {node.sequence: {"drop": [node.name]}}})
+    report = after.report
+    assert report["display_made"] < report["display_steps"] / 2, report
+    others = [n for n in after.nodes if n.start != node.start]
+    a = others[0]
+    assert np.array_equal(np.asarray(after.instant_field((a.sequence, a.start), (a.sequence, a.start + 1))),
+                          np.asarray(Library.open(small_library).instant_field((a.sequence, a.start),
+                                                                               (a.sequence, a.start + 1))))

@@ -502,7 +502,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
                            pool, run.bar, old, keep_natural, rooms)
     run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
-                             run.blends["data"], settings.blend_frames, pool, run.bar) if settings.smooth else None
+                             run.blends["data"], settings.blend_frames, pool, run.bar, old,
+                             {s.name: e.key for s, e in zip(sequences, computed)}) if settings.smooth else None
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 
@@ -536,6 +537,7 @@ def report_of(derived):
         "blend_seconds": run.blends["seconds"],
         "blend_made": run.blends["made"],
         "display_steps": run.instants["pairs"] if run.instants else 0,
+        "display_made": run.instants["made"] if run.instants else 0,
         "read_frames": run.read_frames,
         "corrected": sorted(name for name, c in analysis.corrections.sequences.items() if c),
         "reused": {seq.name: entry.source for seq, entry in zip(sequences, computed)

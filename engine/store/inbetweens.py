@@ -293,8 +293,8 @@ def _copied(old, run, wrap=False):
 
 
 def _displayed(folder, ids):
-    """``(positions, normals)`` of the meshes ``ids`` of the library being written: a stored
-    frame's row, or ``-1 - k`` for its ``k``-th in-between frame."""
+    """``(positions, normals, faces)`` of the meshes ``ids`` of the library being written: a
+    stored frame's row, or ``-1 - k`` for its ``k``-th in-between frame."""
     from .arrays import frame_offsets, mesh_arrays
 
     meshes, tables = [], {}
@@ -304,8 +304,9 @@ def _displayed(folder, ids):
             arrays = mesh_arrays(folder, prefix)
             tables[prefix] = (arrays, frame_offsets(folder, arrays, prefix))
         arrays, offsets = tables[prefix]
-        v0, nv = offsets[-1 - mesh_id if mesh_id < 0 else mesh_id, :2].tolist()
-        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["normals"][v0:v0 + nv])))
+        v0, nv, f0, nf = offsets[-1 - mesh_id if mesh_id < 0 else mesh_id].tolist()
+        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["normals"][v0:v0 + nv]),
+                       arrays["faces"][f0:f0 + nf]))
     return meshes
 
 
@@ -317,7 +318,19 @@ def _field_task(task):
     folder, pairs = task
     ids = list(dict.fromkeys(i for pair in pairs for i in pair))
     meshes = dict(zip(ids, _displayed(folder, ids)))
-    return [step_field(meshes[a][0], *meshes[b], a_normals=meshes[a][1]) for a, b in pairs]
+    fields = []
+    for a, b in pairs:
+        field = _same_mesh_field(meshes[a], meshes[b])
+        fields.append(field if field is not None else step_field(meshes[a][0], *meshes[b][:2], a_normals=meshes[a][1]))
+    return fields
+
+
+def _same_mesh_field(a, b):
+    """Where ``b`` is ``a``'s own mesh moved (two in-between frames warped from one captured
+    frame, or a captured frame and its warp), the exact field ``b - a``: no fit; else None."""
+    if len(a[0]) != len(b[0]) or len(a[2]) != len(b[2]) or not np.array_equal(a[2], b[2]):
+        return None
+    return (np.asarray(b[0], np.float32) - np.asarray(a[0], np.float32)).astype(np.float16)
 
 
 #: Display steps a worker's task fits, at most (a few frames' fits: scheduling stays cheap
@@ -325,15 +338,18 @@ def _field_task(task):
 FIELDS_PER_TASK = 6
 
 
-def instant_library(folder, names, graph, blends, count, pool, bar=None):
+def instant_library(folder, names, graph, blends, count, pool, bar=None, old=None, keys=None):
     """Make and store the field of every step a schedule of the library shows
     (:mod:`tvmedit.engine.inbetween.instants`), a build's stage after the in-between frames:
     ``instant_pairs.npy`` (per step: from mesh id, to mesh id, first row, rows) and
     ``instant_fields.npy`` (float16, a row per vertex of each step's first mesh).
 
     ``blends`` is what ``blends.json`` holds (:func:`blend_library`'s ``data``); with ``count``
-    0 (the paper's cut) the cut itself gets no field. Returns ``{"pairs"`` (fields stored),
-    ``"steps"`` (steps looked at), ``"seconds"}``.
+    0 (the paper's cut) the cut itself gets no field. A step between two stored frames that the
+    library being replaced (``old``) holds, read from the same frame files (``keys``: sequence
+    -> feature key), is copied, not fitted again: a correction by hand fits only the steps of
+    the textons and transitions it changed. Returns ``{"pairs"`` (fields stored), ``"steps"``
+    (steps looked at), ``"made"`` (steps fitted), ``"seconds"}``.
     """
     import time
 
@@ -343,24 +359,48 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None):
     started = time.perf_counter()
     offsets = frame_offsets(folder, mesh_arrays(folder))
     rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    frames = {row: key for key, row in rows.items()}
     nodes = [(d["sequence"], d["start"], d["end"]) for _, d in sorted(graph.nodes(data=True))]
     edges = [e for e in blends["edges"] if count != 0 or e["count"]]
     pairs = display_pairs(nodes, edges, blends.get("wraps", []), lambda seq, frame: rows[seq, frame])
-    chunks = [pairs[k:k + FIELDS_PER_TASK] for k in range(0, len(pairs), FIELDS_PER_TASK)]
+    kept = _old_fields(old, keys or {})
+    copied = {(a, b): kept[frames[a], frames[b]] for a, b in pairs
+              if a >= 0 and b >= 0 and (frames[a], frames[b]) in kept}
+    todo = [pair for pair in pairs if pair not in copied]
+    chunks = [todo[k:k + FIELDS_PER_TASK] for k in range(0, len(todo), FIELDS_PER_TASK)]
     progress = bar(len(pairs), "in-betweens", unit="step") if bar is not None else None
     table, stream = [], NpyStream(folder / "instant_fields.npy", np.float16, 3)
     try:
-        made = pool.map(_field_task, ((str(folder), chunk) for chunk in chunks))
-        for chunk, chunk_fields in zip(chunks, made):
-            for (a, b), field in zip(chunk, chunk_fields):
-                if field is not None:   # None: the step is shown as captured (instants.helps)
-                    table.append((a, b, stream.rows, len(field)))
-                    stream.append(field)
+        made = (field for fields in pool.map(_field_task, ((str(folder), chunk) for chunk in chunks))
+                for field in fields)
+        for a, b in pairs:
+            field = np.asarray(copied[a, b]) if (a, b) in copied else next(made)
+            if field is not None:   # None: the step is shown as captured (instants.helps)
+                table.append((a, b, stream.rows, len(field)))
+                stream.append(field)
             if progress is not None:
-                progress.update(len(chunk_fields))
+                progress.update()
     finally:
         stream.close()
         if progress is not None:
             progress.close()
     np.save(folder / "instant_pairs.npy", np.array(table, np.int64).reshape(-1, 4))
-    return {"pairs": len(table), "steps": len(pairs), "seconds": time.perf_counter() - started}
+    return {"pairs": len(table), "steps": len(pairs), "made": len(todo), "seconds": time.perf_counter() - started}
+
+
+def _old_fields(old, keys):
+    """``{((sequence, frame), (sequence, frame)): field}`` of the steps between two stored frames
+    that ``old`` holds, for sequences read from the same frame files as the library being
+    written (``keys``); {} when there is none or it cannot be read."""
+    from ..errors import TvmError
+
+    try:
+        if old is None or not old.smooth:
+            return {}
+        same = {r["name"] for r in old.manifest["sequences"] if keys.get(r["name"]) == r.get("feature_key")}
+        stored = old.stored_frames()
+        table, fields = old._instants
+    except (TvmError, KeyError, ValueError):   # a damaged library being replaced lends nothing
+        return {}
+    return {(stored[a], stored[b]): fields[first:first + size] for (a, b), (first, size) in table.items()
+            if 0 <= a < len(stored) and 0 <= b < len(stored) and stored[a][0] in same and stored[b][0] in same}
