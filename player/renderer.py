@@ -127,22 +127,10 @@ class Renderer:
         if mesh is not self._uploaded:
             # A window redraws the same sequence frame many times between frames (60 Hz
             # against 10 fps); it passes the same tuple, and only a new one is uploaded.
-            _check(positions, colours, faces, normals)
-            self._reserve(len(positions), n_faces)
-            self._buffers["in_position"].write(_contiguous(positions, np.float32))
-            self._buffers["in_colour"].write(_contiguous(colours, np.uint8))
-            if normals is not None:
-                self._buffers["in_normal"].write(_contiguous(normals, np.float32))
-            self._buffers["index"].write(_contiguous(faces, np.uint32))
-            self._uploaded = mesh
+            self._upload_mesh(mesh)
         moving = instant is not None and instant[0] is not None
         if moving and instant[0] is not self._uploaded_field:
-            field = instant[0]
-            if np.shape(field) != (len(positions), 3):
-                raise ValueError(f"the step's field should be ({len(positions)}, 3) like the positions, "
-                                 f"got shape {np.shape(field)}")
-            self._buffers["in_offset"].write(_contiguous(field, np.float16))
-            self._uploaded_field = field
+            self._upload_field(instant[0], len(positions))
         if texture is not None and texture is not self._uploaded_texture:
             self._upload_texture(*texture, len(positions))
             self._uploaded_texture = texture
@@ -279,6 +267,26 @@ class Renderer:
             content = [(b[name], fmt, name) for name, fmt in formats.items() if name in program]
             self._vaos[key] = self.ctx.vertex_array(program, content, b["index"], index_element_size=4)
         return self._vaos[key]
+
+    def _upload_mesh(self, mesh):
+        """Write a frame's positions, colours, normals and faces, growing the buffers if needed."""
+        positions, colours, faces, normals = mesh
+        _check(positions, colours, faces, normals)
+        self._reserve(len(positions), len(faces))
+        self._buffers["in_position"].write(_contiguous(positions, np.float32))
+        self._buffers["in_colour"].write(_contiguous(colours, np.uint8))
+        if normals is not None:
+            self._buffers["in_normal"].write(_contiguous(normals, np.float32))
+        self._buffers["index"].write(_contiguous(faces, np.uint32))
+        self._uploaded = mesh
+
+    def _upload_field(self, field, n_vertices):
+        """Write a step's field (the display-rate in-between) into the offset buffer."""
+        if np.shape(field) != (n_vertices, 3):
+            raise ValueError(f"the step's field should be ({n_vertices}, 3) like the positions, "
+                             f"got shape {np.shape(field)}")
+        self._buffers["in_offset"].write(_contiguous(field, np.float16))
+        self._uploaded_field = field
 
     def _upload_texture(self, uv, image, n_vertices):
         """Write a frame's texture coordinates and image; the GPU texture is remade only when

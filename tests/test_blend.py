@@ -19,7 +19,7 @@ from tvmedit.cli import main
 def libraries(take_13_29, take_13_30, synth_gym):
     """The three takes of the issue, built at default options (blends included), once per
     version of the engine's code."""
-    return {name: Library.open(built_library(name, take))
+    return {name: Library.open(built_library(name, take, smooth=False))
             for name, take in (("13_29", take_13_29), ("13_30", take_13_30), ("gym", synth_gym))}
 
 

@@ -52,7 +52,7 @@ def take(take_13_30, tmp_path_factory):
 def base(take, tmp_path_factory):
     """The automatic library of the take (tests write their corrections elsewhere)."""
     out = tmp_path_factory.mktemp("lib") / "t30.tvmlib"
-    return engine.build([take], out, workers=2, cache=False)
+    return engine.build([take], out, workers=2, cache=False, smooth=False)
 
 
 def _truth(take):
@@ -179,7 +179,7 @@ def _check_closings(library):
 def base_all(take, tmp_path_factory):
     """The take's library with every frame stored (``keep_frames="all"``)."""
     out = tmp_path_factory.mktemp("lib") / "t30-all.tvmlib"
-    return engine.build([take], out, workers=2, cache=False, keep_frames="all")
+    return engine.build([take], out, workers=2, cache=False, keep_frames="all", smooth=False)
 
 
 def test_a_library_keeping_every_frame_is_corrected_without_its_capture(base_all, take, tmp_path):

@@ -31,7 +31,7 @@ def _mesh(library, key):
     return np.asarray(positions), np.asarray(faces)
 
 
-def test_every_step_an_edit_or_a_walk_shows_moves_but_where_the_capture_stands_still(library):
+def test_every_step_shown_moves_but_where_the_capture_stands_still(library):
     """A step gets a field unless the fit would not bring the frame nearer the next one (the
     body barely moves there); those are few, and small."""
     natural = np.median([step_measures(_mesh(library, (n.sequence, f)), _mesh(library, (n.sequence, f + 1)), 4)[0]

@@ -91,8 +91,9 @@ def test_centred_rows_of_sequences_that_stay_stand_beside_one_that_strays(take_1
         mesh.vertices = mesh.vertices + np.array([0.03 * k, 0.0, 0.0])
         mesh.export(stray / path.name)
     (a, first), (b, second) = _inputs(take_13_30)
-    library = build([(a, first), ("stray", str(stray)), (b, second)], tmp_path / "three.lib", workers=2, cache=False)
-    alone = build([(b, second)], tmp_path / "alone.lib", workers=2, cache=False)
+    library = build([(a, first), ("stray", str(stray)), (b, second)], tmp_path / "three.lib", workers=2,
+                    cache=False, smooth=False)
+    alone = build([(b, second)], tmp_path / "alone.lib", workers=2, cache=False, smooth=False)
     records = {r["name"]: r for r in library.manifest["sequences"]}
     assert "centred_rows" not in records["stray"] and library.features("stray").centred is None
     assert records[a]["centred_rows"] == [0, 60] and records[b]["centred_rows"] == [60, 120]

@@ -14,7 +14,7 @@ from tvmedit.engine.inbetween.loops import closing, pace, window
 @pytest.fixture(scope="module")
 def libraries(take_13_29, take_13_30, synth_gym):
     """The three takes, built at default options, once per version of the engine's code."""
-    return {name: Library.open(built_library(name, take))
+    return {name: Library.open(built_library(name, take, smooth=False))
             for name, take in (("13_29", take_13_29), ("13_30", take_13_30), ("gym", synth_gym))}
 
 
@@ -126,7 +126,7 @@ def test_closing_marks_only_whole_windows_next_to_a_wrap():
 
 
 def test_a_library_without_blending_closes_no_loop(take_13_30, tmp_path):
-    library = Library.open(built_library("13_30", take_13_30, blend_frames=0))
+    library = Library.open(built_library("13_30", take_13_30, blend_frames=0, smooth=False))
     assert not library.blend_data()["wraps"]
     assert not any(count for _, count in library.graph.nodes(data="wrap"))
 

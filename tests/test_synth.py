@@ -379,7 +379,7 @@ def test_a_turning_actor_turns_on_its_feet(tmp_path):
     assert slid < 0.12, slid        # the ankles stay put; the toes, 0.1 m in front of them, turn
 
 
-def test_an_interrupted_synth_leaves_nothing_and_a_second_run_makes_the_take(tmp_path):
+def test_an_interrupted_synth_leaves_nothing_and_a_rerun_makes_the_take(tmp_path):
     """Ctrl-C after the fifth frame: neither the take's folder nor a temporary one is left."""
     import signal
 

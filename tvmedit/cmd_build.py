@@ -132,9 +132,7 @@ def add_arguments(parser):
                             "every step at or below the natural step between captured frames)")
 
     group.add_argument("--smooth", action=argparse.BooleanOptionalAction, default=True,
-                       help="make the display-rate in-betweens, so the body moves at the display's rate in "
-                            "play, render --fps and export --fps (default); --no-smooth: a smaller library "
-                            "that shows the capture's rate")
+                       help="make the display-rate in-betweens (default): the body moves at the display's rate")
 
     group.add_argument("--keep-frames", choices=KEEP_FRAMES, default="motions",
                        help="motions (default): store the frames of the database motions only; all: store "

@@ -19,11 +19,13 @@ recorded, so that damage on disk is found before an edit is written from it.
 
 from . import options
 
-HELP = "load a TVM sequence and report format, frames, timing, vertices, textures, up axis and units"
+HELP = ("load a TVM sequence and report format, frames, timing, vertices, textures, up axis and units; "
+        "or verify a library")
 
 
 def add_arguments(parser):
-    parser.add_argument("input", metavar="INPUT", help="sequence folder, manifest, or quoted glob of frame files")
+    parser.add_argument("input", metavar="INPUT",
+                        help="sequence folder, manifest, or quoted glob of frame files; or a library to verify")
     parser.add_argument("--fps", type=float, default=None,
                         help="frame rate (default: sequence.json beside the frames, else the manifest's "
                              "frame times, else 10); a capture with frame times is resampled to it")

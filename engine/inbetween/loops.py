@@ -130,19 +130,13 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
     Parameters
     ----------
     meshes : callable
-        ``meshes(frame)`` gives ``(positions, colours, faces)`` of a frame of the sequence (the
-        texton's, and the neighbouring repetition's of :func:`window`).
-    start, end : int
-        The texton.
-    at : {"end", "start"}
-    limit : int
-        Most frames to warp.
-    natural : float
-        The library's natural step.
-    tail : float or None
-        Its 99th percentile (:func:`tvmedit.engine.inbetween.blend.chamfer_and_tail`): a wrap
-        whose farthest vertices jump beyond it, and the capture's own at that phase, is closed
-        too, and a closing must keep its steps' percentiles within it.
+        ``meshes(frame)``: ``(positions, colours, faces)`` of a frame of the sequence (:func:`window`).
+    start, end, at, limit : int, int, {"end", "start"}, int
+        The texton, where it is closed, and the most frames to warp.
+    natural, tail : float, float or None
+        The library's natural step and its 99th percentile
+        (:func:`tvmedit.engine.inbetween.blend.chamfer_and_tail`), which a closing's steps keep
+        within (or the capture's own at that phase).
 
     Returns
     -------

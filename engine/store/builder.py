@@ -415,9 +415,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
         given is detected per sequence (:func:`tvmedit.engine.capture.orientation.detect`).
     body_frame : bool
-        Compute every sequence's features in the body's own frame
-        (:func:`tvmedit.engine.capture.orientation.feature_frame`), the default: a take parses alike however
-        it is turned (README, *Frames of reference*). False: in tvmedit's axes.
+        Compute features in the body's own frame (:func:`tvmedit.engine.capture.orientation.feature_frame`),
+        the default, so a take parses alike however it is turned; False: in tvmedit's axes.
     corrections : Corrections, dict, str, Path or None
         Corrections by hand applied on top of the parse (:mod:`tvmedit.engine.store.corrections`), or the
         file holding them; None keeps those of the library being replaced, if any; False
@@ -430,10 +429,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         Store the frames of the database motions only (default), or every frame of every
         sequence (``tvmedit.engine.store.settings.KEEP_FRAMES``): a larger library whose corrections by hand
         never read a frame file, even with the capture folder gone.
-    smooth : bool
-        Make the display-rate in-betweens (:mod:`tvmedit.engine.inbetween.instants`), the default:
-        every step the player and renderer show gets a field, so the body moves at the
-        display's rate; False: a smaller library that plays at the capture's rate.
+    smooth : bool, make the display-rate in-betweens (:mod:`tvmedit.engine.inbetween.instants`)
     open_library : callable or None
         Opens the library being replaced (``Library.open``), to reuse its features,
         corrections and meshes; None: nothing is reused from it.

@@ -162,9 +162,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     rooms : dict, ``node -> (first, last)`` frame of its cluster: how far beyond its texton the
         capture repeats it, for closing its loop (:mod:`tvmedit.engine.inbetween.loops`)
     keep_natural : bool
-        Keep ``old``'s natural step rather than measure it on the new motions (a rebuild from
-        corrections by hand: the capture's pace is what it was, and a correction then makes
-        anew only the runs of the transitions it changed).
+        Keep ``old``'s natural step (a rebuild from corrections by hand: the capture's pace is
+        what it was, and only the runs of the transitions it changed are made anew).
 
     Returns
     -------

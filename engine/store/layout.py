@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import safewrite
-from ..errors import LibraryError, build_call, not_a_library
+from ..errors import LibraryError, TvmError, build_call, not_a_library
 
 __all__ = ["FORMAT", "CHECKED_FILES", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
@@ -359,6 +359,23 @@ def read_manifest(path):
             raise LibraryError(f"library {path} is damaged: {name} has {actual} bytes where "
                                f"{size} were written (truncated or changed); {_rebuild_hint(path)}.")
     return data
+
+
+def reads_format(method):
+    """Files that do not hold what the format says become one LibraryError, whenever read (a
+    decorator of the methods of a library, which has ``path``)."""
+    import functools
+
+    @functools.wraps(method)
+    def checked(self, *args, **kwargs):
+        try:
+            return method(self, *args, **kwargs)
+        except TvmError:
+            raise
+        except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
+            raise damaged(self.path, error) from None
+
+    return checked
 
 
 def damaged(path, error):

@@ -9,7 +9,6 @@ replaces).
 """
 
 from dataclasses import dataclass, field, replace
-import functools
 from functools import cached_property
 from pathlib import Path
 
@@ -17,9 +16,10 @@ import numpy as np
 
 from . import arrays, layout
 from ..graph.database import Node
-from ..errors import LibraryError, TvmError, build_call
+from ..errors import LibraryError, build_call
 from .infoschema import INFO_SCHEMA  # re-exported: tvmedit.engine.store.library.INFO_SCHEMA
 from .layout import FORMAT
+from .steps import DisplaySteps
 
 __all__ = ["Library", "LibrarySequence", "FORMAT", "INFO_SCHEMA", "build"]
 
@@ -54,21 +54,10 @@ class LibrarySequence:
         return self._library.structure(self.name)
 
 
-def _reads_format(method):
-    """Files that do not hold what the format says become one LibraryError, whenever read."""
-    @functools.wraps(method)
-    def checked(self, *args, **kwargs):
-        try:
-            return method(self, *args, **kwargs)
-        except TvmError:
-            raise
-        except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
-            raise layout.damaged(self.path, error) from None
-
-    return checked
+_reads_format = layout.reads_format
 
 
-class Library:
+class Library(DisplaySteps):
     """A library opened for editing and playing; use :meth:`open`.
 
     Implements the player's ``MeshSource`` protocol (:meth:`frame_mesh`, :meth:`bounds`,
@@ -391,51 +380,6 @@ class Library:
         if bad:
             raise layout.damaged_files(self.path, bad)
         return sum(1 for name in self.manifest.get("checksums", {}) if wanted is None or name in wanted)
-
-    @cached_property
-    @_reads_format
-    def _instants(self):
-        """``({(from id, to id): (first, rows)}, fields)`` of the display steps, or None."""
-        if "instant_pairs.npy" not in self.manifest.get("files", {}):
-            return None
-        table = layout.load_array(self.path, "instant_pairs.npy")
-        fields = layout.load_array(self.path, "instant_fields.npy")
-        if table.ndim != 2 or table.shape[1] != 4 or fields.ndim != 2 or fields.shape[1] != 3 or (
-                len(table) and int((table[:, 2] + table[:, 3]).max()) > len(fields)):
-            raise layout.damaged(self.path, ValueError("instant_pairs.npy does not match instant_fields.npy"))
-        return {(a, b): (first, rows) for a, b, first, rows in table.tolist()}, fields
-
-    @property
-    def smooth(self):
-        """Whether the library holds display-rate in-betweens (:meth:`instant_field`); a
-        library built before them, or with ``smooth=False``, plays at the capture's rate."""
-        return self._instants is not None
-
-    def _mesh_id(self, key):
-        """The id the display steps name mesh ``key`` by: its stored row, or ``-1 - row`` of an
-        in-between frame."""
-        sequence, frame, *blend = key
-        if blend and blend[0] is not None:
-            return -1 - self._blend_row(blend[0])
-        return self._row(sequence, frame)
-
-    @_reads_format
-    def instant_field(self, key, next_key):
-        """The float16 (N, 3) displacement that carries mesh ``key``'s N vertices onto mesh
-        ``next_key``'s surface (:mod:`tvmedit.engine.inbetween.instants`): the surface at fraction
-        ``s`` of the step is ``positions + s * field``. None where the library holds none for
-        this step (built before them, or a step no schedule of it shows)."""
-        if self._instants is None or next_key is None:
-            return None
-        found = self._instants[0].get((self._mesh_id(key), self._mesh_id(next_key)))
-        if found is None:
-            return None
-        first, rows = found
-        _, offsets, row, _ = self._locate(key)
-        if rows != int(offsets[row, 1]):
-            raise layout.damaged(self.path, ValueError(f"the display step from {key} has {rows} rows for "
-                                                       f"{int(offsets[row, 1])} vertices"))
-        return self._instants[1][first:first + rows]
 
     def blend_row(self, row):
         """:meth:`frame_mesh` of the ``row``-th in-between frame stored (runs one after another,
