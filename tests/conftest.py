@@ -150,4 +150,5 @@ def paper_library(small_library):
 
     take = synth_take("gym", cycles=3, vertices=4000)
     out = CACHE / f"{small_library.name}-paper"
-    return made_once(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, force=True, connect="off"))
+    return made_once(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, force=True, connect="off",
+                                                                  smooth=False))

@@ -77,7 +77,7 @@ def test_inputs_name_sequences_and_duplicate_names_are_refused(take_13_30, tmp_p
 
 
 def test_a_synthetic_walk_builds_into_a_library_named_after_its_folder(synth_walk, tmp_path):
-    library = build([synth_walk], tmp_path / "walk.lib", workers=2, cache=False)
+    library = build([synth_walk], tmp_path / "walk.lib", workers=2, cache=False, smooth=False)
     assert [s.name for s in library.sequences] == [synth_walk.name]
     assert library.sequences[0].structure.clusters[0][0] == 0
     assert library.nodes, "a walk of nine cycles gives at least one motion"

@@ -34,7 +34,8 @@ def take():
 
 @pytest.fixture(scope="module")
 def library(take, tmp_path_factory):
-    return build([("gym", str(take))], tmp_path_factory.mktemp("lib") / "gym.lib", workers=2, cache=False)
+    return build([("gym", str(take))], tmp_path_factory.mktemp("lib") / "gym.lib", workers=2, cache=False,
+                 smooth=False)
 
 
 @pytest.fixture(scope="module")
@@ -48,7 +49,7 @@ def library_without_truth(take, tmp_path_factory):
             os.link(path, folder / path.name)
         except OSError:
             shutil.copy(path, folder / path.name)
-    return build([("walk", str(folder))], folder.parent / "walk.lib", workers=2, cache=False)
+    return build([("walk", str(folder))], folder.parent / "walk.lib", workers=2, cache=False, smooth=False)
 
 
 def _report(lib, out, capsys, *flags):
@@ -299,7 +300,7 @@ def test_a_take_where_the_actor_turns_names_the_turns_on_its_page(ctx, tmp_path)
     truth = json.loads((take / "truth.json").read_text())
     heading = np.degrees(synth.turn_headings(truth["frames"], truth["fps"], 90.0, seed=3))
     turning = np.flatnonzero(np.abs(np.diff(heading)) > 1e-6) / truth["fps"]
-    lib = build([("turning", str(take))], tmp_path / "t.lib", workers=2, cache=False)
+    lib = build([("turning", str(take))], tmp_path / "t.lib", workers=2, cache=False, smooth=False)
     write_report(lib, tmp_path / "rep", progress=False)
     row = json.loads((tmp_path / "rep" / "report.json").read_text())["sequences"][0]
     assert row["turns_s"] and all(np.abs(turning - t).min() <= 1.0 for t in row["turns_s"]), (row["turns_s"], turning)
@@ -326,7 +327,7 @@ def test_an_actor_turning_right_round_on_its_spot_is_read_as_turning(tmp_path):
     truth = json.loads((take / "truth.json").read_text())
     heading = np.degrees(synth.turn_headings(truth["frames"], truth["fps"], 180.0, seed=61))
     turning = np.flatnonzero(np.abs(np.diff(heading)) > 1e-6) / truth["fps"]
-    lib = build([("spin", str(take))], tmp_path / "s.lib", workers=2, cache=False)
+    lib = build([("spin", str(take))], tmp_path / "s.lib", workers=2, cache=False, smooth=False)
     assert lib.features("spin").centred is not None and len(lib.features("spin").centred) == truth["frames"]
     write_report(lib, tmp_path / "rep", progress=False)
     row = json.loads((tmp_path / "rep" / "report.json").read_text())["sequences"][0]
