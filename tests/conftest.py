@@ -74,6 +74,25 @@ def take_13_30():
     return mocap_take("13_30")
 
 
+def snippet_inputs(take):
+    """Two sequences cut from one take: frames 0-59 and 100-159 (a build takes seconds)."""
+    return [("gym", str(take / "frame_000[0-5]?.ply")), ("gym2", str(take / "frame_001[0-5]?.ply"))]
+
+
+@pytest.fixture(scope="session")
+def snippets_library(take_13_30, tmp_path_factory):
+    """A library of :func:`snippet_inputs` of 13_30, built serially without the feature cache,
+    once per test process (the store's tests share it; they must not modify it)."""
+    import warnings
+
+    from tvmedit import build
+
+    with warnings.catch_warnings():  # short snippets rarely repeat a texton; the database says so
+        warnings.filterwarnings("ignore", "no motion cluster repeats", UserWarning)
+        return build(snippet_inputs(take_13_30), tmp_path_factory.mktemp("snippets") / "gym.lib", workers=1,
+                     cache=False)
+
+
 @pytest.fixture(scope="session")
 def take_13_29():
     """CMU 13_29 at 10 fps, whole take (383 frames, six exercises)."""

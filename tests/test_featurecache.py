@@ -16,11 +16,8 @@ from tvmedit.engine.errors import InputError
 from tvmedit.engine.features import BinSizes, Features
 from tvmedit.engine.store import featurecache
 from tvmedit.engine.store.featurecache import cache_dir
+from conftest import snippet_inputs as _inputs
 
-
-def _inputs(take):
-    """Two sequences cut from one take: frames 0-59 and 100-159."""
-    return [("gym", str(take / "frame_000[0-5]?.ply")), ("gym2", str(take / "frame_001[0-5]?.ply"))]
 
 
 # Short snippets of one take rarely repeat a texton; the database then says so.

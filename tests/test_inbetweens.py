@@ -9,11 +9,8 @@ import pytest
 from tvmedit import build
 from tvmedit.engine.store.inbetweens import loop_frames
 from tvmedit.engine.store.rebuild import rebuild
+from conftest import snippet_inputs as _inputs
 
-
-def _inputs(take):
-    """Two sequences cut from one take: frames 0-59 and 100-159."""
-    return [("gym", str(take / "frame_000[0-5]?.ply")), ("gym2", str(take / "frame_001[0-5]?.ply"))]
 
 
 # Short snippets of one take rarely repeat a texton; the database then says so.
@@ -26,10 +23,9 @@ def _cache_home(tmp_path, monkeypatch):
 
 
 @pytest.fixture(scope="module")
-def built(take_13_30, tmp_path_factory):
-    """A library of two sequences, built serially without the cache."""
-    out = tmp_path_factory.mktemp("lib") / "gym.lib"
-    return build(_inputs(take_13_30), out, workers=1, cache=False)
+def built(snippets_library):
+    """The shared library of two sequences (conftest)."""
+    return snippets_library
 
 
 def test_every_transition_gets_frames_in_steps_smaller_than_its_cut(built):

@@ -12,7 +12,7 @@ import networkx as nx
 import numpy as np
 import pytest
 
-from tvmedit import Library, LibraryError, UnknownMotion, build
+from tvmedit import Library, LibraryError, UnknownMotion
 from tvmedit.engine.store.inbetweens import loop_frames
 from tvmedit.engine.capture.normals import vertex_normals
 from tvmedit.engine.graph.database import build_database
@@ -21,11 +21,8 @@ from tvmedit.engine.features import BinSizes, FeatureAccumulator
 from tvmedit.engine.graph.motiongraph import build_graph, nodes_of
 from tvmedit.engine.capture.load import open_sequence, read_frame
 from tvmedit.options import as_flags
+from conftest import snippet_inputs as _inputs
 
-
-def _inputs(take):
-    """Two sequences cut from one take: frames 0-59 and 100-159."""
-    return [("gym", str(take / "frame_000[0-5]?.ply")), ("gym2", str(take / "frame_001[0-5]?.ply"))]
 
 
 # Short snippets of one take rarely repeat a texton; the database then says so.
@@ -38,11 +35,9 @@ def _cache_home(tmp_path, monkeypatch):
 
 
 @pytest.fixture(scope="module")
-def built(take_13_30, tmp_path_factory):
-    """A library of two sequences, built serially without the cache."""
-    out = tmp_path_factory.mktemp("lib") / "gym.lib"
-    build(_inputs(take_13_30), out, workers=1, cache=False)
-    return out
+def built(snippets_library):
+    """The shared library of two sequences (conftest), by its path."""
+    return snippets_library.path
 
 
 def _in_memory(take):

@@ -8,11 +8,8 @@ from tvmedit.engine.features import BinSizes
 from tvmedit.engine.graph.motiongraph import MU
 from tvmedit.engine.parse.params import StructureParams
 from tvmedit.engine.store.settings import Settings
+from conftest import snippet_inputs as _inputs
 
-
-def _inputs(take):
-    """Two sequences cut from one take: frames 0-59 and 100-159."""
-    return [("gym", str(take / "frame_000[0-5]?.ply")), ("gym2", str(take / "frame_001[0-5]?.ply"))]
 
 
 @pytest.mark.parametrize("mu", [float("inf"), float("nan"), -1.0, 0.0, "abc"])
