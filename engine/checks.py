@@ -18,7 +18,7 @@ import numbers
 
 from .errors import ParameterError
 
-__all__ = ["MAX_FPS", "MAX_LOOPS", "number", "whole", "listed"]
+__all__ = ["MAX_FPS", "MAX_LOOPS", "number", "whole", "listed", "json_value"]
 
 #: Highest frame rate accepted anywhere (capture, analysis, output); work grows with it.
 MAX_FPS = 1000
@@ -96,3 +96,23 @@ def listed(name, value, what="motion ids or names"):
         return list(value)
     except TypeError:
         raise ParameterError(f"{name}={value!r} should be a list of {what}.") from None
+
+
+def json_value(text):
+    """``json.loads(text)``, where JSON nested too deeply to read (a RecursionError in the
+    decoder) is a ValueError like any other bad JSON, so every reader's one-sentence error
+    covers it.
+
+    >>> json_value('{"fps": 30}')
+    {'fps': 30}
+    >>> json_value("[" * 100000)
+    Traceback (most recent call last):
+    ...
+    ValueError: nested too deeply to read
+    """
+    import json
+
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise ValueError("nested too deeply to read") from None

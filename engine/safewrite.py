@@ -32,6 +32,7 @@ import shutil
 from pathlib import Path
 
 from .errors import OutputError, summarise
+from .checks import json_value
 
 __all__ = ["MARKER", "temporary", "exclusive", "made_once", "replacing_file", "write_text", "write_bytes", "replacing_folder",
            "swap_in", "clean_stale", "holds_cwd", "owner", "check_target", "check_file_target",
@@ -243,8 +244,8 @@ def note_written(folder, *names):
 
 def _marker(folder):
     try:
-        data = json.loads((Path(folder) / MARKER).read_text())
-    except (OSError, ValueError, RecursionError):
+        data = json_value((Path(folder) / MARKER).read_text())
+    except (OSError, ValueError):
         return None
     ok = isinstance(data, dict) and isinstance(data.get("kind"), str) and isinstance(data.get("files"), list)
     return data if ok else None
@@ -253,8 +254,8 @@ def _marker(folder):
 def _legacy_library(folder):
     # Libraries built before the marker existed are known by their manifest.
     try:
-        data = json.loads((Path(folder) / "manifest.json").read_text())
-    except (OSError, ValueError, RecursionError):
+        data = json_value((Path(folder) / "manifest.json").read_text())
+    except (OSError, ValueError):
         return False
     return isinstance(data, dict) and "format" in data and "tvmedit" in data
 

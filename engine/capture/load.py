@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import InputError, summarise
 from .orientation import Orientation, detect, sample_indices
-from ..checks import MAX_FPS
+from ..checks import MAX_FPS, json_value
 from .readers import READERS, read_manifest, read_mesh, reader_for
 
 #: Suffixes of frame files: those of the reader registry (tvmedit.engine.capture.readers.READERS).
@@ -301,8 +301,8 @@ def _sidecar(paths):
     if not candidate.exists():
         return {}
     try:
-        data = json.loads(candidate.read_text())
-    except (OSError, ValueError, RecursionError) as error:
+        data = json_value(candidate.read_text())
+    except (OSError, ValueError) as error:
         raise InputError(f"{candidate} is not valid JSON ({error}); fix or remove it.") from None
     if not isinstance(data, dict):
         raise InputError(f"{candidate} must hold a JSON object such as {{\"fps\": 10}}.")

@@ -37,12 +37,13 @@ texture, so a vertex's colour is what its neighbourhood of the texture shows, no
 texel.
 """
 
-import json
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+
+from ..checks import json_value
 
 __all__ = ["MeshData", "Manifest", "READERS", "register", "reader_for", "read_mesh", "read_image",
            "texture_colours", "read_manifest", "MANIFEST_NAMES", "IMAGE_SUFFIXES"]
@@ -506,8 +507,8 @@ def read_manifest(source):
     if path is None:
         return None
     try:
-        data = json.loads(path.read_text())
-    except (OSError, ValueError, RecursionError) as error:
+        data = json_value(path.read_text())
+    except (OSError, ValueError) as error:
         raise ValueError(f"{path} is not valid JSON ({error}); fix it or remove it") from None
     frames = data.get("frames") if isinstance(data, dict) else None
     if not isinstance(frames, list) or not frames:

@@ -43,6 +43,7 @@ from ..capture.plyfast import write_ply
 from ..capture.readers import MANIFEST_NAMES, texture_for
 from ..capture.writers import write_frame
 from ..errors import ParameterError
+from ..checks import json_value
 
 __all__ = ["export_edit", "default_format", "FORMATS", "has_sound"]
 
@@ -81,9 +82,9 @@ def has_sound(library):
         folder = Path(sequence.paths[0]).parent if sequence.paths else None
         for name in MANIFEST_NAMES if folder else ():
             try:
-                if json.loads((folder / name).read_text()).get("audio"):
+                if json_value((folder / name).read_text()).get("audio"):
                     return True
-            except (OSError, ValueError, RecursionError, AttributeError):
+            except (OSError, ValueError, AttributeError):
                 continue
     return False
 

@@ -47,6 +47,7 @@ import numpy as np
 from ..parse.atoms import atom_distance, atom_window
 from ..parse.confidence import texton_confidence
 from ..errors import InputError
+from ..checks import json_value
 
 __all__ = ["Corrections", "SequenceCorrections", "CorrectionError", "REACH", "apply_structure",
            "apply_structures", "apply_database"]
@@ -224,11 +225,11 @@ class Corrections:
         """Read a corrections file; one sentence naming the file when it is not one."""
         path = Path(path)
         try:
-            data = json.loads(path.read_text())
+            data = json_value(path.read_text())
         except OSError as error:
             raise CorrectionError(f"cannot read corrections file {path} ({error.strerror}); "
                                   "give an existing JSON file.") from None
-        except (ValueError, RecursionError) as error:
+        except ValueError as error:
             raise CorrectionError(f"corrections file {path} is not valid JSON ({error}); fix it.") from None
         return cls.from_json(data, str(path))
 

@@ -20,6 +20,7 @@ import numpy as np
 
 from .. import safewrite
 from ..errors import InputError
+from ..checks import json_value
 
 __all__ = ["cache_dir", "code_version", "stat_list", "key", "read", "write"]
 
@@ -71,11 +72,11 @@ def read(entry_key, bins, folder=None):
 
     try:
         with np.load(_file(entry_key, folder), allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
+            meta = json_value(str(data["meta"]))
             centred = (Features(data["centred_r"], data["centred_theta"], data["centred_phi"], data["origin"], bins)
                        if "centred_r" in data else None)
             features = Features(data["r"], data["theta"], data["phi"], data["origin"], bins, centred)
-    except (OSError, ValueError, RecursionError, KeyError, EOFError):
+    except (OSError, ValueError, KeyError, EOFError):
         return None
     return features, meta
 

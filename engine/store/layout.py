@@ -55,6 +55,7 @@ import numpy as np
 
 from .. import safewrite
 from ..errors import LibraryError, TvmError, build_call, not_a_library
+from ..checks import json_value
 
 __all__ = ["FORMAT", "CHECKED_FILES", "write_json",
            "graph_to_json", "read_graph", "write_graphml", "sequence_record", "manifest",
@@ -339,8 +340,8 @@ def read_manifest(path):
             raise LibraryError(not_a_library(path, holds_frames(path)))
         raise LibraryError(f"no library at {path}; build one with {build_call(None, path)}.")
     try:
-        data = json.loads(manifest_path.read_text())
-    except (OSError, ValueError, RecursionError) as error:
+        data = json_value(manifest_path.read_text())
+    except (OSError, ValueError) as error:
         raise LibraryError(f"library {path} has an unreadable manifest.json ({error}); "
                            f"{_rebuild_hint(path)}.") from None
     version = data.get("format") if isinstance(data, dict) else None
@@ -387,8 +388,8 @@ def damaged(path, error):
 def read_json(path, name):
     """The JSON file ``name`` of the library at ``path``; LibraryError when it is not JSON."""
     try:
-        return json.loads((Path(path) / name).read_text())
-    except (OSError, ValueError, RecursionError) as error:
+        return json_value((Path(path) / name).read_text())
+    except (OSError, ValueError) as error:
         raise damaged(path, error) from None
 
 
@@ -431,8 +432,8 @@ def read_names(path):
     if not names_path.exists():
         return {}
     try:
-        names = json.loads(names_path.read_text())
-    except (ValueError, RecursionError) as error:
+        names = json_value(names_path.read_text())
+    except ValueError as error:
         raise LibraryError(f"{names_path} is not valid JSON ({error}); fix it or delete it "
                            "to go back to the default names.") from None
     _check_names(names_path, names)
