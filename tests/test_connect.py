@@ -19,6 +19,7 @@ from tvmedit.engine.errors import NoPath
 from tvmedit.engine.graph.motiongraph import graph_from, prune
 from tvmedit.engine.store.library import Library
 
+from conftest import built_library
 from interrupt import refused, tvmedit
 
 
@@ -169,11 +170,8 @@ def test_gym_library_connects_every_pair(small_library):
 
 @pytest.mark.parametrize("take", ["13_29", "13_30"])
 def test_real_takes_connect_every_pair(take, request, tmp_path):
-    from tvmedit import engine
-
     folder = request.getfixturevalue(f"take_{take}")
-    library = engine.build([(take, folder)], tmp_path / f"{take}.tvmlib", workers=2, smooth=False)
-    _all_pairs_reachable(library)
+    _all_pairs_reachable(Library.open(built_library(take, folder, smooth=False)))   # test_loops' and test_blend's
 
 
 def test_every_pair_exits_0_through_the_cli_and_info_shows_added_edges(paper_library, small_library):
@@ -198,7 +196,8 @@ def test_every_pair_exits_0_through_the_cli_and_info_shows_added_edges(paper_lib
 def test_a_library_of_two_takes_is_connected_across_them(take_13_29, take_13_30, tmp_path):
     from tvmedit import engine
 
-    library = engine.build([("13_29", take_13_29), ("13_30", take_13_30)], tmp_path / "both.tvmlib", workers=2, smooth=False)
+    library = engine.build([("13_29", take_13_29), ("13_30", take_13_30)], tmp_path / "both.tvmlib", workers=2,
+                           blend_frames=0, smooth=False)
     graph = library.graph
     assert nx.is_strongly_connected(graph)
     sequence = nx.get_node_attributes(graph, "sequence")

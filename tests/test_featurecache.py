@@ -31,12 +31,13 @@ def _cache_home(tmp_path, monkeypatch):
 
 def test_rebuild_with_other_parameters_reuses_cached_features(take_13_30, tmp_path):
     out, messages = tmp_path / "lib", []
-    first = build(_inputs(take_13_30)[:1], out, workers=1, smooth=False)
+    first = build(_inputs(take_13_30)[:1], out, workers=1, blend_frames=0, smooth=False)
     assert first.report["reused"] == {}
     assert list((cache_dir() / "features").glob("*.npz"))
 
     first.rename(first.nodes[0].id, "warm-up")
-    second = build(_inputs(take_13_30)[:1], out, workers=1, mu=2.0, force=True, log=messages.append, smooth=False)
+    second = build(_inputs(take_13_30)[:1], out, workers=1, mu=2.0, force=True, log=messages.append,
+                   blend_frames=0, smooth=False)
     assert second.report["reused"] == {"gym": "library"}
     assert any("features of gym: reused" in m for m in messages)
     # Only the pruning changed, so the renamed texton is still a motion and keeps its name.
@@ -45,20 +46,21 @@ def test_rebuild_with_other_parameters_reuses_cached_features(take_13_30, tmp_pa
     np.testing.assert_array_equal(second.features("gym").vectors, first.features("gym").vectors)
     assert second.mu == 2.0 and second.graph.number_of_edges() >= first.graph.number_of_edges()
 
-    elsewhere = build(_inputs(take_13_30)[:1], tmp_path / "other", workers=1, smooth=False)
+    elsewhere = build(_inputs(take_13_30)[:1], tmp_path / "other", workers=1, blend_frames=0, smooth=False)
     assert elsewhere.report["reused"] == {"gym": "cache"}
 
-    coarse = build(_inputs(take_13_30)[:1], out, workers=1, bins=BinSizes(r=0.04), force=True, smooth=False)
+    coarse = build(_inputs(take_13_30)[:1], out, workers=1, bins=BinSizes(r=0.04), force=True,
+                   blend_frames=0, smooth=False)
     assert coarse.report["reused"] == {}
 
     frames = tmp_path / "frames"
     frames.mkdir()
     for path in open_sequence(_inputs(take_13_30)[0][1]).paths:
         shutil.copy2(path, frames / path.name)
-    build([("gym", frames)], tmp_path / "copied", workers=1, smooth=False)
+    build([("gym", frames)], tmp_path / "copied", workers=1, blend_frames=0, smooth=False)
     touched = sorted(frames.iterdir())[5]
     os.utime(touched, ns=(touched.stat().st_atime_ns, touched.stat().st_mtime_ns + 10**9))
-    again = build([("gym", frames)], tmp_path / "copied", workers=1, force=True, smooth=False)
+    again = build([("gym", frames)], tmp_path / "copied", workers=1, force=True, blend_frames=0, smooth=False)
     assert again.report["reused"] == {}
 
 

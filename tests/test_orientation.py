@@ -65,7 +65,7 @@ def _write_moved(take, rotation, out):
 def original(take_13_30, tmp_path_factory):
     assert open_sequence(take_13_30).orientation.is_identity  # a Z-up metre take is read as it is
     return engine.build([("take", take_13_30)], tmp_path_factory.mktemp("orig") / "a.tvmlib", workers=1,
-                        cache=False, smooth=False)
+                        cache=False, blend_frames=0, smooth=False)
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3, 11, 12])  # up along -z, +x, -x, +y, -y
@@ -75,7 +75,7 @@ def test_take_in_another_frame_and_millimetres_parses_like_the_original(take_13_
     sequence = open_sequence(moved)
     expected_up = "".join(f"{'+' if v > 0 else '-'}{'xyz'[k]}" for k, v in enumerate(rotation.apply([0, 0, 1.0])) if v)
     assert (sequence.orientation.up, sequence.orientation.units) == (expected_up, "mm")
-    b = engine.build([("take", moved)], tmp_path / "b.tvmlib", workers=1, cache=False, smooth=False)
+    b = engine.build([("take", moved)], tmp_path / "b.tvmlib", workers=1, cache=False, blend_frames=0, smooth=False)
     assert _structure(b) == _structure(original)
     assert [(n.start, n.end, n.kind) for n in b.nodes] == [(n.start, n.end, n.kind) for n in original.nodes]
     # Stored in metres, Z up: the same height.
@@ -93,7 +93,7 @@ def test_obliquely_rotated_take_is_put_upright_and_parses_alike(take_13_30, orig
     assert sequence.orientation.units == "mm" and not sequence.orientation.up.startswith(("+", "-"))
     found = np.asarray(sequence.orientation.matrix)[2]
     assert np.degrees(np.arccos(found @ rotation.apply([0.0, 0.0, 1.0]))) < 3
-    b = engine.build([("take", moved)], tmp_path / "b.tvmlib", workers=1, cache=False, smooth=False)
+    b = engine.build([("take", moved)], tmp_path / "b.tvmlib", workers=1, cache=False, blend_frames=0, smooth=False)
     (clusters_b, textons_b), (clusters_a, textons_a) = _structure(b), _structure(original)
     assert clusters_b == clusters_a and textons_b == textons_a
 
