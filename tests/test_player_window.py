@@ -274,9 +274,14 @@ class _Window:
                                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
     def __enter__(self):
-        found = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit"], env=self.env,
-                               capture_output=True, text=True, timeout=20).stdout.split()
-        assert found, f"no player window; player: {self._finish()}"
+        # Looked for until it shows or the player ends: on a loaded machine the player may take
+        # longer than xdotool's own wait to open its library and its window.
+        deadline, found, searched = time.monotonic() + 45, [], None
+        while not found and time.monotonic() < deadline and self.player.poll() is None:
+            searched = subprocess.run(["xdotool", "search", "--name", "tvmedit"], env=self.env,
+                                      capture_output=True, text=True, timeout=20)
+            found = searched.stdout.split() or time.sleep(0.2) or []
+        assert found, f"no player window; xdotool: {searched and searched.stderr!r}; player: {self._finish()}"
         self.window = found[0]
         subprocess.run(["xdotool", "windowfocus", "--sync", self.window], env=self.env, check=True, timeout=10)
         assert _wait_for(lambda rows: _frames(rows), self.log_path, 20), "no frame was shown"
