@@ -9,7 +9,9 @@ Data flows one way, family by family::
 database, the motion graph and the edits made on it (eq. (9)-(16)), ``inbetween`` makes the
 frames between two reconstructions, ``playback`` decides what plays next, and ``store``
 builds and reads the library on disk. ``lab`` (the synthetic actor and the scorer) sits
-beside them. The player (:mod:`tvmedit.player`) consumes what this package produces.
+beside them. Beside the families stand what they all use: ``errors``, ``checks`` (one
+sentence for bad input), ``safewrite`` (write under a temporary name, then rename) and
+``parallel`` (tasks on worker processes or a dask cluster, results in order). The player (:mod:`tvmedit.player`) consumes what this package produces.
 """
 
 from .errors import InputError, LibraryError, NoPath, TvmError, UnknownMotion

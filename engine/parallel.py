@@ -17,8 +17,8 @@ Dask is optional and imported only when a build asks for it (``dask="tcp://host:
 import os
 from collections import deque
 
-from ..errors import TvmError
-from ..checks import whole
+from .errors import TvmError
+from .checks import whole
 
 #: Most local worker processes a pool may start.
 MAX_WORKERS = 512

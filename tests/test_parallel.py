@@ -1,11 +1,11 @@
-"""Where build tasks run (tvmedit.engine.store.parallel): in order, here or on workers."""
+"""Where build tasks run (tvmedit.engine.parallel): in order, here or on workers."""
 
 import sys
 
 import pytest
 
 from tvmedit.engine.errors import TvmError
-from tvmedit.engine.store.parallel import Workers, default_workers
+from tvmedit.engine.parallel import Workers, default_workers
 
 
 def test_dask_missing_is_one_sentence(monkeypatch):

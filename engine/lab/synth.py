@@ -42,7 +42,7 @@ import numpy as np
 from .. import safewrite
 from ..errors import InputError
 from ..capture.load import SIDECAR, sidecar_json
-from ..store.parallel import Workers, default_workers
+from ..parallel import Workers, default_workers
 from ..checks import number, whole
 from ..capture.plyfast import write_ply
 from .body import (MATERIALS, NOISE_M, PALETTE, make_frame, primitives, turn_headings,  # noqa: F401 (the actor's API)
@@ -68,7 +68,7 @@ def _frame_job(job):
 
 
 def _write_frames(jobs, workers, progress, name):
-    """Run the frame jobs on worker processes (:class:`tvmedit.engine.store.parallel.Workers`); vertex counts."""
+    """Run the frame jobs on worker processes (:class:`tvmedit.engine.parallel.Workers`); vertex counts."""
     from tqdm import tqdm
 
     counts = [0] * len(jobs)

@@ -4,6 +4,7 @@
 - :mod:`.library` reads it (:class:`~.library.Library`); :mod:`.layout` owns its on-disk format;
 - :mod:`.settings` holds a build's settings; :mod:`.corrections` the parse corrected by hand;
 - :mod:`.featurecache`, :mod:`.meshfiles` and :mod:`.inbetweens` store features, meshes and
-  in-between frames; :mod:`.parallel` runs tasks on workers; :mod:`.infoschema` describes
-  ``tvmedit info --json``.
+  in-between frames; :mod:`.infoschema` describes ``tvmedit info --json``. Tasks run on
+  workers through :mod:`tvmedit.engine.parallel`, which the synthetic actor and the export
+  share.
 """

@@ -5,7 +5,7 @@
 1. **Features** (section 3). Every frame file is read once and summarised by its three
    histograms about its sequence's origin (the centroid of the first frame). This is the
    build's cost, so it runs on worker processes or a dask cluster in chunks of frames
-   (:mod:`tvmedit.engine.store.parallel`), and its result is kept in the feature cache
+   (:mod:`tvmedit.engine.parallel`), and its result is kept in the feature cache
    (:mod:`tvmedit.engine.store.featurecache`) and in the library: a rebuild with other parsing or pruning
    parameters reuses it, from the library being replaced or from the cache.
 2. **Structure** (section 4), **database** (section 5, eq. (9)) and **graph** (section 6):
@@ -44,7 +44,7 @@ from ..errors import InputError, TvmError, summarise
 from ..features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
                        moves_across)
 from ..capture.load import expand_inputs, open_sequence, rate_assumed, read_frame
-from .parallel import Workers
+from ..parallel import Workers
 from .advice import more_motions
 from .settings import Settings
 

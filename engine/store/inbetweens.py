@@ -154,7 +154,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
         ``end``; edges with ``exit_frame`` and ``entry_frame``)
     count : int or None, in-between frames per transition (None: as many as each needs)
     keys : dict, ``sequence -> feature key`` (which frame files it was read from)
-    pool : tvmedit.engine.store.parallel.Workers: tasks of 16 pairs of texton frames, then one per edge
+    pool : tvmedit.engine.parallel.Workers: tasks of 16 pairs of texton frames, then one per edge
     bar : callable or None, ``bar(total, desc, unit=...)`` makes a progress bar, advanced once per edge
     old : tvmedit.engine.store.library.Library or None
         The library being replaced: a run it holds for the same frames of the same files, the

@@ -18,7 +18,7 @@ from typing import NamedTuple
 from .. import safewrite
 from .builder import check_target, derive, library_features, report_of
 from ..features import BinSizes
-from .parallel import Workers
+from ..parallel import Workers
 from ..parse.params import StructureParams
 from .settings import Settings
 
