@@ -15,7 +15,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 BENCHMARKS = ["accuracy", "bin_sizes", "analysis_speed", "synth_speed", "build_speed", "search_speed",
               "connect_speed", "timing_speed", "correct_speed", "blend_quality",
-              "display_rate", "render_speed", "player_pacing", "read_speed"]
+              "display_rate", "render_speed", "player_pacing", "read_speed", "export_speed"]
 
 
 def main(names):

@@ -313,6 +313,11 @@ def test_card_edit_exports_as_scvv_and_reads_back_as_the_capture(card_library, t
     card = [p for p in _card().iterdir() if p.suffix in (".draco", ".jpg")]
     per_frame = sum(p.stat().st_size for p in out_files) / len(record["frames"])
     assert per_frame <= 1.5 * sum(p.stat().st_size for p in card) / 193
+    # An in-between frame carries the texture of the captured frame it moves, as its JPG came.
+    from tvmedit.engine.capture.readers import texture_for
+    moved = [f for f in record["frames"] if f.get("blend")]
+    assert moved and all((tmp_path / "out" / Path(f["file"]).with_suffix(".jpg").name).read_bytes() ==
+                         texture_for(f["source_file"]).read_bytes() for f in moved)
     # A frame rendered from the export looks like the same frame rendered from the library,
     # an in-between frame (written anew) as much as a captured one (copied).
     camera = Camera.framing(library.bounds(), 4 / 3, elevation=0)

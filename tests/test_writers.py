@@ -47,3 +47,23 @@ def test_a_vertex_coloured_frame_keeps_its_colours(tmp_path, fmt):
     back = read_mesh(tmp_path / mesh_name)
     assert texture is None and back.colours is not None
     assert np.abs(back.colours.astype(int) - colours).max() <= 1
+
+
+@pytest.mark.parametrize("fmt", ["scvv", "obj", "glb"])
+def test_a_texture_given_as_its_file_goes_out_byte_for_byte(tmp_path, fmt):
+    # An in-between frame shows the capture's own JPG: copied beside the frame (scvv, OBJ) or
+    # embedded (glTF) as it is, never decoded and encoded again.
+    from PIL import Image
+
+    positions, faces, uv, image = textured_square()
+    jpg = tmp_path / "capture.jpg"
+    Image.fromarray(image).save(jpg, quality=90)
+    out = tmp_path / "out"
+    out.mkdir()
+    mesh_name, texture = write_frame(fmt, out, "frame_00000", positions, faces, uv=uv, image=jpg)
+    if fmt == "glb":
+        assert texture is None and jpg.read_bytes() in (out / mesh_name).read_bytes()
+    else:
+        assert texture == "frame_00000.jpg" and (out / texture).read_bytes() == jpg.read_bytes()
+    back = read_mesh(out / mesh_name)
+    assert back.uv is not None and np.array_equal(back.texture, np.asarray(Image.open(jpg).convert("RGB")))

@@ -8,10 +8,11 @@ tool.
 
 --format picks what the frames are: ply (binary PLY with vertex colours, tvmedit's axes),
 scvv (Draco + a JPG texture per frame + scvv_animation.json, as depth-camera apps export, in
-the capture's own coordinates), obj (OBJ + MTL + PNG texture per frame) or glb (a binary
+the capture's own coordinates), obj (OBJ + MTL + texture per frame) or glb (a binary
 glTF per frame with its texture, Y up). The default is the format the library's first
 sequence came in, so a textured capture's edit stays textured. Draco keeps positions to
-0.12 mm on a 2 m body and JPG textures at quality 92. An edit reorders frames, so a
+0.12 mm on a 2 m body and JPG textures at quality 92; a texture that is the capture's own
+image (in-between frames move a captured frame) is copied as it came. An edit reorders frames, so a
 capture's sound track is not carried over.
 
 --fps N writes N frames a second of the edit, its timing kept: each output frame is the

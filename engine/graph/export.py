@@ -3,12 +3,15 @@
 Formats (:data:`FORMATS`): ``ply``, binary PLY with vertex colours in tvmedit's frame (Z up,
 metres); ``scvv``, a Draco mesh and a JPG texture per frame with ``scvv_animation.json``, as
 depth-camera apps export, in the capture's own coordinates and units; ``obj``, OBJ with MTL
-and PNG texture per frame, in the capture's own coordinates; ``glb``, one binary glTF per
+and a texture per frame, in the capture's own coordinates; ``glb``, one binary glTF per
 frame with its texture, Y up and metres as glTF says. The default is the format of the
 library's first sequence (:func:`default_format`), so a textured capture's edit stays
 textured. Frames without a texture carry vertex colours; in-between frames carry the texture
-of the captured frame they were warped from. The writers are
-:mod:`tvmedit.engine.capture.writers`, the readers' twins.
+of the captured frame they were warped from, as the capture's own image file where it is
+still there (copied or embedded as it came: no second loss, no encoder). The writers are
+:mod:`tvmedit.engine.capture.writers`, the readers' twins. Captured frames already in the
+format are copied; the others are encoded on worker processes (:data:`POOL_FROM`), and the
+library's checksums are read meanwhile.
 
 The exported folder is an ordinary TVM sequence: tvmedit's own loader and any mesh tool read
 it. ``edit.json`` records, for each output frame, its file, its source sequence and frame, and
@@ -29,7 +32,6 @@ sequences are refused, so a mistyped ``-o`` never deletes a capture.
 """
 
 import json
-import os
 import re
 import shutil
 from concurrent.futures import ThreadPoolExecutor
@@ -41,11 +43,17 @@ from .. import safewrite
 from ..capture.load import SIDECAR, sidecar_json
 from ..capture.plyfast import write_ply
 from ..capture.readers import MANIFEST_NAMES, texture_for
-from ..capture.writers import write_frame
+from ..capture.writers import prepare, write_frame
 from ..errors import ParameterError
+from ..parallel import Workers
 from ..checks import json_value
 
-__all__ = ["export_edit", "default_format", "FORMATS", "has_sound"]
+__all__ = ["export_edit", "default_format", "FORMATS", "has_sound", "POOL_FROM"]
+
+#: Frames to encode (not copied) from which an export starts worker processes. Below it,
+#: starting them costs more than they save: about 50 ms on two cores, what sharing 12 Draco
+#: encodings (8 ms each) or 16 glTF frames between two processes saves.
+POOL_FROM = 16
 
 #: Formats an edit can be written in.
 FORMATS = ("ply", "scvv", "obj", "glb")
@@ -116,38 +124,37 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         raise ParameterError(f"format {fmt!r} is not one of {', '.join(FORMATS)}.")
     out = Path(out)
     _check_target(out, force, library)
-    library.verify(library.MESH_FILES)  # damage on disk stops the export before its first frame
     # Checked again before the swap: the folder may have changed meanwhile.
     recheck = lambda target: _check_target(target, force, library)  # noqa: E731
-    with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp:
-        frames = []
-        schedule = edit.schedule
-        textures = []
-        pool = None
-        capture_fps = library.sequence(schedule[0].sequence).fps if schedule else None
-        shown = _shown(library, schedule, capture_fps, fps, smooth)
+    schedule = edit.schedule
+    capture_fps = library.sequence(schedule[0].sequence).fps if schedule else None
+    shown = _shown(library, schedule, capture_fps, fps, smooth)
+    copies = [None] * len(shown) if fmt == "ply" else [_copy_source(library, item, fmt) for item in shown]
+    encoded = 0 if fmt == "ply" else copies.count(None)
+    if encoded >= POOL_FROM:
+        prepare(fmt)    # imported once here, not once in each worker process
+    with ThreadPoolExecutor(1) as checker, safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
+            Workers(None if encoded >= POOL_FROM else 1) as pool:   # left only once no worker writes
+        # The library's checksums are read while the frames are written (they read every mesh
+        # file: as long as writing a short edit takes); damage stops the export before it is
+        # put in place, and a frame outside the stored bounds before it is written.
+        verified = checker.submit(library.verify, library.MESH_FILES)
         if fmt == "ply":
-            names = (_write_ply_frame(library, item, tmp, index) for index, item in enumerate(shown))
+            written = ((index, _write_ply_frame(library, item, tmp, index)) for index, item in enumerate(shown))
         else:
-            # Encoding (Draco, JPG, PNG) releases the GIL: frames are written on every core, in order.
-            pool = ThreadPoolExecutor(max_workers=os.cpu_count() or 1)
-            names = pool.map(lambda job: _write_captured(library, job[1], fmt, tmp, f"frame_{job[0]:05d}"),
-                             enumerate(shown))
+            written = _written(library, shown, copies, fmt, tmp, pool)
         if progress:
             from tqdm import tqdm
-            names = tqdm(names, total=len(shown), desc="export", unit="frame", leave=False)
-        try:
-            for index, (item, name) in enumerate(zip(shown, names)):
-                if fmt != "ply":
-                    name, texture = name
-                    textures.append(texture)
-                entry = item[0]
-                frames.append({"index": index, "file": name, **entry.to_json(),
-                               "source_file": _source_file(library, entry.sequence, entry.frame),
-                               **_instant_json(item, schedule, fps)})
-        finally:
-            if pool is not None:    # nothing left writing into the folder, whatever happened
-                pool.shutdown(cancel_futures=True)
+            written = tqdm(written, total=len(shown), desc="export", unit="frame", leave=False)
+        names = dict(written)
+        frames, textures = [], []
+        for index, item in enumerate(shown):
+            name, texture = names[index] if fmt != "ply" else (names[index], None)
+            textures.append(texture)
+            entry = item[0]
+            frames.append({"index": index, "file": name, **entry.to_json(),
+                           "source_file": _source_file(library, entry.sequence, entry.frame),
+                           **_instant_json(item, schedule, fps)})
         fps = capture_fps if fps is None else fps
         record = {
             "library": str(Path(library.path).resolve()),
@@ -165,6 +172,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(library, schedule, fmt)))
         if fmt == "scvv":
             _write_scvv_manifest(tmp, frames, textures, fps)
+        verified.result()
     return record
 
 
@@ -209,33 +217,62 @@ def _write_ply_frame(library, item, folder, index):
     return name
 
 
-def _write_captured(library, item, fmt, folder, stem):
-    """One frame in ``fmt``, with its texture where the frame has one; returns (mesh file, texture file).
+def _written(library, shown, copies, fmt, folder, pool):
+    """Write each output frame in ``fmt``; yield ``(index, (mesh file, texture file or None))``
+    as each is written, the encoded ones first.
 
-    A captured frame (not an in-between one) whose file is of the format asked is copied as
-    it came, with its texture: lossless, and as fast as a copy."""
+    A frame with a capture's file already in ``fmt`` (``copies``) is copied as it came:
+    lossless, and as fast as a copy, on a thread of its own (a copy waits on the disk, not
+    on the GIL), all the while the others are encoded. Those are encoded on ``pool``: Draco
+    and trimesh's OBJ and glTF writers hold the GIL, so only worker processes run them side
+    by side."""
+    stems = [f"frame_{index:05d}" for index in range(len(shown))]
+    with ThreadPoolExecutor(4) as copier:
+        copied = {index: copier.submit(_copy, source, folder, stems[index])
+                  for index, source in enumerate(copies) if source is not None}
+        try:
+            made = [index for index in range(len(shown)) if index not in copied]
+            tasks = ((fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt)) for index in made)
+            yield from zip(made, pool.map(_encode, tasks))
+            for index, done in copied.items():
+                yield index, done.result()
+        finally:    # an interrupted export leaves no copy running into the folder
+            for done in copied.values():
+                done.cancel()
+
+
+def _encode(task):
+    """Worker task: one frame written by :func:`tvmedit.engine.capture.writers.write_frame`."""
+    return write_frame(*task)
+
+
+def _encoding(library, item, fmt):
+    """``(positions, faces, colours, uv, image)`` of an output frame as ``fmt`` writes it: glTF's
+    Y up, else the capture's own coordinates and units (the build's orientation undone); the
+    texture as the capture's own image file where it is still there, else as stored."""
     entry = item[0]
-    copied = _copy_captured(library, entry, fmt, folder, stem) if entry.blend is None and item[3] is None else None
-    if copied is not None:
-        return copied
     positions, colours, faces = _frame_mesh(library, item)
     texture = library.frame_texture(entry.key) if library.textured else None
     uv, image = texture if texture is not None else (None, None)
     if fmt == "glb":
         positions = np.asarray(positions, dtype=np.float64) @ _Y_UP.T
-    else:   # the capture's own coordinates and units: the build's orientation undone
+    else:
         orientation = library.orientation(entry.sequence)
         matrix = np.asarray(orientation.matrix, dtype=np.float64) * orientation.scale
         positions = np.asarray(positions, dtype=np.float64) @ np.linalg.inv(matrix).T
         faces = orientation.apply_faces(np.asarray(faces))
-    return write_frame(fmt, folder, stem, positions.astype(np.float32), faces,
-                       None if uv is not None else colours, uv, image)
+    if uv is not None:
+        image = _texture_file(library, entry) or np.ascontiguousarray(image)
+        uv = np.ascontiguousarray(uv)
+    return (positions.astype(np.float32), np.ascontiguousarray(faces),
+            None if uv is not None else np.ascontiguousarray(colours), uv, image)
 
 
-def _copy_captured(library, entry, fmt, folder, stem):
-    """Copy the capture's own file of ``entry`` (and its texture) when it is already in ``fmt``;
-    None where it is not, or is gone."""
-    if fmt != "scvv":
+def _copy_source(library, item, fmt):
+    """``(mesh file, texture file or None)`` of the capture's own files of a captured frame
+    shown as stored, when they are already in ``fmt`` and still there; None otherwise."""
+    entry = item[0]
+    if fmt != "scvv" or entry.blend is not None or (item[3] is not None and item[2]):
         return None
     path = Path(_source_file(library, entry.sequence, entry.frame) or "")
     if path.suffix.lower() not in (".drc", ".draco") or not path.is_file():
@@ -243,13 +280,26 @@ def _copy_captured(library, entry, fmt, folder, stem):
     texture = texture_for(path)
     if library.textured and texture is None:
         return None
-    name = f"{stem}{path.suffix.lower()}"
-    shutil.copyfile(path, folder / name)
-    if texture is None:
-        return name, None
-    texture_name = f"{stem}{texture.suffix.lower()}"
-    shutil.copyfile(texture, folder / texture_name)
-    return name, texture_name
+    return path, texture
+
+
+def _copy(source, folder, stem):
+    """Copy a frame's files ``source`` into ``folder`` as ``stem``; their names there."""
+    names = []
+    for path in source:
+        if path is not None:
+            names.append(f"{stem}{path.suffix.lower()}")
+            shutil.copyfile(path, Path(folder) / names[-1])
+    return names[0], (names[1] if len(names) > 1 else None)
+
+
+def _texture_file(library, entry):
+    """The capture's own image file of the texture ``entry`` shows (an in-between frame shows
+    the one of the captured frame it moves), or None where it is gone."""
+    origin = library.texture_origin(entry.key)
+    source = None if origin is None else _source_file(library, *origin)
+    texture = None if source is None else texture_for(source)
+    return texture if texture is not None and texture.is_file() else None
 
 
 def _frame_of(library, schedule, fmt):

@@ -462,6 +462,25 @@ class Library(DisplaySteps):
         return uvs[v0:v0 + nv], texels[start:start + height * width].reshape(height, width, 3)
 
     @_reads_format
+    def texture_origin(self, key):
+        """``(sequence, frame)`` of the captured frame whose texture image frame ``key`` shows, or
+        None when it has none. An in-between frame is a captured frame moved, and shows that
+        frame's image (the library stores it once), so an export can copy the capture's own
+        image file instead of encoding it again."""
+        if self._textures is None:
+            return None
+        _, _, row, textures = self._locate(key)
+        if getattr(self, textures) is None:
+            return None
+        start, height, _ = getattr(self, textures)[2][row].tolist()
+        return self._texture_starts.get(start) if height else None
+
+    @cached_property
+    def _texture_starts(self):
+        rows = self._textures[2].tolist()
+        return {rows[row][0]: key for key, row in reversed(self._frame_rows.items()) if rows[row][1]}
+
+    @_reads_format
     def bounds(self):
         """``((xmin, ymin, zmin), (xmax, ymax, zmax))`` over every stored frame."""
         low, high = (tuple(float(x) for x in corner) for corner in self.manifest["bounds"])
