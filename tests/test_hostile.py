@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, event, given, settings
+from hypothesis.control import currently_in_test_context
 from hypothesis import strategies as st
 
 from tvmedit import Library
@@ -74,7 +75,8 @@ def run(argv):
             status = main([str(a) for a in argv])
         except SystemExit as leave:
             status = leave.code
-    event(f"{argv[0]} exit {status}")
+    if currently_in_test_context():  # the sweeps' statistics
+        event(f"{argv[0]} exit {status}")
     return status, err.getvalue()
 
 
@@ -288,6 +290,19 @@ def test_damaged_library_files(world, data, tmp_path_factory):
         ["build", world["sequence"], "-o", library, "--force", "-q", "--workers", "1"]]))
     status, err = run(argv)
     assert_allowed(status, err, root, {})
+
+
+def test_the_advice_for_a_garbled_manifest_and_marker_is_taken(world, tmp_path_factory):
+    # Both files a library is known by, garbled: the advice says build --force, and build
+    # --force takes it (the folder holds nothing but the files a build writes).
+    root, library = _copy(tmp_path_factory, world["library"], "gym.lib")
+    (library / "manifest.json").write_text("garbage{")
+    (library / ".tvmedit").write_bytes(b"\x00\xff not json")
+    status, err = run(["info", library])
+    assert status == 2 and "--force" in err
+    status, err = run(["build", world["sequence"], "-o", library, "--force", "-q", "--workers", "1"])
+    assert status == 0, err
+    assert run(["info", library])[0] == 0
 
 
 @SWEEP

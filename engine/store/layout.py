@@ -310,7 +310,8 @@ def legacy_foreign(path):
 
     None when ``path`` is not such a library (see :func:`tvmedit.engine.safewrite.check_target`).
     """
-    names = sorted(str(p.relative_to(path)) for p in Path(path).rglob("*"))
+    # A marker too damaged to read is the build's own file all the same.
+    names = sorted(str(p.relative_to(path)) for p in Path(path).rglob("*") if p.name != safewrite.MARKER)
     if safewrite.owner(path) != "library":
         # A manifest too damaged to read: still a library when it holds nothing but library files.
         whole = {"manifest.json", "features.npy", "database.json"} <= set(names)
