@@ -10,8 +10,7 @@ textured. Frames without a texture carry vertex colours; in-between frames carry
 of the captured frame they were warped from, as the capture's own image file where it is
 still there (copied or embedded as it came: no second loss, no encoder). The writers are
 :mod:`tvmedit.engine.capture.writers`, the readers' twins. Captured frames already in the
-format are copied; the others are encoded on worker processes (:data:`POOL_FROM`), and the
-library's checksums are read meanwhile.
+format are copied; the others are encoded on worker processes (:data:`POOL_FROM`).
 
 The exported folder is an ordinary TVM sequence: tvmedit's own loader and any mesh tool read
 it. ``edit.json`` records, for each output frame, its file, its source sequence and frame, and
@@ -124,6 +123,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         raise ParameterError(f"format {fmt!r} is not one of {', '.join(FORMATS)}.")
     out = Path(out)
     _check_target(out, force, library)
+    library.verify(library.MESH_FILES)  # damage on disk stops the export before its first frame
     # Checked again before the swap: the folder may have changed meanwhile.
     recheck = lambda target: _check_target(target, force, library)  # noqa: E731
     schedule = edit.schedule
@@ -133,12 +133,8 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
     encoded = 0 if fmt == "ply" else copies.count(None)
     if encoded >= POOL_FROM:
         prepare(fmt)    # imported once here, not once in each worker process
-    with ThreadPoolExecutor(1) as checker, safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
+    with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
             Workers(None if encoded >= POOL_FROM else 1) as pool:   # left only once no worker writes
-        # The library's checksums are read while the frames are written (they read every mesh
-        # file: as long as writing a short edit takes); damage stops the export before it is
-        # put in place, and a frame outside the stored bounds before it is written.
-        verified = checker.submit(library.verify, library.MESH_FILES)
         if fmt == "ply":
             written = ((index, _write_ply_frame(library, item, tmp, index)) for index, item in enumerate(shown))
         else:
@@ -172,7 +168,6 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(library, schedule, fmt)))
         if fmt == "scvv":
             _write_scvv_manifest(tmp, frames, textures, fps)
-        verified.result()
     return record
 
 
