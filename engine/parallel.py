@@ -158,16 +158,46 @@ class Workers:
                 future.cancel()
 
     def close(self):
-        """Stop the pool or disconnect from the cluster (a LocalCluster is shut down)."""
+        """Stop the pool or disconnect from the cluster (a LocalCluster is shut down).
+
+        Local workers finish the task they run (a second or less) and take no other. A Ctrl-C
+        while they are waited for (a second one, after the Ctrl-C that ended the run) ends
+        them at once: no worker outlives the command.
+        """
         if self._executor is not None:
-            self._executor.shutdown(wait=True, cancel_futures=True)
-            self._executor = None
+            executor, self._executor = self._executor, None
+            try:
+                executor.shutdown(wait=True, cancel_futures=True)
+            except KeyboardInterrupt:
+                _end(executor)
+                raise
         if self._client is not None:
             self._client.close()
             self._client = None
         if self._cluster is not None:
             self._cluster.close()
             self._cluster = None
+
+
+def _end(executor):
+    """Terminate a process pool's workers now. They take SIGTERM's default, dying at once
+    (:func:`_watch_parent`). The pool's own thread may then wait for ever on an answer a
+    worker died writing: the command line exits without waiting for it
+    (:func:`tvmedit.cli.entry`)."""
+    # concurrent.futures has no public way to end its workers. ``_processes`` (pid -> Process)
+    # and ``_pending_work_items`` have been there since Python 3.2. Before 3.12 the pool's own
+    # thread, finding its workers gone, sets an error on every pending future and stops with a
+    # traceback at one already cancelled (by Ctrl-C or shutdown): those are taken out first.
+    pending = getattr(executor, "_pending_work_items", None) or {}
+    for work_id, item in list(pending.items()):
+        if item.future.cancelled():
+            pending.pop(work_id, None)
+    processes = list((getattr(executor, "_processes", None) or {}).values())
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:   # gone before the caller tidies the folder they wrote into
+        process.join(timeout=5)
 
 
 def _check_address(address):

@@ -169,8 +169,29 @@ def replacing_folder(out, recheck=None, kind=None):
             recheck(out)
         swap_in(tmp, out)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with _uninterrupted():
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+@contextlib.contextmanager
+def _uninterrupted():
+    """Hold Ctrl-C back while a failed write tidies up (milliseconds), then deliver it: a second
+    Ctrl-C right after the first must not leave a temporary folder behind."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught = []
+    previous = signal.signal(signal.SIGINT, lambda *_: caught.append(True))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if caught:
+            signal.raise_signal(signal.SIGINT)
 
 
 def swap_in(tmp, out):
@@ -180,7 +201,8 @@ def swap_in(tmp, out):
         old = temporary(out, "old", keep_suffix=False)
         os.replace(out, old)
         os.replace(tmp, out)
-        shutil.rmtree(old, ignore_errors=True)
+        with _uninterrupted():
+            shutil.rmtree(old, ignore_errors=True)
     else:
         os.replace(tmp, out)
 

@@ -44,3 +44,92 @@ def test_workers_default_to_every_core_this_process_may_use():
 def test_a_worker_count_below_one_is_refused():
     with pytest.raises(TvmError, match="workers"):
         Workers(0)
+
+
+# A child that is interrupted twice, as a user pressing Ctrl-C twice is: first a few frames in,
+# then again as the parent starts waiting for its workers to finish their frames.
+_TWICE = """
+import os, signal, sys, threading
+from concurrent.futures import process
+from tvmedit.engine import parallel
+
+shutdown, original_map = process.ProcessPoolExecutor.shutdown, parallel.Workers.map
+
+def map_(self, fn, tasks, window=None):
+    for k, result in enumerate(original_map(self, fn, tasks, window)):
+        if k == 5:
+            os.kill(os.getpid(), signal.SIGINT)
+        yield result
+
+def shutdown_(self, *args, **kwargs):
+    threading.Timer(0.01, os.kill, (os.getpid(), signal.SIGINT)).start()
+    return shutdown(self, *args, **kwargs)
+
+parallel.Workers.map, process.ProcessPoolExecutor.shutdown = map_, shutdown_
+from tvmedit.cli import entry
+sys.argv = ["tvmedit", *sys.argv[1:]]
+entry()
+"""
+
+
+def test_a_second_ctrl_c_ends_the_workers_and_leaves_nothing(tmp_path):
+    import os
+    import subprocess
+    import time
+
+    from interrupt import ROOT, default_sigint
+
+    out = tmp_path / "take"
+    child = subprocess.Popen([sys.executable, "-c", _TWICE, "synth", "--out", str(out), "--workers", "2",
+                              "--preset", "walk"], cwd=ROOT, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, start_new_session=True, preexec_fn=default_sigint)
+    try:
+        _, err = child.communicate(timeout=60)
+    finally:
+        if child.poll() is None:
+            os.killpg(child.pid, 9)
+    assert child.returncode == 130, err
+    assert err.strip().splitlines()[-1] == "interrupted" and "Traceback" not in err and "Exception" not in err, err
+    deadline = time.monotonic() + 5   # the workers went with it: its process group is empty
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(child.pid, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        pytest.fail("worker processes outlived the command")
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+_WAITED = """
+import multiprocessing, os, signal, sys, threading, time
+from tvmedit.engine.parallel import Workers
+
+def nap(seconds):
+    time.sleep(seconds)
+    return seconds
+
+for at in (0.5, 1.5):   # Ctrl-C while a task runs, then while the pool is waited for
+    threading.Timer(at, os.kill, (os.getpid(), signal.SIGINT)).start()
+start = time.monotonic()
+try:
+    with Workers(2) as pool:
+        list(pool.map(nap, [60, 60, 60]))
+except KeyboardInterrupt:
+    pass
+print(len(multiprocessing.active_children()), round(time.monotonic() - start))
+sys.stdout.flush()
+os._exit(0)
+"""
+
+
+def test_a_ctrl_c_while_workers_are_waited_for_ends_them():
+    import subprocess
+
+    from interrupt import ROOT, default_sigint
+
+    done = subprocess.run([sys.executable, "-c", _WAITED], cwd=ROOT, capture_output=True, text=True, timeout=120,
+                          preexec_fn=default_sigint)
+    alive, seconds = map(int, done.stdout.split())
+    assert alive == 0 and seconds < 10, done.stderr   # not the minute their tasks would take

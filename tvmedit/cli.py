@@ -7,6 +7,7 @@ that draw, so ``tvmedit --help`` and the analysis commands start fast and run wi
 
 import argparse
 import importlib
+import os
 import signal
 import sys
 import warnings
@@ -51,6 +52,21 @@ class _Version(argparse.Action):
         import tvmedit
 
         parser.exit(message=f"tvmedit {tvmedit.__version__}\n")
+
+
+def entry():
+    """The ``tvmedit`` command: :func:`main`, and the process's exit. After Ctrl-C it ends at
+    once, every file already tidied: the interpreter would otherwise wait on the threads of a
+    process pool whose workers a second Ctrl-C ended (:mod:`tvmedit.engine.parallel`)."""
+    status = main()
+    if status == 130:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        if "multiprocessing" in sys.modules:  # workers still on a task end with the command
+            for child in sys.modules["multiprocessing"].active_children():
+                child.terminate()
+        os._exit(130)
+    sys.exit(status)
 
 
 def main(argv=None):
