@@ -153,28 +153,34 @@ def voxel_size(vertices):
 
 def _prepare(out, overwrite):
     """Make ``out`` ready for a take: new, empty, or (with ``overwrite``) a take of ours.
+    Returns whether the take is written in place (True) or beside, then renamed into place.
 
-    Only the files a previous ``generate`` wrote (listed in its marker, or for a take made
-    before the marker: ``truth.json`` by ``tvmedit synth`` and its frames) are removed;
-    anything else in the folder stays, and frames nobody can vouch for are refused.
+    A folder holding nothing but a previous take is replaced whole, by rename, so that an
+    interrupted run leaves the previous take as it was. Where the user's own files stand
+    beside the take (or the folder is the current one), the take is written in place: only
+    the files a previous ``generate`` wrote (listed in its marker, or for a take made before
+    the marker: ``truth.json`` by ``tvmedit synth`` and its frames) are removed first, and
+    frames nobody can vouch for are refused.
     """
     out = Path(out)
     safewrite.refuse_inside(out)
     if out.exists() and not out.is_dir():
         raise InputError(f"Output path {out} is a file, not a folder.")
-    if out.exists() and any(out.iterdir()):
-        if not overwrite:
-            raise InputError(f"Output folder {out} is not empty; pass overwrite=True to replace it.")
-        ours = _ours(out)
-        theirs = sorted(p.name for p in out.glob("frame_*.ply") if p.name not in ours)
-        if theirs:
-            raise InputError(f"Output folder {out} holds frames tvmedit did not write "
-                             f"({theirs[0]}...), so they are not replaced; choose another folder.")
-        # truth.json goes first, so an interrupted run leaves a folder marked incomplete.
-        for name in sorted(ours, key=lambda n: n != "truth.json"):
-            (out / name).unlink(missing_ok=True)
-    out.mkdir(parents=True, exist_ok=True)
-    return out
+    if not out.exists() or not any(out.iterdir()):
+        return safewrite.holds_cwd(out)
+    if not overwrite:
+        raise InputError(f"Output folder {out} is not empty; pass overwrite=True to replace it.")
+    ours = _ours(out)
+    theirs = sorted(p.name for p in out.glob("frame_*.ply") if p.name not in ours)
+    if theirs:
+        raise InputError(f"Output folder {out} holds frames tvmedit did not write "
+                         f"({theirs[0]}...), so they are not replaced; choose another folder.")
+    if all(path.name in ours for path in out.iterdir()) and not safewrite.holds_cwd(out):
+        return False
+    # truth.json goes first, so an interrupted run leaves a folder marked incomplete.
+    for name in sorted(ours, key=lambda n: n != "truth.json"):
+        (out / name).unlink(missing_ok=True)
+    return True
 
 
 def _ours(out):
@@ -208,17 +214,19 @@ def generate(out, preset="gym", motions=None, cycles=None, fps=10, vertices=1600
     if workers is not None:
         workers = whole("workers", workers, at_least=1, at_most=1024)
     poses, labels, motions, periods = plan(preset, motions, cycles, fps, seed, rest=rest)
-    out = _prepare(out, overwrite)
+    out = Path(out)
     files = ["truth.json", SIDECAR, *(f"frame_{k:05d}.ply" for k in range(len(poses)))]
-    if any(out.iterdir()) or safewrite.holds_cwd(out):
+    if _prepare(out, overwrite):
         # Files of the user's stay beside the take: it is written in place, marked as ours
         # before the first frame, so that an interrupted run is still replaced by --overwrite.
+        out.mkdir(parents=True, exist_ok=True)
         safewrite.mark(out, "take", files=files)
         return _write_take(out, out, poses, labels, motions, periods, preset, cycles, fps, vertices, seed,
                            workers, progress, rest, turns, files)
-    # A new take is written beside its name and renamed into place: an interrupted run leaves
-    # nothing, never a folder of some of its frames.
-    out.rmdir()
+    # A take is written beside its name and renamed into place: an interrupted run leaves
+    # nothing, or the previous take, never a folder of some of its frames.
+    if out.is_dir() and not any(out.iterdir()):
+        out.rmdir()
     with safewrite.replacing_folder(out) as folder:
         return _write_take(out, folder, poses, labels, motions, periods, preset, cycles, fps, vertices, seed,
                            workers, progress, rest, turns, files)
