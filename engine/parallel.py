@@ -15,6 +15,7 @@ Dask is optional and imported only when a build asks for it (``dask="tcp://host:
 """
 
 import os
+import signal
 from collections import deque
 
 from .errors import TvmError
@@ -25,6 +26,9 @@ MAX_WORKERS = 512
 
 __all__ = ["Workers", "default_workers"]
 
+#: Signals held back while workers are forked (:meth:`Workers._start`).
+_HELD = {signal.SIGINT, signal.SIGTERM}
+
 
 def _watch_parent(parent):
     """Worker initializer: exit when the build process is gone (killed, it cannot say so).
@@ -32,12 +36,14 @@ def _watch_parent(parent):
     Signals are the parent's business: a forked worker would otherwise inherit its SIGTERM
     handler and print a KeyboardInterrupt traceback of its own on Ctrl-C.
     """
-    import signal
     import threading
     import time
 
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # Forked with Ctrl-C and SIGTERM held back (:meth:`Workers._start`): one sent meanwhile is
+    # now dropped (Ctrl-C) or ends the worker (SIGTERM), never raised in the parent's handlers.
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
     def watch():
         while os.getppid() == parent:
@@ -129,6 +135,20 @@ class Workers:
             context = multiprocessing.get_context("fork" if "fork" in methods else None)
             self._executor = ProcessPoolExecutor(self.workers, mp_context=context,
                                                  initializer=_watch_parent, initargs=(os.getpid(),))
+            # The workers start at the first task. Forked while Ctrl-C and SIGTERM are held
+            # back, none runs this process's handlers for them before it has its own (a worker
+            # dying of them half-started would print from its fork); one sent meanwhile is
+            # delivered to this process right after.
+            import threading
+
+            held = threading.current_thread() is threading.main_thread()
+            if held:
+                signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+            try:
+                _result(self._executor.submit(int))
+            finally:
+                if held:
+                    signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
     def map(self, fn, tasks, window=None):
         """Yield ``fn(task)`` for every task, in order, running up to ``window`` at a time.
@@ -150,9 +170,9 @@ class Workers:
                 pending.append(submit(fn, task, pure=False) if self._client is not None
                                else submit(fn, task))
                 if len(pending) >= window:
-                    yield pending.popleft().result()
+                    yield _result(pending.popleft())
             while pending:
-                yield pending.popleft().result()
+                yield _result(pending.popleft())
         finally:
             for future in pending:
                 future.cancel()
@@ -166,10 +186,14 @@ class Workers:
         """
         if self._executor is not None:
             executor, self._executor = self._executor, None
+            # Taken before shutdown, which lets go of them. Python 3.9 and later.
+            thread = getattr(executor, "_executor_manager_thread", None)
+            processes = list((getattr(executor, "_processes", None) or {}).values())
             try:
-                executor.shutdown(wait=True, cancel_futures=True)
+                executor.shutdown(wait=False, cancel_futures=True)
+                _wait_for(thread, processes)
             except KeyboardInterrupt:
-                _end(executor)
+                _end(executor, processes)
                 raise
         if self._client is not None:
             self._client.close()
@@ -179,20 +203,42 @@ class Workers:
             self._cluster = None
 
 
-def _end(executor):
-    """Terminate a process pool's workers now. They take SIGTERM's default, dying at once
-    (:func:`_watch_parent`). The pool's own thread may then wait for ever on an answer a
-    worker died writing: the command line exits without waiting for it
+def _result(future):
+    """The result of ``future``; a worker that died under it is one sentence, not a traceback."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    try:
+        return future.result()
+    except BrokenProcessPool:
+        raise TvmError("a worker process ended abruptly (killed from outside, or out of memory); "
+                       "run the command again, or with fewer workers (--workers 1).") from None
+
+
+def _wait_for(thread, processes):
+    """Wait until a shut-down pool's ``processes`` are gone and its ``thread`` has ended.
+    Workers killed from outside (SIGTERM to the process group) may die writing an answer, and
+    the pool's thread then waits for ever on the rest of it: once every worker is gone, it
+    gets a second."""
+    while thread is not None and thread.is_alive():
+        thread.join(0.1)
+        if processes and not any(process.is_alive() for process in processes):
+            thread.join(1.0)
+            return
+
+
+def _end(executor, processes):
+    """Terminate a process pool's worker ``processes`` now. They take SIGTERM's default, dying
+    at once (:func:`_watch_parent`). The pool's own thread may then wait for ever on an answer
+    a worker died writing: the command line exits without waiting for it
     (:func:`tvmedit.cli.entry`)."""
-    # concurrent.futures has no public way to end its workers. ``_processes`` (pid -> Process)
-    # and ``_pending_work_items`` have been there since Python 3.2. Before 3.12 the pool's own
-    # thread, finding its workers gone, sets an error on every pending future and stops with a
-    # traceback at one already cancelled (by Ctrl-C or shutdown): those are taken out first.
+    # concurrent.futures has no public way to end its workers (``processes`` is its private
+    # ``_processes``). Before Python 3.12 the pool's own thread, finding its workers gone, sets
+    # an error on every pending future and stops with a traceback at one already cancelled
+    # (by Ctrl-C or shutdown): those are taken out of ``_pending_work_items`` first.
     pending = getattr(executor, "_pending_work_items", None) or {}
     for work_id, item in list(pending.items()):
         if item.future.cancelled():
             pending.pop(work_id, None)
-    processes = list((getattr(executor, "_processes", None) or {}).values())
     for process in processes:
         if process.is_alive():
             process.terminate()

@@ -15,6 +15,8 @@ import time
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from conftest import ROOT
 from tvmedit import Library
@@ -177,3 +179,40 @@ def test_paths_enter_and_s_would_fail_on_are_refused_at_the_start(small_library,
     shutil.copytree(small_library, other)
     result = tvmedit("inspect", small_library, "--out", other, "--corrections", tmp_path / "fix.json")
     assert result.returncode == 2 and "already exists; pass --force" in result.stderr, result.stderr
+
+
+#: Keys of the inspector as xdotool names them (q, Escape and C end or leave the window).
+KEYS = ["Left", "Right", "Up", "Down", "b", "t", "d", "Delete", "m", "p", "x", "u", "Tab", "Return", "s", "r",
+        "Home", "End", "Prior", "Next"]
+
+
+@settings(max_examples=int(os.environ.get("TVMEDIT_HOSTILE_EXAMPLES", "0")) // 20 or 2, deadline=None,
+          derandomize="TVMEDIT_HOSTILE_EXAMPLES" not in os.environ, database=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(keys=st.lists(st.sampled_from(KEYS), min_size=8, max_size=30))
+def test_any_keys_leave_a_whole_library_and_corrections_that_read_back(xdisplay, small_library, tmp_path_factory,  # noqa: F811
+                                                                          keys):
+    from tvmedit.engine import Corrections
+
+    root = tmp_path_factory.mktemp("keys")
+    path = root / "gym.tvmlib"
+    shutil.copytree(small_library, path)
+    fix = root / "corrections.json"
+    env = {**os.environ, "DISPLAY": xdisplay, "PYTHONPATH": str(ROOT)}
+    app = subprocess.Popen([sys.executable, "-m", "tvmedit", "inspect", str(path), "--corrections", str(fix),
+                            "--seconds", "120", "--size", "640x480"], cwd=root, env=env, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True)
+    try:
+        found = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit inspect"], env=env,
+                               capture_output=True, text=True, timeout=60).stdout.split()
+        assert found, app.communicate(timeout=10)
+        for key in [*keys, "q"]:
+            subprocess.run(["xdotool", "key", "--window", found[0], key], env=env, timeout=30, capture_output=True)
+        out, err = app.communicate(timeout=120)
+    finally:
+        app.kill()
+    assert app.returncode == 0 and "Traceback" not in err, err
+    Library.open(path).verify()          # rebuilt or not, the library is whole
+    assert fix.exists() == ("s" in keys), err
+    if fix.exists():                     # what S saved reads back as corrections
+        Corrections.load(fix)

@@ -55,17 +55,28 @@ class _Version(argparse.Action):
 
 
 def entry():
-    """The ``tvmedit`` command: :func:`main`, and the process's exit. After Ctrl-C it ends at
-    once, every file already tidied: the interpreter would otherwise wait on the threads of a
-    process pool whose workers a second Ctrl-C ended (:mod:`tvmedit.engine.parallel`)."""
-    status = main()
-    if status == 130:
-        sys.stdout.flush()
-        sys.stderr.flush()
+    """The ``tvmedit`` command (after :mod:`tvmedit.command`): :func:`main`, and the process's
+    exit. Once the command is over, a signal ends the process at once, as its default does:
+    Python's shutdown would print from exit handlers it lands in. After Ctrl-C or SIGTERM the
+    process ends at once, every file already tidied: the interpreter would otherwise wait on
+    the threads of a process pool whose workers a second Ctrl-C ended
+    (:mod:`tvmedit.engine.parallel`)."""
+    sys.unraisablehook = _unraisable
+    try:
+        status = main()
+    except SystemExit as leaving:       # SIGTERM (_terminate), or argparse's own exit
+        if not isinstance(leaving.code, int):
+            raise
+        status = leaving.code
+    sys.stdout.flush()
+    sys.stderr.flush()
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if status in (130, 128 + signal.SIGTERM):
         if "multiprocessing" in sys.modules:  # workers still on a task end with the command
             for child in sys.modules["multiprocessing"].active_children():
                 child.terminate()
-        os._exit(130)
+        os._exit(status)
     sys.exit(status)
 
 
@@ -118,6 +129,20 @@ def _sentence(message):
     """One line that ends as a sentence does."""
     message = " ".join(message.split())
     return message if message.endswith((".", "!", "?")) else message + "."
+
+
+def _unraisable(unraisable, default=sys.unraisablehook):
+    """A Ctrl-C or SIGTERM that lands in a finaliser (a progress bar or a weak reference going
+    away) is not raised there: Python prints "Exception ignored in ..." and goes on. It is
+    raised again in the main thread, where the command ends as at any other."""
+    import _thread
+
+    if issubclass(unraisable.exc_type, KeyboardInterrupt):
+        _thread.interrupt_main(signal.SIGINT)
+    elif issubclass(unraisable.exc_type, SystemExit) and unraisable.exc_value.code == 128 + signal.SIGTERM:
+        _thread.interrupt_main(signal.SIGTERM)
+    else:
+        default(unraisable)
 
 
 def _terminate(signum, frame):
