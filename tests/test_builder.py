@@ -105,3 +105,16 @@ def test_force_replaces_only_a_tvmedit_library(built, tmp_path, take_13_30, monk
     with pytest.raises(OutputError, match="is the current folder or holds it"):
         build(_inputs(take_13_30), copy, workers=1, force=True)
     assert Library.open(copy).manifest == Library.open(built).manifest
+
+
+def test_a_stage_with_nothing_to_do_shows_no_progress_bar(capsys):
+    # A bar of no steps ("blends: 0run") stayed in logs of builds without transitions or loops.
+    from tvmedit.engine.store.builder import _Run
+
+    run = _Run(progress=True, log=None)
+    for total in (0, 3):
+        bar = run.bar(total, "blends", unit="run")
+        bar.update(total)
+        bar.close()
+    err = capsys.readouterr().err
+    assert err.startswith("\rblends:") and "0run" not in err

@@ -115,8 +115,9 @@ class _Run:
         return result
 
     def bar(self, total, desc, unit="frame"):
-        """A tqdm bar on stderr, or one that shows nothing."""
-        if not self.progress:
+        """A tqdm bar on stderr, or one that shows nothing (also where there is nothing to do:
+        "blends: 0run" would stay in a log)."""
+        if not self.progress or not total:
             return _NoBar()
         from tqdm import tqdm
 
