@@ -12,6 +12,8 @@ import networkx as nx
 import numpy as np
 import pytest
 
+import tvmedit
+
 from tvmedit import Library, LibraryError, UnknownMotion
 from tvmedit.engine.store.inbetweens import loop_frames
 from tvmedit.engine.capture.normals import vertex_normals
@@ -209,3 +211,17 @@ def test_a_sequence_folder_is_told_how_to_become_a_library(take_13_30, tmp_path,
     assert Library.open("walk.tvmlib").sequences[0].name == "walk"
     with pytest.raises(LibraryError, match="is not a tvmedit library .*give a library folder"):
         Library.open(tmp_path / "xdg")
+
+
+@pytest.mark.parametrize("call, says", [
+    (lambda lib: type(lib).open(123), "opened from its folder's path"),
+    (lambda lib: lib.edit(None), "at least two key motions"),
+    (lambda lib: lib.graph_at(mu=-1), "mu=-1 is out of range"),
+    (lambda lib: tvmedit.build("walk", "walk.tvmlib"), "should be a list of sequence folders"),
+    (lambda lib: tvmedit.build([("walk", 5)], "walk.tvmlib"), "is not a sequence folder or a (name, folder) pair"),
+])
+def test_the_python_api_answers_wrong_types_in_one_sentence(small_library, call, says):
+    # Read one character at a time, build("walk") looked for folders "w", "a", "l", "k".
+    with pytest.raises(tvmedit.TvmError) as caught:
+        call(Library.open(small_library))
+    assert says in str(caught.value) and "\n" not in str(caught.value)

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import InputError, summarise
 from .orientation import Orientation, detect, sample_indices
-from ..checks import MAX_FPS, json_value
+from ..checks import MAX_FPS, json_value, listed
 from .readers import READERS, read_manifest, read_mesh, reader_for
 
 #: Suffixes of frame files: those of the reader registry (tvmedit.engine.capture.readers.READERS).
@@ -366,8 +366,11 @@ def expand_inputs(inputs):
     [('walk', 'captures/a'), (None, 'captures/b')]
     """
     expanded = []
-    for item in inputs:
-        name, source = item if isinstance(item, tuple) else (None, item)
+    for item in listed("inputs", inputs, "sequence folders or (name, folder) pairs"):
+        name, source = item if isinstance(item, tuple) and len(item) == 2 else (None, item)
+        if not isinstance(source, (str, os.PathLike)) or not isinstance(name, (str, type(None))):
+            raise InputError(f"input {item!r} is not a sequence folder or a (name, folder) pair; give a "
+                             "folder, a glob of frame files, or (name, folder) with both as text.")
         text = str(source)
         if any(ch in text for ch in "*?[") and not Path(text).exists():
             matches = sorted(_glob.glob(text.rstrip("/\\")))

@@ -8,6 +8,7 @@ below it imports it (the builder is handed :meth:`Library.open` to read the libr
 replaces).
 """
 
+import os
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
@@ -82,6 +83,8 @@ class Library(DisplaySteps):
         Raises ``LibraryError`` as :func:`tvmedit.engine.store.layout.read_manifest` does, or when a
         file does not hold what the format says.
         """
+        if not isinstance(path, (str, os.PathLike)):
+            raise LibraryError(f"a library is opened from its folder's path, not {path!r}.")
         path = Path(path)
         manifest = layout.read_manifest(path)
         try:
@@ -239,9 +242,11 @@ class Library(DisplaySteps):
         """The motion graph pruned at ``mu`` (default: the library's) and connected as the
         library was built (:attr:`connect`), names applied."""
         from ..graph.motiongraph import graph_from
+        from .settings import check_mu
 
         unpruned, transitions, stored_mu = self._graph_data
-        graph = graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else mu, self.connect)
+        graph = graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else check_mu(mu),
+                           self.connect)
         for (i, j), (_, count) in self._blends[1].items():
             if count and i != j and graph.has_edge(i, j):
                 graph.edges[i, j]["blend"] = count
@@ -548,7 +553,7 @@ class Library(DisplaySteps):
 
         from ..checks import listed
 
-        keys, forbid = listed("keys", keys), listed("forbid", forbid)
+        keys, forbid = listed("keys", [] if keys is None else keys), listed("forbid", forbid)
         durations, at = listed("durations", durations, "seconds"), listed("at", at, "seconds")
         graph = self.graph
         ids = [node_by_key(graph, key) for key in keys]

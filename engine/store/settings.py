@@ -11,7 +11,7 @@ from .. import checks
 from ..errors import ParameterError
 from ..features import BinSizes
 
-__all__ = ["Settings", "KEEP_FRAMES"]
+__all__ = ["Settings", "KEEP_FRAMES", "check_mu"]
 
 #: Which frames a library stores: ``"motions"``, those of its database motions (what can be
 #: played); ``"all"``, every frame of every sequence, so that a correction by hand never reads
@@ -46,14 +46,14 @@ class Settings(NamedTuple):
             raise checks.ParameterError(f"keep_frames={keep_frames!r} is not one of "
                                         f"{', '.join(map(repr, KEEP_FRAMES))}.")
         return cls(bins if bins is not None else BinSizes(), _structure_params(structure_module, structure),
-                   MU if mu is None else _check_mu(mu), bool(skip_bad_frames), connect,
+                   MU if mu is None else check_mu(mu), bool(skip_bad_frames), connect,
                    check_count(blend_frames), keep_frames, bool(smooth))
 
 
-def _check_mu(mu):
+def check_mu(mu):
     """``mu`` as a float, or one sentence: JSON (manifest, graph) cannot hold inf or NaN.
 
-    >>> _check_mu("inf")
+    >>> check_mu("inf")
     Traceback (most recent call last):
     ...
     tvmedit.engine.errors.ParameterError: mu=inf is out of range: it must be a finite number above 0 (the default is 0.9).
