@@ -19,7 +19,8 @@ costs upload + draw + read back of a 640x480 RGB image. Three loops over the sam
             is skipped, saying why, when it cannot be imported).
 
 Prints frames per second and CPU time per frame, and the ratios (targets: tvmedit >= 3x
-pyrender, >= 80% of bare). With software GL the CPU time is the steadier figure.
+pyrender, >= 90% of the bare loop doing the same anti-aliasing: bare + FXAA where tvmedit runs
+FXAA, bare otherwise). With software GL the CPU time is the steadier figure.
 """
 
 import argparse
@@ -232,9 +233,13 @@ def main(argv=None):
     if "pyrender" in loops:
         print(f"tvmedit / pyrender {fps['tvmedit'] / fps['pyrender']:7.2f}x{cpu['pyrender'] / cpu['tvmedit']:12.2f}x"
               "   (target >= 3x)")
+    # Like for like: the bare loop doing tvmedit's anti-aliasing (its MSAA, its FXAA pass, or
+    # none when tvmedit draws none); the bare loop without the FXAA pass is printed for scale.
+    like = "bare + FXAA" if "bare + FXAA" in loops else "bare"
     for bare_name in [name for name in loops if name.startswith("bare")]:
+        what = "(target >= 90 %, like for like)" if bare_name == like else "(for scale: no anti-aliasing pass)"
         print(f"{'tvmedit / ' + bare_name:18} {100 * fps['tvmedit'] / fps[bare_name]:6.0f} %"
-              f"{100 * cpu[bare_name] / cpu['tvmedit']:11.0f} %   (target >= 80 %)")
+              f"{100 * cpu[bare_name] / cpu['tvmedit']:11.0f} %   {what}")
 
 
 if __name__ == "__main__":
