@@ -264,3 +264,25 @@ def test_a_rate_a_folder_name_states_is_taken_and_said(tmp_path):
     result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(top)], capture_output=True, text=True)
     assert "3 frames at 30 fps" in result.stdout and "folder name" in result.stdout, result.stdout
     assert open_sequence(str(top), fps=10).fps == 10
+
+
+def test_a_uvol_manifest_gives_the_rate_and_an_lfs_pointer_is_named(tmp_path):
+    # A web player's export: geometry_draco/ beside textures and a *.uvol.json manifest; cloned
+    # without `git lfs pull`, the manifest is a pointer file.
+    from tvmedit.engine.capture.load import open_sequence
+
+    top = tmp_path / "talk"
+    (top / "geometry_draco").mkdir(parents=True)
+    (top / "texture_ktx2-fps25-1k").mkdir()
+    for index in range(3):
+        _mesh(shift=index).export(top / "geometry_draco" / f"f{index}.ply")
+    manifest = top / "talk.uvol.json"
+    manifest.write_text(json.dumps({"version": "2", "geometry": {"targets": {"draco_high": {"frameRate": 30}}}}))
+    sequence = open_sequence(str(top))
+    assert sequence.fps == 30 and sequence.rate_from == "uvol manifest 'talk.uvol.json'"
+    result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(top)], capture_output=True, text=True)
+    assert "3 frames at 30 fps" in result.stdout and "uvol manifest" in result.stdout, result.stdout
+    manifest.write_text("version https://git-lfs.github.com/spec/v1\noid sha256:0123\nsize 2048\n")
+    with pytest.warns(UserWarning, match=r"talk\.uvol\.json cannot be read .*Git LFS pointer.*git lfs pull"):
+        sequence = open_sequence(str(top))
+    assert sequence.fps == 25          # the rate the texture folder's name states, said so

@@ -45,7 +45,7 @@ def _timing(sequence, usable):
         return [f"{sequence.name}: {usable} frames at {sequence.fps:g} fps ({usable / sequence.fps:.1f} s)"
                 + (f"; the rate is {sequence.rate_from}'s" if sequence.rate_from == "sequence.json" else "")
                 + (f"; the rate is the one its {sequence.rate_from} states (--fps overrides it)"
-                   if sequence.rate_from.startswith("folder name") else "")] \
+                   if sequence.rate_from.startswith(("folder name", "uvol manifest")) else "")] \
             + ([f"note: {assumed}"] if assumed else [])
     steps = np.diff(sequence.times) * 1000
     captured = len(sequence.captured)

@@ -408,7 +408,8 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     given = fps if fps is not None else meta.get("fps")
     rate_from = "given" if fps is not None else SIDECAR
     if given is None:
-        stated = _rate_in_names(Path(captured[0]).parent) if captured else None
+        stated = (_rate_in_uvol(Path(captured[0]).parent) or _rate_in_names(Path(captured[0]).parent)
+                  if captured else None)
         if times is not None and (np.diff(times) > 0).any():
             steps = np.diff(times)
             given, rate_from = 1.0 / float(np.median(steps[steps > 0])), "frame times"
@@ -439,6 +440,44 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,
                     orientation=orientation, times=times, captured=list(captured),
                     manifest=manifest.path if manifest is not None else None, rate_from=rate_from)
+
+
+def _rate_in_uvol(folder):
+    """``(fps, "uvol manifest 'NAME'")`` from a web volumetric player's manifest (``*.uvol.json``)
+    beside the frames' folder or in it: ``geometry.frameRate``, or the first of
+    ``geometry.targets``, or a top-level ``frameRate``; else None. A manifest that cannot be
+    read (a Git LFS pointer left by a clone without ``git lfs pull``, or bad JSON) is named in
+    a warning, and the rate is looked for elsewhere.
+
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as top:
+    ...     os.mkdir(os.path.join(top, "geometry_draco"))
+    ...     _ = Path(top, "talk.uvol.json").write_text('{"geometry": {"frameRate": 30, "compression": "draco"}}')
+    ...     _rate_in_uvol(Path(top) / "geometry_draco")
+    (30.0, "uvol manifest 'talk.uvol.json'")
+    """
+    folder = Path(folder)
+    for path in sorted([*folder.glob("*.uvol.json"), *folder.parent.glob("*.uvol.json")]):
+        try:
+            text = path.read_text(errors="replace")
+            if text.startswith("version https://git-lfs"):
+                raise ValueError("it is a Git LFS pointer, not the file: run `git lfs pull` where it was cloned")
+            data = json_value(text)
+        except (OSError, ValueError) as error:
+            warnings.warn(f"{path} cannot be read as a uvol manifest ({error}); its frame rate is not used.",
+                          stacklevel=3)
+            continue
+        geometry = data.get("geometry") if isinstance(data, dict) else None
+        targets = geometry.get("targets") if isinstance(geometry, dict) else None
+        candidates = [geometry.get("frameRate") if isinstance(geometry, dict) else None,
+                      *([t.get("frameRate") for t in targets.values() if isinstance(t, dict)]
+                        if isinstance(targets, dict) else []),
+                      data.get("frameRate") if isinstance(data, dict) else None]
+        for rate in candidates:
+            rate = _positive(rate)
+            if rate is not None and rate <= MAX_FPS:
+                return rate, f"uvol manifest {path.name!r}"
+    return None
 
 
 #: A rate stated in a folder's name as players' exports write it: ``fps30``, ``fps-29.97``.
