@@ -21,18 +21,22 @@ __all__ = ["blend_library", "instant_library", "NATURAL_PAIRS"]
 NATURAL_PAIRS = 240
 
 
-def _stored(folder, rows):
-    """``(positions, colours, faces)`` of the stored texton frames ``rows`` of the library
-    being written in ``folder`` (its meshes are written, the rest perhaps not yet)."""
+def _meshes(folder, ids, names=("positions", "colours", "faces")):
+    """The arrays ``names`` of the meshes ``ids`` of the library being written in ``folder``
+    (its meshes are written, the rest perhaps not yet), a tuple per mesh: ``id`` is a stored
+    frame's row, or ``-1 - k`` for its ``k``-th in-between frame."""
     from .arrays import frame_offsets, mesh_arrays
 
-    arrays = mesh_arrays(folder)
-    offsets = frame_offsets(folder, arrays)
-    meshes = []
-    for row in rows:
-        v0, nv, f0, nf = offsets[row].tolist()
-        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["colours"][v0:v0 + nv]),
-                       np.asarray(arrays["faces"][f0:f0 + nf])))
+    meshes, tables = [], {}
+    for mesh_id in ids:
+        prefix = "blend_" if mesh_id < 0 else ""
+        if prefix not in tables:
+            arrays = mesh_arrays(folder, prefix)
+            tables[prefix] = (arrays, frame_offsets(folder, arrays, prefix))
+        arrays, offsets = tables[prefix]
+        v0, nv, f0, nf = offsets[-1 - mesh_id if mesh_id < 0 else mesh_id].tolist()
+        meshes.append(tuple(np.asarray(arrays[name][f0:f0 + nf] if name == "faces" else arrays[name][v0:v0 + nv])
+                            for name in names))
     return meshes
 
 
@@ -42,7 +46,7 @@ def _steps_task(task):
     of rows one after another (as :func:`texton_steps` with tails; a frame's k-d tree serves
     both its pairs)."""
     folder, runs = task
-    return [step for run in runs for step in texton_steps([mesh[0] for mesh in _stored(folder, run)], tails=True)]
+    return [step for run in runs for step in texton_steps([mesh[0] for mesh in _meshes(folder, run)], tails=True)]
 
 
 def _runs(pairs):
@@ -92,10 +96,10 @@ def _blend_task(task):
     started = time.process_time()
     if task[0] == "edge":
         _, folder, exit_row, entry_row, natural, count, tail = task
-        run = blend(*_stored(folder, (exit_row, entry_row)), natural, count, tail=tail)
+        run = blend(*_meshes(folder, (exit_row, entry_row)), natural, count, tail=tail)
     else:
         _, folder, rows, (start, end, at, limit), natural, tail = task
-        run = close_loop(lambda frame: _stored(folder, (rows[frame],))[0], start, end, at, limit, natural, tail)
+        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail)
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
@@ -291,24 +295,6 @@ def _copied(old, run, wrap=False):
     return frames, steps, jump, 0.0
 
 
-def _displayed(folder, ids):
-    """``(positions, normals, faces)`` of the meshes ``ids`` of the library being written: a
-    stored frame's row, or ``-1 - k`` for its ``k``-th in-between frame."""
-    from .arrays import frame_offsets, mesh_arrays
-
-    meshes, tables = [], {}
-    for mesh_id in ids:
-        prefix = "blend_" if mesh_id < 0 else ""
-        if prefix not in tables:
-            arrays = mesh_arrays(folder, prefix)
-            tables[prefix] = (arrays, frame_offsets(folder, arrays, prefix))
-        arrays, offsets = tables[prefix]
-        v0, nv, f0, nf = offsets[-1 - mesh_id if mesh_id < 0 else mesh_id].tolist()
-        meshes.append((np.asarray(arrays["positions"][v0:v0 + nv]), np.asarray(arrays["normals"][v0:v0 + nv]),
-                       arrays["faces"][f0:f0 + nf]))
-    return meshes
-
-
 def _field_task(task):
     """The fields of a few display steps: ``(folder, [(from id, to id), ...])`` -> list of
     float16 (N, 3) (:func:`tvmedit.engine.inbetween.instants.step_field`); a mesh read once."""
@@ -316,7 +302,7 @@ def _field_task(task):
 
     folder, pairs = task
     ids = list(dict.fromkeys(i for pair in pairs for i in pair))
-    meshes = dict(zip(ids, _displayed(folder, ids)))
+    meshes = dict(zip(ids, _meshes(folder, ids, ("positions", "normals", "faces"))))
     fields = []
     for a, b in pairs:
         field = _same_mesh_field(meshes[a], meshes[b])
