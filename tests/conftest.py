@@ -148,6 +148,13 @@ def built_library(name, take, **options):
     return made_once(out, "manifest.json", lambda: engine.build([(name, take)], out, workers=2, force=True, **options))
 
 
+@pytest.fixture
+def private_cache(tmp_path, monkeypatch):
+    """Builds keep their feature cache in this test's own folder (``XDG_CACHE_HOME``): what one
+    test caches never serves another, and a test of the cache sees only its own."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+
+
 @pytest.fixture(scope="session")
 def small_library():
     """A library of the synthetic actor: the gym preset at three cycles a motion, 4,000 vertices.

@@ -21,12 +21,7 @@ from conftest import snippet_inputs as _inputs
 
 
 # Short snippets of one take rarely repeat a texton; the database then says so.
-pytestmark = pytest.mark.filterwarnings("ignore:no motion cluster repeats:UserWarning")
-
-
-@pytest.fixture(autouse=True)
-def _cache_home(tmp_path, monkeypatch):
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+pytestmark = [pytest.mark.usefixtures("private_cache"), pytest.mark.filterwarnings("ignore:no motion cluster repeats:UserWarning")]
 
 
 def test_rebuild_with_other_parameters_reuses_cached_features(take_13_30, tmp_path):
