@@ -16,6 +16,8 @@ import time
 import networkx as nx
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from conftest import ROOT
 from tvmedit.engine.errors import NoPath
@@ -520,3 +522,24 @@ def test_wandering_plays_motions_by_itself_and_honours_a_key(xdisplay, small_lib
         window.quit()
     runs = _runs(_frames(window.rows()))
     assert all(a != b for (a, _), (b, _) in zip(runs, runs[1:]))   # no motion twice back to back
+
+
+#: Keys a user may press in the player, as xdotool names them (Q ends the window).
+PLAYER_KEYS = ["1", "2", "3", "4", "5", "6", "shift+1", "shift+3", "space", "BackSpace", "plus", "minus", "r",
+               "Left", "Right", "Up", "Down", "s", "7", "z"]
+
+
+@settings(max_examples=int(os.environ.get("TVMEDIT_HOSTILE_EXAMPLES", "0")) // 20 or 2, deadline=None,
+          derandomize="TVMEDIT_HOSTILE_EXAMPLES" not in os.environ, database=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(keys=st.lists(st.sampled_from(PLAYER_KEYS), min_size=8, max_size=30))
+def test_any_keys_in_the_player_leave_it_playing_until_q(xdisplay, small_library, tmp_path_factory, keys):
+    tmp_path = tmp_path_factory.mktemp("player-keys")
+    with _Window(xdisplay, [small_library, "--seconds", "60", "--size", "320x240"], tmp_path) as window:
+        window.press(*keys)
+        before = len(_frames(window.rows()))
+        time.sleep(0.5)
+        assert len(_frames(window.rows())) > before or "space" in keys, "the player stopped drawing"
+        _, err = window.quit()
+    assert "Traceback" not in err, err
+    assert window.rows()[-1].get("event") == "stop", window.rows()[-1]
