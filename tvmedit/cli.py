@@ -68,10 +68,15 @@ def entry():
         if not isinstance(leaving.code, int):
             raise
         status = leaving.code
-    sys.stdout.flush()
-    sys.stderr.flush()
+    except KeyboardInterrupt:           # a Ctrl-C while main said why it stopped
+        status = 130
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):   # the reader went away, or stderr was closed (141)
+            pass
     if status in (130, 128 + signal.SIGTERM):
         if "multiprocessing" in sys.modules:  # workers still on a task end with the command
             for child in sys.modules["multiprocessing"].active_children():
@@ -82,8 +87,12 @@ def entry():
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
-    # SIGTERM unwinds like Ctrl-C, so every command removes its temporary files.
+    # SIGTERM unwinds like Ctrl-C, so every command removes its temporary files; both are
+    # noted as they come (_signalled).
+    _signalled.clear()
     signal.signal(signal.SIGTERM, _terminate)
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:   # not where ignored
+        signal.signal(signal.SIGINT, _interrupt)
     warnings.showwarning = _show_warning
     parser = args = None
     try:
@@ -113,6 +122,14 @@ def main(argv=None):
         print(f"error: cannot use{where} ({error.strerror or error}); check the path, its "
               "permissions and the free disk space.", file=sys.stderr)
         return 2
+    except Exception:
+        # A signal that a C extension's import turned into an error of its own (numpy's
+        # "could not import module datetime"): the user pressed Ctrl-C, and reads that.
+        if not _signalled:
+            raise
+        if _signalled[-1] == signal.SIGINT:
+            print("interrupted", file=sys.stderr)
+        return 128 + _signalled[-1]
 
 
 def _parse(parser, argv):
@@ -145,7 +162,17 @@ def _unraisable(unraisable, default=sys.unraisablehook):
         default(unraisable)
 
 
+#: Signals received by this command (SIGINT, SIGTERM), in order.
+_signalled = []
+
+
+def _interrupt(signum, frame):
+    _signalled.append(signum)
+    raise KeyboardInterrupt
+
+
 def _terminate(signum, frame):
+    _signalled.append(signum)
     raise SystemExit(128 + signum)
 
 
@@ -156,4 +183,4 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()
