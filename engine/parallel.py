@@ -43,7 +43,8 @@ def _watch_parent(parent):
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     # Forked with Ctrl-C and SIGTERM held back (:meth:`Workers._start`): one sent meanwhile is
     # now dropped (Ctrl-C) or ends the worker (SIGTERM), never raised in the parent's handlers.
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
+    if hasattr(signal, "pthread_sigmask"):     # POSIX
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
     def watch():
         while os.getppid() == parent:
@@ -141,7 +142,7 @@ class Workers:
             # delivered to this process right after.
             import threading
 
-            held = threading.current_thread() is threading.main_thread()
+            held = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
             if held:
                 signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
             try:
@@ -149,6 +150,12 @@ class Workers:
             finally:
                 if held:
                     signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
+
+    def start(self):
+        """Start the local worker processes now rather than at the first task: before threads
+        of the caller's start, so that none is running when they are forked."""
+        if self.kind == "processes":
+            self._start()
 
     def map(self, fn, tasks, window=None):
         """Yield ``fn(task)`` for every task, in order, running up to ``window`` at a time.
@@ -174,15 +181,18 @@ class Workers:
             while pending:
                 yield _result(pending.popleft())
         finally:
-            for future in pending:
-                future.cancel()
+            # A local pool's pending tasks are cancelled by close(), in the pool's own thread:
+            # cancelled here, Python 3.11's pool trips over them when a worker is killed.
+            if self._client is not None:
+                for future in pending:
+                    future.cancel()
 
     def close(self):
         """Stop the pool or disconnect from the cluster (a LocalCluster is shut down).
 
         Local workers finish the task they run (a second or less) and take no other. A Ctrl-C
-        while they are waited for (a second one, after the Ctrl-C that ended the run) ends
-        them at once: no worker outlives the command.
+        or SIGTERM while they are waited for (a second one, after the one that ended the run)
+        ends them at once: no worker outlives the command.
         """
         if self._executor is not None:
             executor, self._executor = self._executor, None
@@ -192,7 +202,7 @@ class Workers:
             try:
                 executor.shutdown(wait=False, cancel_futures=True)
                 _wait_for(thread, processes)
-            except KeyboardInterrupt:
+            except BaseException:       # Ctrl-C or SIGTERM while waiting: they end now
                 _end(executor, processes)
                 raise
         if self._client is not None:
@@ -211,7 +221,7 @@ def _result(future):
         return future.result()
     except BrokenProcessPool:
         raise TvmError("a worker process ended abruptly (killed from outside, or out of memory); "
-                       "run the command again, or with fewer workers (--workers 1).") from None
+                       "run the command again, with fewer workers where it takes --workers.") from None
 
 
 def _wait_for(thread, processes):

@@ -176,8 +176,8 @@ def replacing_folder(out, recheck=None, kind=None):
 
 @contextlib.contextmanager
 def _uninterrupted():
-    """Hold Ctrl-C back while a failed write tidies up (milliseconds), then deliver it: a second
-    Ctrl-C right after the first must not leave a temporary folder behind."""
+    """Hold Ctrl-C and SIGTERM back while a failed write tidies up (milliseconds), then deliver
+    them: a second one right after the first must not leave a temporary folder behind."""
     import signal
     import threading
 
@@ -185,13 +185,15 @@ def _uninterrupted():
         yield
         return
     caught = []
-    previous = signal.signal(signal.SIGINT, lambda *_: caught.append(True))
+    held = (signal.SIGINT, signal.SIGTERM)
+    previous = {signum: signal.signal(signum, lambda signum, _: caught.append(signum)) for signum in held}
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
-        if caught:
-            signal.raise_signal(signal.SIGINT)
+        for signum in held:
+            signal.signal(signum, previous[signum])
+        for signum in dict.fromkeys(caught):
+            signal.raise_signal(signum)
 
 
 def swap_in(tmp, out):
