@@ -94,6 +94,12 @@ def _is_file(image):
     return isinstance(image, (str, os.PathLike))
 
 
+def _obj_texture(stem, image):
+    """The name of an OBJ frame's texture beside it: the image file's own suffix where it is
+    copied, ``.png`` where an array is written."""
+    return f"{stem}{Path(image).suffix.lower() if _is_file(image) else '.png'}"
+
+
 def _encoded(image_file):
     """A Pillow image of ``image_file`` that saves as the file's own bytes. trimesh's glTF
     writer embeds an image by saving it; a JPG would be decoded and encoded again (at quality
@@ -119,7 +125,7 @@ def write_obj(path, positions, faces, colours=None, uv=None, image=None):
     text, files = export_obj(mesh, include_texture=textured, include_color=not textured,
                              return_texture=True, mtl_name=f"{path.stem}.mtl")
     path.write_text(text)
-    texture = f"{path.stem}{Path(image).suffix.lower() if copied else '.png'}"
+    texture = _obj_texture(path.stem, image)
     for name, blob in files.items():
         if name.endswith(".png"):   # trimesh's image (a placeholder where the file is copied)
             if not copied:
@@ -182,7 +188,7 @@ def write_frame(fmt, folder, stem, positions, faces, colours=None, uv=None, imag
                image if textured else None)
         if not (textured and fmt == "obj"):
             return f"{stem}{suffix}", None
-        return f"{stem}{suffix}", f"{stem}{Path(image).suffix.lower() if _is_file(image) else '.png'}"
+        return f"{stem}{suffix}", _obj_texture(stem, image)
     writer(folder / f"{stem}{suffix}", positions, faces, colours, uv if textured else None)
     if not textured:
         return f"{stem}{suffix}", None

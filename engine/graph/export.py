@@ -30,6 +30,7 @@ current folder or one that holds it, and a folder inside the library or one of i
 sequences are refused, so a mistyped ``-o`` never deletes a capture.
 """
 
+import contextlib
 import json
 import re
 import shutil
@@ -135,14 +136,17 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         prepare(fmt)    # imported once here, not once in each worker process
     with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
             Workers(None if encoded >= POOL_FROM else 1) as pool:   # left only once no worker writes
+        pool.start()    # forked before any thread of this export runs
         if fmt == "ply":
-            written = ((index, _write_ply_frame(library, item, tmp, index)) for index, item in enumerate(shown))
+            writing = ((index, _write_ply_frame(library, item, tmp, index)) for index, item in enumerate(shown))
         else:
-            written = _written(library, shown, copies, fmt, tmp, pool)
-        if progress:
-            from tqdm import tqdm
-            written = tqdm(written, total=len(shown), desc="export", unit="frame", leave=False)
-        names = dict(written)
+            writing = _written(library, shown, copies, fmt, tmp, pool)
+        # Closed whatever happens, so that no copy still runs into the folder once it is left.
+        with contextlib.closing(writing):
+            if progress:
+                from tqdm import tqdm
+                writing = tqdm(writing, total=len(shown), desc="export", unit="frame", leave=False)
+            names = dict(writing)
         frames, textures = [], []
         for index, item in enumerate(shown):
             name, texture = names[index] if fmt != "ply" else (names[index], None)
@@ -290,10 +294,14 @@ def _copy(source, folder, stem):
 
 def _texture_file(library, entry):
     """The capture's own image file of the texture ``entry`` shows (an in-between frame shows
-    the one of the captured frame it moves), or None where it is gone."""
+    the one of the captured frame it moves), for a Draco capture, whose reader takes the image
+    by the rule of :func:`tvmedit.engine.capture.readers.texture_for`; None where it is gone or the capture
+    is of another format (an OBJ's or a glTF's texture is the one its MTL names or it embeds)."""
     origin = library.texture_origin(entry.key)
     source = None if origin is None else _source_file(library, *origin)
-    texture = None if source is None else texture_for(source)
+    if source is None or Path(source).suffix.lower() not in (".drc", ".draco"):
+        return None
+    texture = texture_for(source)
     return texture if texture is not None and texture.is_file() else None
 
 
