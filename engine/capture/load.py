@@ -366,7 +366,7 @@ def expand_inputs(inputs):
     [('walk', 'captures/a'), (None, 'captures/b')]
     """
     expanded = []
-    for item in listed("inputs", inputs, "sequence folders or (name, folder) pairs"):
+    for item in listed("inputs", [] if inputs is None else inputs, "sequence folders or (name, folder) pairs"):
         name, source = item if isinstance(item, tuple) and len(item) == 2 else (None, item)
         if not isinstance(source, (str, os.PathLike)) or not isinstance(name, (str, type(None))):
             raise InputError(f"input {item!r} is not a sequence folder or a (name, folder) pair; give a "
@@ -408,15 +408,15 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     given = fps if fps is not None else meta.get("fps")
     rate_from = "given" if fps is not None else SIDECAR
     if given is None:
-        stated = (_rate_in_uvol(Path(captured[0]).parent) or _rate_in_names(Path(captured[0]).parent)
-                  if captured else None)
         if times is not None and (np.diff(times) > 0).any():
             steps = np.diff(times)
             given, rate_from = 1.0 / float(np.median(steps[steps > 0])), "frame times"
-        elif stated is not None:
-            given, rate_from = stated
         else:
-            given, rate_from = DEFAULT_FPS, "assumed"
+            stated = None
+            if captured:
+                folder = Path(captured[0]).parent
+                stated = _rate_in_uvol(folder) or _rate_in_names(folder)
+            given, rate_from = stated or (DEFAULT_FPS, "assumed")
     rate = _positive(given)
     if rate is None or rate > MAX_FPS:
         raise InputError(f"the frame rate of {source} must be a number above 0 and at most "
@@ -445,9 +445,9 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
 def _rate_in_uvol(folder):
     """``(fps, "uvol manifest 'NAME'")`` from a web volumetric player's manifest (``*.uvol.json``)
     beside the frames' folder or in it: ``geometry.frameRate``, or the first of
-    ``geometry.targets``, or a top-level ``frameRate``; else None. A manifest that cannot be
-    read (a Git LFS pointer left by a clone without ``git lfs pull``, or bad JSON) is named in
-    a warning, and the rate is looked for elsewhere.
+    ``geometry.targets``, or a top-level ``frameRate``; else None (also where a folder holds
+    several). A manifest that cannot be read (a Git LFS pointer left by a clone without
+    ``git lfs pull``, or bad JSON) is named in a warning, and the rate is looked for elsewhere.
 
     >>> import tempfile
     >>> with tempfile.TemporaryDirectory() as top:
@@ -457,7 +457,11 @@ def _rate_in_uvol(folder):
     (30.0, "uvol manifest 'talk.uvol.json'")
     """
     folder = Path(folder)
-    for path in sorted([*folder.glob("*.uvol.json"), *folder.parent.glob("*.uvol.json")]):
+    # The frames' folder's own manifest, else the one beside it; several in one folder belong
+    # to several takes, and none of them is taken.
+    manifests = [paths[0] for paths in (sorted(folder.glob("*.uvol.json")), sorted(folder.parent.glob("*.uvol.json")))
+                 if len(paths) == 1][:1]
+    for path in manifests:
         try:
             text = path.read_text(errors="replace")
             if text.startswith("version https://git-lfs"):
