@@ -89,3 +89,25 @@ def reachable_pair(library):
                 except NoPath:
                     pass
     raise AssertionError("the test library has no transition at all")
+
+
+def run_interrupted(args, signum=None, after=None):
+    """``tvmedit ARGS`` in a child process of its own process group, which gets ``signum`` after
+    ``after`` seconds if still running (what a terminal's Ctrl-C does: the workers get it too).
+    Returns the ``subprocess.CompletedProcess``; a child still running after two minutes is
+    killed, and the test then fails on its output."""
+    import signal
+
+    child = subprocess.Popen([sys.executable, "-m", "tvmedit", *map(str, args)], cwd=ROOT, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, start_new_session=True, preexec_fn=default_sigint)
+    try:
+        if signum is not None:
+            try:
+                child.wait(timeout=after)
+            except subprocess.TimeoutExpired:
+                os.killpg(child.pid, signum)
+        out, err = child.communicate(timeout=120)
+    finally:
+        if child.poll() is None:
+            os.killpg(child.pid, signal.SIGKILL)
+    return subprocess.CompletedProcess(args, child.returncode, out, err)

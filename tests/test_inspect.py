@@ -15,14 +15,14 @@ import time
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from conftest import ROOT
 from tvmedit import Library
 from tvmedit.engine.parse.timeline import COLOURS, timeline
 from tvmedit.player.inspect import InspectorApp, graph_summary
-from test_player_window import xdisplay  # noqa: F401 - the session's Xvfb
+from test_player_window import KEY_SWEEP, find_window, xdisplay  # noqa: F401 - the session's Xvfb
 
 NAME = "gym"
 
@@ -113,8 +113,7 @@ def test_keys_in_a_real_window_edit_rebuild_save_and_show_the_person(xdisplay, l
     window_app = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=subprocess.PIPE,
                                   stderr=subprocess.PIPE, text=True)
     try:
-        window = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit inspect"], env=env,
-                                capture_output=True, text=True, timeout=30).stdout.split()[0]
+        window = find_window(env, "tvmedit inspect", window_app, lambda: window_app.communicate(timeout=10))
         subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
         for key in ("Right", "Right", "t", "Return", "s", "c"):
             subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=10, capture_output=True)
@@ -186,9 +185,7 @@ KEYS = ["Left", "Right", "Up", "Down", "b", "t", "d", "Delete", "m", "p", "x", "
         "Home", "End", "Prior", "Next"]
 
 
-@settings(max_examples=int(os.environ.get("TVMEDIT_HOSTILE_EXAMPLES", "0")) // 20 or 2, deadline=None,
-          derandomize="TVMEDIT_HOSTILE_EXAMPLES" not in os.environ, database=None,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@KEY_SWEEP
 @given(keys=st.lists(st.sampled_from(KEYS), min_size=8, max_size=30))
 def test_any_keys_leave_a_whole_library_and_corrections_that_read_back(xdisplay, small_library, tmp_path_factory,  # noqa: F811
                                                                           keys):
@@ -203,11 +200,10 @@ def test_any_keys_leave_a_whole_library_and_corrections_that_read_back(xdisplay,
                             "--seconds", "120", "--size", "640x480"], cwd=root, env=env, stdout=subprocess.PIPE,
                            stderr=subprocess.PIPE, text=True)
     try:
-        found = subprocess.run(["xdotool", "search", "--sync", "--name", "tvmedit inspect"], env=env,
-                               capture_output=True, text=True, timeout=60).stdout.split()
-        assert found, app.communicate(timeout=10)
+        window = find_window(env, "tvmedit inspect", app, lambda: app.communicate(timeout=10))
+        subprocess.run(["xdotool", "windowfocus", "--sync", window], env=env, check=True, timeout=10)
         for key in [*keys, "q"]:
-            subprocess.run(["xdotool", "key", "--window", found[0], key], env=env, timeout=30, capture_output=True)
+            subprocess.run(["xdotool", "key", "--window", window, key], env=env, timeout=30, capture_output=True)
         out, err = app.communicate(timeout=120)
     finally:
         app.kill()

@@ -5,9 +5,9 @@ Each example runs the command in a child process, as a user does, and signals it
 group (what a terminal's Ctrl-C does) after a time drawn over the length of an uninterrupted
 run of the same command, so interrupts land while Python starts, while frames are read or
 written, and while the result is put in place (a signal that lands while Python itself starts,
-before tvmedit's first line, is Python's: it says so in its own words). Two examples a command
-on every run (the same ones); ``TVMEDIT_INTERRUPT_EXAMPLES=N`` draws N new ones a command, to
-hunt.
+before tvmedit's first line, is Python's: it says so in its own words). Three examples a
+command on every run (the same ones); ``TVMEDIT_INTERRUPT_EXAMPLES=N`` draws N new ones a
+command, to hunt.
 """
 
 import hashlib
@@ -15,8 +15,6 @@ import json
 import os
 import shutil
 import signal
-import subprocess
-import sys
 import time
 from pathlib import Path
 
@@ -24,15 +22,15 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from interrupt import ROOT, default_sigint, reachable_pair
+from interrupt import reachable_pair, run_interrupted
 from tvmedit import Library
 
 pytestmark = pytest.mark.slow
 
 EXAMPLES = int(os.environ.get("TVMEDIT_INTERRUPT_EXAMPLES", "0"))
-SWEEP = settings(max_examples=EXAMPLES or 2, deadline=None, derandomize=not EXAMPLES, database=None,
+SWEEP = settings(max_examples=EXAMPLES or 3, deadline=None, derandomize=not EXAMPLES, database=None,
                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
-COMMANDS = ["synth", "build", "correct", "export", "render", "report"]
+COMMANDS = ["synth", "build", "correct", "export", "export-obj", "render", "report"]
 
 
 @pytest.fixture(scope="module")
@@ -49,33 +47,17 @@ def world(tmp_path_factory, small_library):
     fix.write_text(json.dumps({"sequences": {library.sequences[0].name: {"drop": [library.nodes[-1].name]}}}))
     a, b, _ = reachable_pair(library)
     older = root / "older-take"
-    _run(["synth", "--preset", "walk", "--vertices", "1500", "--seed", "1", "--out", older, "-q", "--workers", "2"])
+    run_interrupted(["synth", "--preset", "walk", "--vertices", "1500", "--seed", "1", "--out", older, "-q", "--workers", "2"])
     world = {"root": root, "library": Path(small_library), "sequence": sequence, "fix": fix, "a": a.id, "b": b.id,
              "older": older, "seconds": {}}
     for command in COMMANDS:
         place = tmp_path_factory.mktemp(f"whole-{command}")
         start = time.monotonic()
-        result = _run(_argv(world, command, _prepare(world, command, place)))
+        result = run_interrupted(_argv(world, command, _prepare(world, command, place)))
         assert result.returncode == 0, result.stderr
         world["seconds"][command] = time.monotonic() - start
         world[f"whole-{command}"] = _state(command, place / "out")
     return world
-
-
-def _run(argv, signum=None, after=None):
-    child = subprocess.Popen([sys.executable, "-m", "tvmedit", *map(str, argv)], cwd=ROOT, stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True, start_new_session=True, preexec_fn=default_sigint)
-    try:
-        if signum is not None:
-            try:
-                child.wait(timeout=after)
-            except subprocess.TimeoutExpired:
-                os.killpg(child.pid, signum)
-        out, err = child.communicate(timeout=120)
-    finally:
-        if child.poll() is None:
-            os.killpg(child.pid, signal.SIGKILL)
-    return subprocess.CompletedProcess(argv, child.returncode, out, err)
 
 
 def _prepare(world, command, place):
@@ -94,6 +76,8 @@ def _argv(world, command, place):
             "build": ["build", world["sequence"], "-o", out, "--force", "-q", "--workers", "2", "--no-cache"],
             "correct": ["correct", out, world["fix"]],
             "export": ["export", world["library"], world["a"], world["b"], "-o", out, "-q"],
+            # every frame encoded, on worker processes
+            "export-obj": ["export", world["library"], world["a"], world["b"], "-o", out, "-q", "--format", "obj"],
             "render": ["render", world["library"], world["a"], world["b"], "-o", out.with_suffix(".gif"), "--size",
                        "64x48", "-q"],
             "report": ["report", world["library"], "-o", out, "-q"]}[command]
@@ -128,7 +112,7 @@ def test_an_interrupt_at_any_time_leaves_the_old_state_or_the_new(world, command
                                                                    tmp_path_factory):
     place = _prepare(world, command, tmp_path_factory.mktemp(command))
     old = _state(command, place / "out")
-    result = _run(_argv(world, command, place), signum, after=fraction * world["seconds"][command])
+    result = run_interrupted(_argv(world, command, place), signum, after=fraction * world["seconds"][command])
     if result.stderr.startswith("Fatal Python error: init_import_site"):
         return      # the signal landed in Python's own start, before any line of tvmedit ran
     assert "Traceback" not in result.stderr and "Exception" not in result.stderr, result.stderr
