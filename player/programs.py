@@ -26,7 +26,11 @@ def stage_source(name, stage, defines=()):
 
 
 def load_program(ctx, name, **defines):
-    """Compile ``shaders/<name>.glsl`` into a moderngl program on ``ctx``."""
+    """Compile ``shaders/<name>.glsl`` into a moderngl program on ``ctx``, Ctrl-C and SIGTERM
+    held back meanwhile (:func:`tvmedit.player.context.signals_held`)."""
+    from .context import signals_held
+
     defines = tuple(sorted(defines.items()))
-    return ctx.program(vertex_shader=stage_source(name, "VERTEX_SHADER", defines),
-                       fragment_shader=stage_source(name, "FRAGMENT_SHADER", defines))
+    vertex, fragment = stage_source(name, "VERTEX_SHADER", defines), stage_source(name, "FRAGMENT_SHADER", defines)
+    with signals_held():
+        return ctx.program(vertex_shader=vertex, fragment_shader=fragment)
