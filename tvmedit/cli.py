@@ -151,14 +151,17 @@ def _sentence(message):
 def _unraisable(unraisable, default=sys.unraisablehook):
     """A Ctrl-C or SIGTERM that lands in a finaliser (a progress bar or a weak reference going
     away) is not raised there: Python prints "Exception ignored in ..." and goes on. It is
-    raised again in the main thread, where the command ends as at any other."""
+    raised again in the main thread, a moment later (raised at once, it would land in this
+    hook), where the command ends as at any other. Once a signal has come, what finalisers of
+    objects it left half-made raise is noise, and is not printed either."""
     import _thread
+    import threading
 
     if issubclass(unraisable.exc_type, KeyboardInterrupt):
-        _thread.interrupt_main(signal.SIGINT)
+        threading.Timer(0.01, _thread.interrupt_main, (signal.SIGINT,)).start()
     elif issubclass(unraisable.exc_type, SystemExit) and unraisable.exc_value.code == 128 + signal.SIGTERM:
-        _thread.interrupt_main(signal.SIGTERM)
-    else:
+        threading.Timer(0.01, _thread.interrupt_main, (signal.SIGTERM,)).start()
+    elif not _signalled:
         default(unraisable)
 
 
