@@ -14,6 +14,7 @@ Dask is optional and imported only when a build asks for it (``dask="tcp://host:
 (a shared file system) and have tvmedit installed.
 """
 
+import contextlib
 import os
 import signal
 from collections import deque
@@ -24,10 +25,33 @@ from .checks import whole
 #: Most local worker processes a pool may start.
 MAX_WORKERS = 512
 
-__all__ = ["Workers", "default_workers"]
+__all__ = ["Workers", "default_workers", "signals_held"]
 
-#: Signals held back while workers are forked (:meth:`Workers._start`).
+#: Signals held back while workers are forked or GL compiles (:func:`signals_held`).
 _HELD = {signal.SIGINT, signal.SIGTERM}
+
+
+@contextlib.contextmanager
+def signals_held():
+    """Hold Ctrl-C and SIGTERM back in this thread for the block, then deliver them (the main
+    thread; elsewhere, and where the platform cannot, the block runs as it is).
+
+    Threads and processes started in the block inherit the mask: forked workers never run
+    this process's handlers (:meth:`Workers._start`), and Mesa's software rasteriser, which
+    crashed (a segmentation fault, in about one render in fifty stopped by SIGTERM) when a
+    signal came while it made a context or compiled a shader, never takes one
+    (:mod:`tvmedit.player.context`). Python handles a held signal right after the block.
+    """
+    import threading
+
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 def _watch_parent(parent):
@@ -140,16 +164,8 @@ class Workers:
             # back, none runs this process's handlers for them before it has its own (a worker
             # dying of them half-started would print from its fork); one sent meanwhile is
             # delivered to this process right after.
-            import threading
-
-            held = threading.current_thread() is threading.main_thread() and hasattr(signal, "pthread_sigmask")
-            if held:
-                signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
-            try:
+            with signals_held():
                 _result(self._executor.submit(int))
-            finally:
-                if held:
-                    signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
     def start(self):
         """Start the local worker processes now rather than at the first task: before threads

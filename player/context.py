@@ -5,12 +5,12 @@ from here, so the requirements (GL 3.3 core, EGL for headless) and the error a u
 they are not met live in one function each.
 """
 
-import contextlib
 import functools
 
 import moderngl
 
 from ..engine.errors import TvmError
+from ..engine.parallel import signals_held
 
 GL_VERSION = 330
 
@@ -37,29 +37,6 @@ def headless_context():
             f"through EGL ({_first_line(error)}): libEGL.so.1 with an OpenGL driver is needed, "
             "which Mesa provides (Debian/Ubuntu: apt install libegl1 libegl-mesa0 libgl1-mesa-dri)"
         ) from error
-
-
-@contextlib.contextmanager
-def signals_held():
-    """Hold Ctrl-C and SIGTERM back in this thread for the block, then deliver them.
-
-    Mesa's software rasteriser crashed (a segmentation fault, in about one render in fifty
-    stopped by SIGTERM) when a signal came while it made a context or compiled a shader. Held
-    here, the threads it starts inherit the mask and never take one, and a signal is handled
-    by Python after the compile, between two lines of Python, ending the command as before.
-    """
-    import signal
-    import threading
-
-    held = {signal.SIGINT, signal.SIGTERM}
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
 @functools.lru_cache(maxsize=None)

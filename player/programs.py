@@ -27,8 +27,8 @@ def stage_source(name, stage, defines=()):
 
 def load_program(ctx, name, **defines):
     """Compile ``shaders/<name>.glsl`` into a moderngl program on ``ctx``, Ctrl-C and SIGTERM
-    held back meanwhile (:func:`tvmedit.player.context.signals_held`)."""
-    from .context import signals_held
+    held back meanwhile (:func:`tvmedit.engine.parallel.signals_held`)."""
+    from ..engine.parallel import signals_held
 
     defines = tuple(sorted(defines.items()))
     vertex, fragment = stage_source(name, "VERTEX_SHADER", defines), stage_source(name, "FRAGMENT_SHADER", defines)
