@@ -138,7 +138,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
             Workers(None if encoded >= POOL_FROM else 1) as pool:   # left only once no worker writes
         pool.start()    # forked before any thread of this export runs
         if fmt == "ply":
-            writing = ((index, _write_ply_frame(library, item, tmp, index)) for index, item in enumerate(shown))
+            writing = ((index, (_write_ply_frame(library, item, tmp, index), None)) for index, item in enumerate(shown))
         else:
             writing = _written(library, shown, copies, fmt, tmp, pool)
         # Closed whatever happens, so that no copy still runs into the folder once it is left.
@@ -149,7 +149,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
             names = dict(writing)
         frames, textures = [], []
         for index, item in enumerate(shown):
-            name, texture = names[index] if fmt != "ply" else (names[index], None)
+            name, texture = names[index]
             textures.append(texture)
             entry = item[0]
             frames.append({"index": index, "file": name, **entry.to_json(),
@@ -226,7 +226,7 @@ def _written(library, shown, copies, fmt, folder, pool):
     and trimesh's OBJ and glTF writers hold the GIL, so only worker processes run them side
     by side."""
     stems = [f"frame_{index:05d}" for index in range(len(shown))]
-    with ThreadPoolExecutor(4) as copier:
+    with ThreadPoolExecutor(1) as copier:
         copied = {index: copier.submit(_copy, source, folder, stems[index])
                   for index, source in enumerate(copies) if source is not None}
         try:
@@ -274,9 +274,9 @@ def _copy_source(library, item, fmt):
     if fmt != "scvv" or entry.blend is not None or (item[3] is not None and item[2]):
         return None
     path = Path(_source_file(library, entry.sequence, entry.frame) or "")
-    if path.suffix.lower() not in (".drc", ".draco") or not path.is_file():
+    if path.suffix.lower() not in _DRACO or not path.is_file():
         return None
-    texture = texture_for(path)
+    texture = _draco_texture(path)
     if library.textured and texture is None:
         return None
     return path, texture
@@ -298,10 +298,20 @@ def _texture_file(library, entry):
     by the rule of :func:`tvmedit.engine.capture.readers.texture_for`; None where it is gone or the capture
     is of another format (an OBJ's or a glTF's texture is the one its MTL names or it embeds)."""
     origin = library.texture_origin(entry.key)
-    source = None if origin is None else _source_file(library, *origin)
-    if source is None or Path(source).suffix.lower() not in (".drc", ".draco"):
+    return None if origin is None else _draco_texture(_source_file(library, *origin))
+
+
+#: Suffixes of Draco frame files.
+_DRACO = (".drc", ".draco")
+
+
+def _draco_texture(path):
+    """The texture image of the Draco capture file ``path`` by its reader's rule
+    (:func:`tvmedit.engine.capture.readers.texture_for`), where it is there; None for a file of
+    another format, or no image."""
+    if path is None or Path(path).suffix.lower() not in _DRACO:
         return None
-    texture = texture_for(source)
+    texture = texture_for(path)
     return texture if texture is not None and texture.is_file() else None
 
 
