@@ -251,14 +251,21 @@ def test_frames_one_folder_down_are_read_from_the_top_folder(tmp_path):
         open_sequence(str(top))
 
 
+def _player_export(tmp_path, textures):
+    """A web player's layout: three frames in ``talk/geometry_draco/``, beside an (empty)
+    texture folder named ``textures``."""
+    top = tmp_path / "talk"
+    (top / "geometry_draco").mkdir(parents=True)
+    (top / textures).mkdir()
+    for index in range(3):
+        _mesh(shift=index).export(top / "geometry_draco" / f"f{index}.ply")
+    return top
+
+
 def test_a_rate_a_folder_name_states_is_taken_and_said(tmp_path):
     from tvmedit.engine.capture.load import open_sequence
 
-    top = tmp_path / "talk"
-    (top / "geometry_draco").mkdir(parents=True)
-    (top / "texture_ktx2-fps30-1k_baseColor_default").mkdir()
-    for index in range(3):
-        _mesh(shift=index).export(top / "geometry_draco" / f"f{index}.ply")
+    top = _player_export(tmp_path, "texture_ktx2-fps30-1k_baseColor_default")
     sequence = open_sequence(str(top))
     assert sequence.fps == 30 and sequence.rate_from == "folder name 'texture_ktx2-fps30-1k_baseColor_default'"
     result = subprocess.run([sys.executable, "-m", "tvmedit", "check", str(top)], capture_output=True, text=True)
@@ -271,11 +278,7 @@ def test_a_uvol_manifest_gives_the_rate_and_an_lfs_pointer_is_named(tmp_path):
     # without `git lfs pull`, the manifest is a pointer file.
     from tvmedit.engine.capture.load import open_sequence
 
-    top = tmp_path / "talk"
-    (top / "geometry_draco").mkdir(parents=True)
-    (top / "texture_ktx2-fps25-1k").mkdir()
-    for index in range(3):
-        _mesh(shift=index).export(top / "geometry_draco" / f"f{index}.ply")
+    top = _player_export(tmp_path, "texture_ktx2-fps25-1k")
     manifest = top / "talk.uvol.json"
     manifest.write_text(json.dumps({"version": "2", "geometry": {"targets": {"draco_high": {"frameRate": 30}}}}))
     sequence = open_sequence(str(top))
