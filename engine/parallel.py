@@ -97,6 +97,9 @@ class Workers:
     dask : str or None
         Address of a running dask.distributed scheduler, or ``"local"`` to start a
         ``LocalCluster`` for the duration of the build.
+    threads : bool
+        Run the tasks on threads of this process instead: for work that lets go of the GIL
+        (Draco's encoder, a file copy), which then needs no fork and no pickling.
 
     Use as a context manager; :meth:`map` yields results in the order of the tasks.
 
@@ -105,22 +108,25 @@ class Workers:
     [1, 2, 3]
     """
 
-    def __init__(self, workers=None, dask=None):
+    def __init__(self, workers=None, dask=None, threads=False):
         if workers is not None:
             workers = whole("workers", workers, at_least=1, at_most=MAX_WORKERS,
                             hint=" worker processes")
         self.workers = default_workers() if workers is None else workers
         self.dask = dask
+        self.threads = bool(threads) and not dask
         self._executor = None
         self._client = None
         self._cluster = None
 
     @property
     def kind(self):
-        """``"serial"``, ``"processes"`` or ``"dask"``: what :meth:`map` will use."""
+        """``"serial"``, ``"threads"``, ``"processes"`` or ``"dask"``: what :meth:`map` will use."""
         if self.dask:
             return "dask"
-        return "serial" if self.workers == 1 else "processes"
+        if self.workers == 1:
+            return "serial"
+        return "threads" if self.threads else "processes"
 
     def __enter__(self):
         return self
@@ -150,7 +156,11 @@ class Workers:
             except (OSError, TimeoutError) as error:
                 raise TvmError(f"cannot reach the dask scheduler at {self.dask} ({error}); "
                                "start one with `dask scheduler` or use dask=local.") from None
-        elif not self.dask and self.workers > 1 and self._executor is None:
+        elif self.kind == "threads" and self._executor is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            self._executor = ThreadPoolExecutor(self.workers)
+        elif self.kind == "processes" and self._executor is None:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor
 
@@ -210,6 +220,12 @@ class Workers:
         or SIGTERM while they are waited for (a second one, after the one that ended the run)
         ends them at once: no worker outlives the command.
         """
+        if self._executor is not None and self.kind == "threads":
+            executor, self._executor = self._executor, None
+            # A running task ends in milliseconds and a thread cannot be ended: it is waited
+            # for, a Ctrl-C meanwhile delivered after, so none writes into a folder being tidied.
+            with signals_held():
+                executor.shutdown(wait=True, cancel_futures=True)
         if self._executor is not None:
             executor, self._executor = self._executor, None
             # Taken before shutdown, which lets go of them. Python 3.9 and later.

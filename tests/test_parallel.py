@@ -25,10 +25,43 @@ def test_a_malformed_dask_address_is_one_sentence(address):
 
 
 def test_tasks_come_back_in_order_in_this_process_or_on_workers():
-    for workers, kind in ((1, "serial"), (2, "processes")):
-        with Workers(workers) as pool:
+    for workers, threads, kind in ((1, False, "serial"), (2, False, "processes"), (2, True, "threads")):
+        with Workers(workers, threads=threads) as pool:
             assert pool.kind == kind
             assert list(pool.map(abs, range(-20, 0), window=3)) == list(range(20, 0, -1))
+
+
+def test_threads_run_draco_encodings_side_by_side_each_as_alone():
+    """The scvv export encodes Draco on threads: two run at once, and each frame's bytes are
+    those one encoding alone writes."""
+    import threading
+    import time
+
+    DracoPy = pytest.importorskip("DracoPy")
+    import numpy as np
+
+    grid = np.stack(np.meshgrid(np.arange(120), np.arange(120)), -1).reshape(-1, 2)
+    points = np.c_[grid, np.sin(grid[:, 0] * 0.1)].astype(np.float32)
+    quads = (grid[:, 0] < 119) & (grid[:, 1] < 119)
+    corner = np.flatnonzero(quads)
+    faces = np.r_[np.c_[corner, corner + 1, corner + 120], np.c_[corner + 1, corner + 121, corner + 120]].astype(np.uint32)
+    running, most = [0], [0]
+    lock = threading.Lock()
+
+    def encode(_):
+        with lock:
+            running[0] += 1
+            most[0] = max(most[0], running[0])
+        data = DracoPy.encode(points, faces=faces, quantization_bits=14, compression_level=3)
+        time.sleep(0.01)
+        with lock:
+            running[0] -= 1
+        return data
+
+    alone = encode(0)
+    with Workers(2, threads=True) as pool:
+        assert list(pool.map(encode, range(8))) == [alone] * 8
+    assert most[0] == 2
 
 
 def test_an_error_in_a_task_reaches_the_caller_unchanged():

@@ -10,7 +10,8 @@ textured. Frames without a texture carry vertex colours; in-between frames carry
 of the captured frame they were warped from, as the capture's own image file where it is
 still there (copied or embedded as it came: no second loss, no encoder). The writers are
 :mod:`tvmedit.engine.capture.writers`, the readers' twins. Captured frames already in the
-format are copied; the others are encoded on worker processes (:data:`POOL_FROM`).
+format are copied; the others are encoded on all cores: Draco on threads, OBJ and glTF on
+worker processes (:data:`THREADED`, :data:`POOL_FROM`).
 
 The exported folder is an ordinary TVM sequence: tvmedit's own loader and any mesh tool read
 it. ``edit.json`` records, for each output frame, its file, its source sequence and frame, and
@@ -48,12 +49,25 @@ from ..errors import ParameterError
 from ..parallel import Workers
 from ..checks import json_value
 
-__all__ = ["export_edit", "default_format", "FORMATS", "has_sound", "POOL_FROM"]
+__all__ = ["export_edit", "default_format", "FORMATS", "has_sound", "POOL_FROM", "THREADED"]
 
-#: Frames to encode (not copied) from which an export starts worker processes. Below it,
-#: starting them costs more than they save: about 50 ms on two cores, what sharing 12 Draco
-#: encodings (8 ms each) or 16 glTF frames between two processes saves.
+#: Frames to encode as OBJ or glTF from which an export starts worker processes. Below it,
+#: starting them costs more than they save: about 50 ms on two cores, what sharing 16 glTF
+#: frames between two processes saves.
 POOL_FROM = 16
+
+#: Formats whose encoder lets go of the GIL (DracoPy), encoded on threads of this process
+#: whatever their number: no fork, no pickling, all cores.
+THREADED = ("scvv",)
+
+
+def _encoders(fmt, encoded):
+    """Where ``encoded`` frames in ``fmt`` are made: threads for :data:`THREADED` formats,
+    worker processes from :data:`POOL_FROM` frames, else this thread."""
+    if fmt in THREADED:
+        return Workers(None, threads=True)
+    return Workers(None if encoded >= POOL_FROM else 1)
+
 
 #: Formats an edit can be written in.
 FORMATS = ("ply", "scvv", "obj", "glb")
@@ -132,10 +146,10 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
     shown = _shown(library, schedule, capture_fps, fps, smooth)
     copies = [None] * len(shown) if fmt == "ply" else [_copy_source(library, item, fmt) for item in shown]
     encoded = 0 if fmt == "ply" else copies.count(None)
-    if encoded >= POOL_FROM:
+    if encoded >= POOL_FROM or fmt in THREADED:
         prepare(fmt)    # imported once here, not once in each worker process
     with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
-            Workers(None if encoded >= POOL_FROM else 1) as pool:   # left only once no worker writes
+            _encoders(fmt, encoded) as pool:   # left only once no worker writes
         pool.start()    # forked before any thread of this export runs
         if fmt == "ply":
             writing = ((index, (_write_ply_frame(library, item, tmp, index), None)) for index, item in enumerate(shown))
@@ -222,9 +236,9 @@ def _written(library, shown, copies, fmt, folder, pool):
 
     A frame with a capture's file already in ``fmt`` (``copies``) is copied as it came:
     lossless, and as fast as a copy, on a thread of its own (a copy waits on the disk, not
-    on the GIL), all the while the others are encoded. Those are encoded on ``pool``: Draco
-    and trimesh's OBJ and glTF writers hold the GIL, so only worker processes run them side
-    by side."""
+    on the GIL), all the while the others are encoded. Those are encoded on ``pool``: Draco's
+    encoder lets go of the GIL, so threads run it side by side; trimesh's OBJ and glTF
+    writers hold it, so only worker processes do."""
     stems = [f"frame_{index:05d}" for index in range(len(shown))]
     with ThreadPoolExecutor(1) as copier:
         copied = {index: copier.submit(_copy, source, folder, stems[index])
