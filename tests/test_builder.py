@@ -14,7 +14,7 @@ import pytest
 from tvmedit import Library, build
 from tvmedit.engine.capture.load import open_sequence
 from tvmedit.engine.errors import InputError, OutputError
-from tvmedit.engine.store.builder import expand_inputs
+from tvmedit.engine.capture.load import expand_inputs
 from conftest import snippet_inputs as _inputs
 
 

@@ -177,3 +177,59 @@ def test_up_and_units_given_are_taken_as_they_are(tmp_path):
     plain = next(iter_frames(sequence.paths[:1]))[1]
     outward = lambda f: float(((f.positions - f.positions.mean(axis=0)) * vertex_normals(f.positions, f.faces)).sum(axis=1).mean())  # noqa: E731
     assert np.sign(outward(frame)) == np.sign(outward(plain))
+
+
+def test_a_take_that_faces_away_is_turned_to_the_camera_by_the_front_given(tmp_path):
+    """A walker turned to face +Y (its back to the default camera on -Y): read by the rule it
+    keeps its back to the camera, and ``front="+y"`` turns it round, frame for frame; the
+    same front stated beside the frames does the same."""
+    walk = synth_take("walk")
+    _, frame = next(iter_frames(open_sequence(walk).paths[:1]))
+    away = tmp_path / "away"
+    away.mkdir()
+    write_ply(away / "frame_00000.ply", frame.positions * [-1, -1, 1], frame.faces, frame.colours)
+    ruled = open_sequence(away).orientation
+    assert ruled.front == "-y" and "set --front +y" in ruled.reasons["front"], ruled.reasons
+    turned = open_sequence(away, front="+y").orientation
+    assert (turned.front, turned.reasons["front"]) == ("+y", "given")
+    np.testing.assert_allclose(turned.apply(frame.positions * [-1, -1, 1]), frame.positions, atol=1e-5)
+    (away / "sequence.json").write_text('{"front": "+y"}')
+    assert open_sequence(away).orientation.apply(frame.positions * [-1, -1, 1]) == pytest.approx(frame.positions, abs=1e-5)
+
+
+def test_a_front_along_up_is_one_sentence_naming_the_fronts_there_are(tmp_path):
+    from tvmedit.engine.errors import InputError
+
+    with pytest.raises(InputError, match=r"the front -z lies along the up axis \+z; a front must lie across it: "
+                                         r"\+x, -x, \+y, -y\.$"):
+        open_sequence(synth_take("walk"), front="-z")
+
+
+def test_a_depth_camera_subject_faces_it_and_its_check_says_how_to_turn_it():
+    orientation = detect([np.random.default_rng(0).normal(0, [0.1, 0.5, 0.1], (500, 3))], format="scvv")
+    assert orientation.front == "-z"
+    assert orientation.describe()[2] == ("front: -z (a depth camera's subject faces it; if the render shows a back, "
+                                         "set --front +z)")
+
+
+def test_a_front_given_once_is_kept_by_the_library_its_corrections_and_rebuilds(tmp_path, capsys):
+    """Built with ``--front +x``, a library says so in ``info`` and keeps it through a
+    correction and a rebuild that gives no front; a front given anew replaces it."""
+    from tvmedit import Library
+    from tvmedit.cli import main
+
+    walk, out = synth_take("walk"), tmp_path / "walk.tvmlib"
+    fast = ["-q", "--no-smooth", "--blend-frames", "0", "--workers", "1"]
+    assert main(["build", f"walk={walk}", "-o", str(out), "--front", "+x", *fast]) == 0
+    assert Library.open(out).orientation("walk").front == "+x"
+    assert main(["info", str(out)]) == 0
+    assert "read as ply, up +z, m, facing +x" in capsys.readouterr().out
+    fix = tmp_path / "fix.json"
+    fix.write_text('{"sequences": {"walk": {"drop": []}}}')
+    assert main(["correct", str(out), str(fix)]) == 0
+    assert Library.open(out).orientation("walk").front == "+x"
+    assert main(["build", f"walk={walk}", "-o", str(out), "--force", *fast]) == 0
+    kept = Library.open(out).orientation("walk")
+    assert (kept.front, kept.reasons["front"]) == ("+x", "given")
+    assert main(["build", f"walk={walk}", "-o", str(out), "--force", "--front", "-y", *fast]) == 0
+    assert Library.open(out).orientation("walk").front == "-y"

@@ -132,9 +132,32 @@ def main(argv=None):
         return 128 + _signalled[-1]
 
 
+#: Options whose value may be a negative axis (``--up -y``), which argparse takes for an option.
+_AXIS_OPTIONS = ("--up", "--front")
+
+
+def _axis_values(argv):
+    """``--up -y`` as ``--up=-y``: argparse reads a value that starts with "-" as an option
+    and says "expected one argument", where the user wrote what the help asks for.
+
+    >>> _axis_values(["build", "in", "--front", "-z", "--up", "+y", "-q"])
+    ['build', 'in', '--front=-z', '--up', '+y', '-q']
+    """
+    out, k = [], 0
+    while k < len(argv):
+        if argv[k] in _AXIS_OPTIONS and k + 1 < len(argv) and argv[k + 1].lower() in ("-x", "-y", "-z"):
+            out.append(f"{argv[k]}={argv[k + 1]}")
+            k += 2
+            continue
+        out.append(argv[k])
+        k += 1
+    return out
+
+
 def _parse(parser, argv):
     """The arguments; KEYs written after options (``path LIB --wander 60 walk/01``) are KEYs
     too, which argparse alone leaves over once an optional positional has taken none."""
+    argv = _axis_values(argv)
     args, extra = parser.parse_known_args(argv)
     if extra and isinstance(getattr(args, "keys", None), list) and not any(a.startswith("-") for a in extra):
         args.keys += extra

@@ -177,7 +177,7 @@ def run(args):
     library = build(args.inputs, args.out, fps=args.fps, bins=bins, structure=structure, mu=args.mu,
                     connect=args.connect, skip_bad_frames=args.skip_bad_frames, progress=not args.quiet,
                     workers=args.workers, dask=args.dask, force=args.force,
-                    cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror,
+                    cache=not args.no_cache, log=say, up=args.up, units=args.units, mirror=args.mirror, front=args.front,
                     body_frame=args.body_frame,
                     corrections=False if args.no_corrections else args.corrections,
                     blend_frames=args.blend_frames, keep_frames=args.keep_frames, smooth=args.smooth)

@@ -7,8 +7,9 @@ a frame that is not a mesh, is truncated, has no vertices, or has NaN/inf coordi
 the check with one sentence naming the file, unless --skip-bad-frames is given.
 
 It prints the format, the frames and their timing, vertices and triangles, colours and
-textures, and the frame of reference: the up axis, the units and whether the capture is
-mirrored, each with the reason it was detected (--up, --units, --mirror override them), and
+textures, and the frame of reference: the up axis, the units, the way the subject faces and
+whether the capture is mirrored, each with the reason it was chosen (--up, --units, --front,
+--mirror override them; --front names the axis to face the camera where a render shows a back), and
 the axes features are computed in: the body's own, found from its shape, by default
 (--no-body-frame: the capture's, once put upright).
 
@@ -88,7 +89,7 @@ def run(args):
     if (Path(args.input) / "manifest.json").is_file():
         return _check_library(args.input)
 
-    sequence = open_sequence(args.input, fps=args.fps, up=args.up, units=args.units, mirror=args.mirror,
+    sequence = open_sequence(args.input, fps=args.fps, up=args.up, units=args.units, mirror=args.mirror, front=args.front,
                              body_frame=args.body_frame)
     counts, faces, coloured, textured, sizes = [], [], 0, 0, set()
     skipped = []

@@ -39,17 +39,22 @@ def _frames(start, end):
 
 
 def _read_as(manifest, name):
-    """``; read as scvv, up -x, m`` where a sequence was not plain Z-up metre frames (``,
-    features in the capture's axes`` where it was built with ``--no-body-frame`` or its body
-    had no frame of its own)."""
+    """``; read as scvv, up -x, m`` where a sequence was not plain Z-up metre frames (``, facing
+    +z`` where its front was given; ``, features in the capture's axes`` where it was built with
+    ``--no-body-frame`` or its body had no frame of its own)."""
+    from tvmedit.engine.capture.orientation import Orientation
+
     record = next(r for r in manifest["sequences"] if r["name"] == name)
     frame, fmt = record.get("orientation"), record.get("format", "ply")
     identity = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
     body = frame is None or frame.get("features", identity) != identity
-    plain = frame is None or (frame["up"] == "+z" and frame["units"] == "m" and not frame["mirrored"] and body)
+    given = frame is not None and frame.get("reasons", {}).get("front") == "given"
+    plain = frame is None or (frame["up"] == "+z" and frame["units"] == "m" and not frame["mirrored"] and body
+                              and not given)
     if plain and fmt in ("ply", "obj", "off"):
         return ""
     return (f"; read as {fmt}" + ("" if frame is None else f", up {frame['up']}, {frame['units']}"
+                                  + (f", facing {Orientation.from_json(frame).front}" if given else "")
                                   + (", mirrored" if frame["mirrored"] else "")
                                   + ("" if body else ", features in the capture's axes")))
 

@@ -214,7 +214,7 @@ def check_timing(args):
 
 
 def up_axis(text):
-    """``+x`` ... ``-z`` (a bare ``y`` means ``+y``), for --up."""
+    """``+x`` ... ``-z`` (a bare ``y`` means ``+y``), for --up and --front."""
     key = text.strip().lower()
     key = key if key[:1] in "+-" else "+" + key
     if key not in ("+x", "-x", "+y", "-y", "+z", "-z"):
@@ -223,11 +223,15 @@ def up_axis(text):
 
 
 def add_frame_of_reference(parser):
-    """--up, --units, --mirror/--no-mirror (the capture's frame, where detection is not wanted) and
+    """--up, --front, --units, --mirror/--no-mirror (the capture's frame, where detection is not wanted) and
     --body-frame/--no-body-frame (features in the body's own axes, the default)."""
     group = parser.add_argument_group("frame of reference (default: detected; tvmedit check says how)")
     group.add_argument("--up", type=up_axis, default=None, metavar="AXIS",
                        help="the capture's up axis: +x, -x, +y, -y, +z or -z")
+    group.add_argument("--front", type=up_axis, default=None, metavar="AXIS",
+                       help="the way the subject faces, across up (+x, -x, +y, -y, +z or -z), for a render "
+                            "that shows a back; default: a depth camera's subject faces it, else the up "
+                            "axis's convention (+z for Y up, -y for Z up)")
     group.add_argument("--units", choices=("m", "cm", "mm"), default=None,
                        help="the capture's length unit")
     group.add_argument("--mirror", action=argparse.BooleanOptionalAction, default=None,

@@ -285,7 +285,7 @@ def read_frame(path, orientation=None, detail="full"):
 
 def sidecar_json(fps, name=None, **frame):
     """Text of the :data:`SIDECAR` that gives frames their rate (and name, and with ``frame``
-    their ``up`` axis and ``units``), as read here.
+    their ``up`` axis, ``units`` and ``front``), as read here.
 
     >>> sidecar_json(5), sidecar_json(30.0, "walk")
     ('{"fps": 5}', '{"fps": 30.0, "name": "walk"}')
@@ -385,7 +385,7 @@ def expand_inputs(inputs):
     return expanded
 
 
-def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None, body_frame=True):
+def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None, body_frame=True, front=None):
     """List a sequence's frames, read its timing and detect its frame of reference.
 
     The frame rate comes from ``fps`` when given, else ``sequence.json`` beside the frames
@@ -393,7 +393,7 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     else 10. A manifest's frames are resampled to that rate (:func:`resample`). The name
     defaults to the folder's name.
 
-    ``up``, ``units`` and ``mirror`` fix the frame of reference (:func:`tvmedit.engine.capture.orientation.detect`);
+    ``up``, ``units``, ``mirror`` and ``front`` fix the frame of reference (:func:`tvmedit.engine.capture.orientation.detect`);
     what is not given is detected from up to a dozen frames sampled across the sequence, read
     without their textures. ``body_frame`` (the default) has features computed in the body's
     own frame (:func:`tvmedit.engine.capture.orientation.feature_frame`), so the take parses alike however it
@@ -432,9 +432,10 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     # A frame of reference stated beside the frames (an export's) holds where none is given.
     up = meta.get("up") if up is None else up
     units = meta.get("units") if units is None else units
+    front = meta.get("front") if front is None else front
     try:
         orientation = detect(_sample_positions(captured), fmt, up=up, units=units, mirror=mirror,
-                             body_frame=body_frame)
+                             body_frame=body_frame, front=front)
     except ValueError as error:
         raise InputError(f"{error}.") from None
     return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,
@@ -564,12 +565,13 @@ def warn_skipped(skipped):
         warnings.warn(f"skipped {len(skipped)} bad frame(s): {listing}", SkippedFramesWarning, stacklevel=3)
 
 
-def load_sequence(source, name=None, fps=None, skip_bad_frames=False, up=None, units=None, mirror=None):
+def load_sequence(source, name=None, fps=None, skip_bad_frames=False, up=None, units=None, mirror=None,
+                  front=None):
     """Load every frame of a sequence into memory, in tvmedit's frame of reference.
 
     Suitable for short sequences and tests; the builder streams with :func:`iter_frames`.
     """
-    sequence = open_sequence(source, name=name, fps=fps, up=up, units=units, mirror=mirror)
+    sequence = open_sequence(source, name=name, fps=fps, up=up, units=units, mirror=mirror, front=front)
     kept = list(iter_frames(sequence.paths, skip_bad_frames, sequence.skipped, sequence.orientation))
     if not kept:
         raise InputError(f"no usable frames in {source}: all {len(sequence.paths)} were bad.")

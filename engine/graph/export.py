@@ -330,12 +330,13 @@ def _draco_texture(path):
 
 
 def _frame_of(library, schedule, fmt):
-    """The up axis and units an export in the capture's coordinates states beside its frames,
-    so it reads back upright whatever its motions (none for PLY and glTF: tvmedit's and glTF's)."""
+    """The up axis, units and front an export in the capture's coordinates states beside its
+    frames, so it reads back upright and facing the camera whatever its motions (none for PLY
+    and glTF: tvmedit's and glTF's)."""
     if fmt in ("ply", "glb") or not schedule:
         return {}
     orientation = library.orientation(schedule[0].sequence)
-    return {"up": orientation.up, "units": orientation.units}
+    return {"up": orientation.up, "units": orientation.units, "front": orientation.front}
 
 
 def _write_scvv_manifest(folder, frames, textures, fps):

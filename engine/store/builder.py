@@ -25,7 +25,6 @@ never half of one.
 """
 
 import dataclasses
-import os
 import sys
 import time
 import warnings
@@ -40,15 +39,16 @@ from . import layout
 from . import meshfiles
 from ..inbetween.blend import preload
 from .inbetweens import blend_library, instant_library, loop_frames
-from ..errors import InputError, TvmError, summarise
+from .inputs import check_kept, check_target, kept_corrections, open_inputs, open_old, pass_on
+from ..errors import InputError, summarise
 from ..features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
                        moves_across)
-from ..capture.load import expand_inputs, open_sequence, rate_assumed, read_frame
+from ..capture.load import read_frame
 from ..parallel import Workers
 from .advice import more_motions
 from .settings import Settings
 
-__all__ = ["build", "derive", "report_of", "check_target", "library_features", "Settings", "expand_inputs"]
+__all__ = ["build", "derive", "report_of", "library_features", "Settings"]
 
 #: Frames per feature task: large enough to amortise a task's overhead, small enough to
 #: keep every worker busy on short sequences.
@@ -288,7 +288,7 @@ def _motion_graph(sequences, padded, params, mu, run, corrections, parses=None, 
         nodes = apply_database(build_database(structures), structures, corrections)
         graph = build_graph(nodes, vectors, mu=mu, connect=connect)
         run.stages["graph"] = time.perf_counter() - t0
-    _pass_on(caught, run.log)
+    pass_on(caught, run.log)
     nodes = nodes_of(graph)
     if advice(nodes):
         better = more_motions(sequences, padded, vectors, params) if not corrections else None
@@ -342,49 +342,9 @@ def _union(a, b):
     return np.minimum(a[0], b[0]).tolist(), np.maximum(a[1], b[1]).tolist()
 
 
-def _open_inputs(inputs, fps, log, frame=None):
-    """Open every input sequence (no mesh read yet, but a few to detect its frame of
-    reference, unless ``frame``, a dict of ``up``, ``units``, ``mirror`` and ``body_frame``,
-    fixes it); names must be unique."""
-    expanded = expand_inputs(inputs)
-    if not expanded:
-        raise InputError("no input sequences given; name at least one sequence folder.")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        sequences = [open_sequence(source, name=name, fps=fps, **(frame or {})) for name, source in expanded]
-    _pass_on(caught, log)
-    for sequence in sequences:
-        assumed = rate_assumed(sequence)
-        if assumed:
-            warnings.warn(assumed, stacklevel=3)
-    seen = {}
-    for (_, source), sequence in zip(expanded, sequences):
-        if sequence.name in seen:
-            raise InputError(f"{seen[sequence.name]} and {source} are both named {sequence.name!r}; "
-                             "name them apart with NAME=PATH.")
-        seen[sequence.name] = source
-    return sequences
-
-
-def check_target(out, force, sequences):
-    """Refuse an ``out`` that is not a library of ours, holds user files or lies in an input."""
-    inputs = {os.path.dirname(os.fspath(path)) or "." for seq in sequences for path in seq.paths}
-    safewrite.check_target(out, "library", force, inputs=sorted(inputs), legacy=layout.legacy_foreign)
-
-
-def _open_old(out, open_library):
-    """The library being replaced, to reuse its features; None if it cannot be read."""
-    if open_library is None or not (out / "manifest.json").exists():
-        return None
-    try:
-        return open_library(out)
-    except TvmError:
-        return None
-
-
 def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad_frames=False,
           progress=False, workers=None, dask=None, force=False, cache=True, log=None, up=None,
-          units=None, mirror=None, body_frame=True, connect="auto", corrections=None, blend_frames=None,
+          units=None, mirror=None, front=None, body_frame=True, connect="auto", corrections=None, blend_frames=None,
           keep_frames="motions", smooth=True, open_library=None):
     """Write a library from TVM sequences and return its report (``engine.build``, that is
     :func:`tvmedit.engine.store.library.build`, returns it opened).
@@ -412,9 +372,9 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         Look up and store features in the feature cache (:mod:`tvmedit.engine.store.featurecache`); the
         library being replaced is always consulted.
     log : callable or None, called with one-line messages (features reused, stages)
-    up, units, mirror : str, str, bool or None
-        The frame of reference of every sequence (``"+y"``, ``"mm"``, True); what is not
-        given is detected per sequence (:func:`tvmedit.engine.capture.orientation.detect`).
+    up, units, mirror, front : str, str, bool, str or None
+        The frame of reference of every sequence (``"+y"``, ``"mm"``, True, ``"-z"``: the way the
+        subject faces); what is not given is found per sequence (:mod:`tvmedit.engine.capture.orientation`).
     body_frame : bool
         Compute features in the body's own frame (:func:`tvmedit.engine.capture.orientation.feature_frame`),
         the default, so a take parses alike however it is turned; False: in tvmedit's axes.
@@ -445,13 +405,13 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     out = Path(out).absolute()
     settings = Settings.of(bins, structure, mu, skip_bad_frames, connect, blend_frames, keep_frames, smooth)
     given = None if corrections is None else Corrections.coerce(corrections or None)
-    sequences = _open_inputs(inputs, fps, log, {"up": up, "units": units, "mirror": mirror,
-                                                "body_frame": bool(body_frame)})
+    old = open_old(out, open_library)
+    frame = {"up": up, "units": units, "mirror": mirror, "front": front, "body_frame": bool(body_frame)}
+    sequences = open_inputs(inputs, fps, log, frame, old)
     out.parent.mkdir(parents=True, exist_ok=True)
     safewrite.clean_stale(out)
     check_target(out, force, sequences)
-    old = _open_old(out, open_library)
-    corrections = given if given is not None else _kept_corrections(old, sequences, run)
+    corrections = given if given is not None else kept_corrections(old, sequences, run)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
@@ -459,7 +419,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)
                 for seq in sequences])
             if given is None and corrections:
-                _check_kept(corrections, sequences, computed)
+                check_kept(corrections, sequences, computed)
             derived = derive(tmp, old, sequences, computed, settings, corrections, pool=pool, run=run)
     return report_of(derived)
 
@@ -545,37 +505,6 @@ def report_of(derived):
         "compute_seconds": run.timing["compute"],
         "workers": pool.kind if pool.kind != "processes" else f"{pool.workers} processes",
     }
-
-
-def _kept_corrections(old, sequences, run):
-    """The corrections by hand of the library being replaced, for the sequences still built."""
-    from .corrections import Corrections
-
-    kept = old.corrections() if old is not None else Corrections()
-    gone = sorted(name for name, entry in kept.sequences.items() if entry and name not in {s.name for s in sequences})
-    if gone:
-        run.say(f"warning: the corrections by hand of {', '.join(gone)} are left out: this build has no such sequence")
-    return Corrections({n: e for n, e in kept.sequences.items() if n not in gone}, kept.source)
-
-
-def _check_kept(corrections, sequences, computed):
-    """Kept corrections that no longer fit the frames (a shorter take) say how to drop them."""
-    from .corrections import CorrectionError
-
-    try:
-        corrections.check_sequences({seq.name: len(entry.features) for seq, entry in zip(sequences, computed)})
-    except CorrectionError as error:
-        raise CorrectionError(f"the corrections by hand kept from the library being replaced no longer fit "
-                              f"({str(error).rstrip('.')}); build with corrections=False to drop them.") from None
-
-
-def _pass_on(caught, log):
-    """Warnings caught during the build go to ``log`` as ``warning: ...`` lines, if given."""
-    for warning in caught:
-        if log is None:
-            warnings.warn(warning.message, warning.category, stacklevel=3)
-        else:
-            log(f"warning: {warning.message}")
 
 
 def _carry_names(old, nodes, tmp):

@@ -16,7 +16,8 @@ from pathlib import Path
 from typing import NamedTuple
 
 from .. import safewrite
-from .builder import check_target, derive, library_features, report_of
+from .builder import derive, library_features, report_of
+from .inputs import check_target
 from ..features import BinSizes
 from ..parallel import Workers
 from ..parse.params import StructureParams
