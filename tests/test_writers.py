@@ -37,6 +37,9 @@ def test_a_textured_frame_reads_back_with_its_texture(tmp_path, fmt):
     assert back.texture.shape == image.shape
     if fmt != "scvv":   # JPG is lossy; PNG and glTF's embedded image are not
         assert np.array_equal(back.texture, image)
+    if fmt == "glb":    # vertices in their order, each with its own texture coordinates
+        np.testing.assert_allclose(back.vertices, positions, atol=1e-6)
+        np.testing.assert_allclose(back.uv, uv, atol=1e-6)
 
 
 @pytest.mark.parametrize("fmt", ["obj", "glb"])

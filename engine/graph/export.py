@@ -10,7 +10,7 @@ textured. Frames without a texture carry vertex colours; in-between frames carry
 of the captured frame they were warped from, as the capture's own image file where it is
 still there (copied or embedded as it came: no second loss, no encoder). The writers are
 :mod:`tvmedit.engine.capture.writers`, the readers' twins. Captured frames already in the
-format are copied; the others are encoded on all cores: Draco on threads, OBJ and glTF on
+format are copied; the others are encoded on all cores: Draco and glTF on threads, OBJ on
 worker processes (:data:`THREADED`, :data:`POOL_FROM`).
 
 The exported folder is an ordinary TVM sequence: tvmedit's own loader and any mesh tool read
@@ -51,14 +51,13 @@ from ..checks import json_value
 
 __all__ = ["export_edit", "default_format", "FORMATS", "has_sound", "POOL_FROM", "THREADED"]
 
-#: Frames to encode as OBJ or glTF from which an export starts worker processes. Below it,
-#: starting them costs more than they save: about 50 ms on two cores, what sharing 16 glTF
-#: frames between two processes saves.
+#: Frames to encode as OBJ from which an export starts worker processes. Below it, starting
+#: them costs more than they save (about 50 ms on two cores).
 POOL_FROM = 16
 
-#: Formats whose encoder lets go of the GIL (DracoPy), encoded on threads of this process
-#: whatever their number: no fork, no pickling, all cores.
-THREADED = ("scvv",)
+#: Formats whose writer mostly waits outside the GIL (DracoPy's encoder; a GLB's bytes to
+#: disk), encoded on threads of this process whatever their number: no fork, no pickling.
+THREADED = ("scvv", "glb")
 
 
 def _encoders(fmt, encoded):
@@ -237,16 +236,21 @@ def _written(library, shown, copies, fmt, folder, pool):
     A frame with a capture's file already in ``fmt`` (``copies``) is copied as it came:
     lossless, and as fast as a copy, on a thread of its own (a copy waits on the disk, not
     on the GIL), all the while the others are encoded. Those are encoded on ``pool``: Draco's
-    encoder lets go of the GIL, so threads run it side by side; trimesh's OBJ and glTF
-    writers hold it, so only worker processes do."""
+    encoder and a GLB's writes let go of the GIL, so threads run them side by side; OBJ's
+    text formatting holds it, so only worker processes do."""
     stems = [f"frame_{index:05d}" for index in range(len(shown))]
     with ThreadPoolExecutor(1) as copier:
         copied = {index: copier.submit(_copy, source, folder, stems[index])
                   for index, source in enumerate(copies) if source is not None}
         try:
             made = [index for index in range(len(shown)) if index not in copied]
-            tasks = ((fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt)) for index in made)
-            yield from zip(made, pool.map(_encode, tasks))
+            if pool.kind == "threads":  # each thread reads its frame too: no pickling, all cores
+                done = pool.map(lambda index: _encode((fmt, str(folder), stems[index],
+                                                       *_encoding(library, shown[index], fmt))), made)
+            else:
+                done = pool.map(_encode, ((fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt))
+                                          for index in made))
+            yield from zip(made, done)
             for index, done in copied.items():
                 yield index, done.result()
         finally:    # an interrupted export leaves no copy running into the folder
