@@ -26,7 +26,7 @@ import numpy as np
 from ..errors import InputError, summarise
 from .orientation import Orientation, detect, sample_indices
 from ..checks import MAX_FPS, json_value, listed
-from .readers import READERS, read_manifest, read_mesh, reader_for
+from .readers import READERS, natural_key as _natural_key, read_manifest, read_mesh, reader_for
 
 #: Suffixes of frame files: those of the reader registry (tvmedit.engine.capture.readers.READERS).
 MESH_SUFFIXES = tuple(READERS)
@@ -135,12 +135,6 @@ def _warn_listing(where, entries, paths):
     if problems:
         warnings.warn(f"{where}: " + "; ".join(problems) + "; check the frame files.",
                       FrameListWarning, stacklevel=4)
-
-
-def _natural_key(path):
-    """Order by the last number in the file name, so ``f2`` comes before ``f10``."""
-    numbers = re.findall(r"\d+", Path(path).stem)
-    return (int(numbers[-1]) if numbers else -1, Path(path).name)
 
 
 def _manifest(source):

@@ -37,6 +37,7 @@ texture, so a vertex's colour is what its neighbourhood of the texture shows, no
 texel.
 """
 
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -45,7 +46,7 @@ import numpy as np
 
 from ..checks import json_value
 
-__all__ = ["MeshData", "Manifest", "READERS", "register", "reader_for", "read_mesh", "read_image",
+__all__ = ["MeshData", "Manifest", "READERS", "register", "reader_for", "read_mesh", "read_image", "natural_key",
            "texture_colours", "read_manifest", "MANIFEST_NAMES", "IMAGE_SUFFIXES"]
 
 #: File names of a sequence manifest, in the order they are looked for.
@@ -121,9 +122,13 @@ def read_mesh(path, detail="full"):
 
 
 def read_image(path):
-    """(H, W, 3) uint8 RGB of an image file, row 0 at the top."""
+    """(H, W, 3) uint8 RGB of an image file (or a KTX2 file's layer), row 0 at the top."""
     from PIL import Image
 
+    from .ktx2 import KtxLayer, read_layer
+
+    if isinstance(path, KtxLayer):
+        return read_layer(path)
     with Image.open(path) as image:
         return np.asarray(image.convert("RGB") if image.mode != "RGB" else image)
 
@@ -420,7 +425,9 @@ def read_draco(path, detail="full"):
 
 def texture_for(mesh_path):
     """The texture image of a frame file: the one its folder's manifest names, else the image
-    beside it with the same stem (``.jpg``, ``.jpeg``, ``.png``, ``.webp``, ``.bmp``), else None."""
+    beside it with the same stem (``.jpg``, ``.jpeg``, ``.png``, ``.webp``, ``.bmp``), else its
+    layer of the KTX2 textures a web player's export keeps beside the frames' folder
+    (:class:`tvmedit.engine.capture.ktx2.KtxLayer`), else None."""
     mesh_path = Path(mesh_path)
     folder = mesh_path.parent
     manifest = _manifest_textures(str(folder), _mtime(folder))
@@ -432,7 +439,27 @@ def texture_for(mesh_path):
         for candidate in (mesh_path.with_suffix(suffix), mesh_path.with_suffix(suffix.upper())):
             if candidate.is_file():
                 return candidate
-    return None
+    return _ktx2_layer(mesh_path)
+
+
+def natural_key(path):
+    """Order by the last number in the file name, so ``f2`` comes before ``f10``."""
+    numbers = re.findall(r"\d+", Path(path).stem)
+    return (int(numbers[-1]) if numbers else -1, Path(path).name)
+
+
+def _ktx2_layer(mesh_path):
+    """The layer of the KTX2 textures beside a web player's frames that frame ``mesh_path``
+    shows: its place among its folder's frames of its kind, in natural order."""
+    from .ktx2 import layer_of, texture_folder
+
+    folder = texture_folder(mesh_path.parent)
+    if folder is None:
+        return None
+    suffix = mesh_path.suffix.lower()
+    frames = sorted((p for p in mesh_path.parent.iterdir() if p.suffix.lower() == suffix), key=natural_key)
+    names = [p.name for p in frames]
+    return layer_of(folder, names.index(mesh_path.name), natural_key) if mesh_path.name in names else None
 
 
 def _mtime(folder):

@@ -329,8 +329,8 @@ def _draco_texture(path):
     another format, or no image."""
     if path is None or Path(path).suffix.lower() not in _DRACO:
         return None
-    texture = texture_for(path)
-    return texture if texture is not None and texture.is_file() else None
+    texture = texture_for(path)     # a KTX2 file's layer is no image file to copy
+    return texture if isinstance(texture, Path) and texture.is_file() else None
 
 
 def _frame_of(library, schedule, fmt):
