@@ -99,7 +99,8 @@ class Workers:
         ``LocalCluster`` for the duration of the build.
     threads : bool
         Run the tasks on threads of this process instead: for work that lets go of the GIL
-        (Draco's encoder, a file copy), which then needs no fork and no pickling.
+        most of its time (Draco's encoder, writing a file), which then needs no fork and no
+        pickling.
 
     Use as a context manager; :meth:`map` yields results in the order of the tasks.
 
@@ -186,8 +187,9 @@ class Workers:
     def map(self, fn, tasks, window=None):
         """Yield ``fn(task)`` for every task, in order, running up to ``window`` at a time.
 
-        ``fn`` must be a module-level function (it is pickled to the workers). Exceptions
-        raised by ``fn`` propagate to the caller unchanged.
+        For worker processes and dask ``fn`` must be a module-level function (it is pickled to
+        the workers); threads take any callable. Exceptions raised by ``fn`` propagate to the
+        caller unchanged.
         """
         tasks = iter(tasks)
         if self.kind == "serial":
@@ -217,13 +219,15 @@ class Workers:
         """Stop the pool or disconnect from the cluster (a LocalCluster is shut down).
 
         Local workers finish the task they run (a second or less) and take no other. A Ctrl-C
-        or SIGTERM while they are waited for (a second one, after the one that ended the run)
-        ends them at once: no worker outlives the command.
+        or SIGTERM while worker processes are waited for (a second one, after the one that
+        ended the run) ends them at once: no worker outlives the command. Threads cannot be
+        ended: they are waited for with Ctrl-C and SIGTERM held back, which take effect once
+        the task they run (a frame written) is done.
         """
         if self._executor is not None and self.kind == "threads":
             executor, self._executor = self._executor, None
-            # A running task ends in milliseconds and a thread cannot be ended: it is waited
-            # for, a Ctrl-C meanwhile delivered after, so none writes into a folder being tidied.
+            # A thread cannot be ended: the task it runs (a frame, milliseconds) is waited for,
+            # a Ctrl-C meanwhile delivered after, so none writes into a folder being tidied.
             with signals_held():
                 executor.shutdown(wait=True, cancel_futures=True)
         if self._executor is not None:

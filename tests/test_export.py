@@ -42,3 +42,35 @@ def test_an_export_is_replaced_only_with_force_and_a_plain_folder_never(small_li
     with pytest.raises(OutputError, match="not replaced"):
         export_edit(edit, tmp_path / "mine", force=True)
     assert (tmp_path / "mine" / "notes.txt").read_text() == "keep me"
+
+
+def test_frames_of_sequences_turned_apart_go_out_in_the_one_frame_the_export_states(tmp_path):
+    """Two takes of one walk, the second stated to face +x: an OBJ export through a motion of
+    each writes every frame in the first sequence's coordinates, the ones its sequence.json
+    states, so each reads back where the library shows it."""
+    import numpy as np
+
+    from conftest import synth_take
+    from tvmedit import engine
+    from tvmedit.engine.capture.load import iter_frames, open_sequence
+
+    walk = synth_take("walk")
+    side = tmp_path / "side"
+    side.mkdir()
+    for path in sorted(walk.glob("frame_*.ply")):
+        (side / path.name).symlink_to(path)
+    (side / "sequence.json").write_text('{"fps": 10, "front": "+x"}')
+    library = engine.build([("walk", walk), ("side", side)], tmp_path / "two.tvmlib", workers=1, cache=False,
+                           smooth=False, blend_frames=0)
+    assert library.orientation("side").front == "+x" and library.orientation("walk").front == "-y"
+    first, second = (next(n for n in library.nodes if n.sequence == name) for name in ("walk", "side"))
+    record = export_edit(library.edit([first.name, second.name], durations=[1.3]), tmp_path / "out", fmt="obj")
+    back = open_sequence(tmp_path / "out")
+    assert back.orientation.front == "-y"
+    frames = dict(iter_frames(back.paths, orientation=back.orientation))
+    sequences = set()
+    for entry in record["frames"]:
+        sequences.add(entry["sequence"])
+        shown = np.asarray(library.frame_mesh((entry["sequence"], entry["frame"]))[0])
+        assert np.abs(frames[tmp_path / "out" / entry["file"]].positions - shown).max() < 1e-4
+    assert sequences == {"walk", "side"}

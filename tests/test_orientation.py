@@ -233,3 +233,34 @@ def test_a_front_given_once_is_kept_by_the_library_its_corrections_and_rebuilds(
     assert (kept.front, kept.reasons["front"]) == ("+x", "given")
     assert main(["build", f"walk={walk}", "-o", str(out), "--force", "--front", "-y", *fast]) == 0
     assert Library.open(out).orientation("walk").front == "-y"
+
+
+def test_across_an_oblique_up_the_front_check_names_is_taken(tmp_path):
+    """A take tilted 38 degrees: the front ``check`` suggests is one ``--front`` accepts, and the
+    front a library reports is an axis name it can be given again."""
+    walk = synth_take("walk")
+    tilt = Rotation.from_euler("x", 38, degrees=True)
+    moved = _write_moved(walk, tilt, tmp_path / "tilted")
+    ruled = open_sequence(moved).orientation
+    suggested = ruled.reasons["front"].rsplit("--front ", 1)[1]
+    turned = open_sequence(moved, front=suggested).orientation
+    assert turned.front == suggested and turned.reasons["front"] == "given"
+    assert ruled.front in ("+x", "-x", "+y", "-y", "+z", "-z")
+
+
+def test_a_front_stated_beside_the_frames_that_cannot_be_is_named_with_its_file(tmp_path):
+    from tvmedit.engine.errors import InputError
+
+    walk = synth_take("walk")
+    folder = tmp_path / "stated"
+    folder.mkdir()
+    for path in sorted(walk.glob("frame_*.ply"))[:3]:
+        (folder / path.name).symlink_to(path)
+    (folder / "sequence.json").write_text('{"front": "+z"}')
+    with pytest.raises(InputError, match=r"the front \+z lies along the up axis \+z; .* \(front as .*sequence\.json states\)\.$"):
+        open_sequence(folder)
+    (folder / "sequence.json").write_text('{"front": "w"}')
+    with pytest.raises(InputError, match=r"^front must be one of \+x, .* not 'w' \(front as "):
+        open_sequence(folder)
+    (folder / "sequence.json").write_text('{"mirror": true}')
+    assert open_sequence(folder).orientation.mirrored

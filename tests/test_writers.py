@@ -70,3 +70,18 @@ def test_a_texture_given_as_its_file_goes_out_byte_for_byte(tmp_path, fmt):
         assert texture == "frame_00000.jpg" and (out / texture).read_bytes() == jpg.read_bytes()
     back = read_mesh(out / mesh_name)
     assert back.uv is not None and np.array_equal(back.texture, np.asarray(Image.open(jpg).convert("RGB")))
+
+
+@pytest.mark.parametrize("fmt", ["obj", "glb"])
+def test_rgba_colours_are_written_as_their_rgb(tmp_path, fmt):
+    positions, faces, _, _ = textured_square()
+    colours = np.tile(np.array([[200, 100, 50, 128]], np.uint8), (len(positions), 1))
+    mesh_name, _ = write_frame(fmt, tmp_path, "f", positions, faces, colours=colours)
+    assert np.abs(read_mesh(tmp_path / mesh_name).colours.astype(int) - colours[:, :3]).max() <= 1
+
+
+def test_a_frame_without_triangles_is_refused_as_glb_not_written_invalid(tmp_path):
+    positions, _, _, _ = textured_square()
+    with pytest.raises(ValueError, match="a frame without triangles cannot be written as GLB"):
+        write_frame("glb", tmp_path, "f", positions, np.zeros((0, 3), np.int64))
+    assert not (tmp_path / "f.glb").exists()

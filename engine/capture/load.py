@@ -279,7 +279,7 @@ def read_frame(path, orientation=None, detail="full"):
 
 def sidecar_json(fps, name=None, **frame):
     """Text of the :data:`SIDECAR` that gives frames their rate (and name, and with ``frame``
-    their ``up`` axis, ``units`` and ``front``), as read here.
+    their ``up`` axis, ``units``, ``front`` and ``mirror``), as read here.
 
     >>> sidecar_json(5), sidecar_json(30.0, "walk")
     ('{"fps": 5}', '{"fps": 30.0, "name": "walk"}')
@@ -424,14 +424,17 @@ def open_sequence(source, name=None, fps=None, up=None, units=None, mirror=None,
     paths = [captured[k] for k in resample(times, rate)] if times is not None else list(captured)
     fmt = _format_of(captured, manifest)
     # A frame of reference stated beside the frames (an export's) holds where none is given.
-    up = meta.get("up") if up is None else up
-    units = meta.get("units") if units is None else units
-    front = meta.get("front") if front is None else front
+    given = {"up": up, "units": units, "front": front, "mirror": mirror}
+    stated = [key for key, value in given.items() if value is None and key in meta]
+    up, units, front, mirror = (meta.get(key) if value is None else value for key, value in given.items())
     try:
+        if mirror is not None and not isinstance(mirror, bool):
+            raise ValueError(f"mirror must be true or false, not {mirror!r}")
         orientation = detect(_sample_positions(captured), fmt, up=up, units=units, mirror=mirror,
                              body_frame=body_frame, front=front)
     except ValueError as error:
-        raise InputError(f"{error}.") from None
+        where = f" ({', '.join(stated)} as {Path(captured[0]).parent / SIDECAR} states)" if stated else ""
+        raise InputError(f"{error}{where}.") from None
     return Sequence(name=name or _default_name(source), fps=rate, paths=paths, format=fmt,
                     orientation=orientation, times=times, captured=list(captured),
                     manifest=manifest.path if manifest is not None else None, rate_from=rate_from)

@@ -69,7 +69,7 @@ import numpy as np
 
 from ..features import spread_indices
 
-__all__ = ["Orientation", "detect", "feature_frame", "parse_up", "sample_indices", "AXES", "SNAP_DEGREES", "UNITS",
+__all__ = ["Orientation", "detect", "feature_frame", "parse_up", "across", "sample_indices", "AXES", "SNAP_DEGREES", "UNITS",
            "FRAME_DEGREES", "IDENTITY"]
 
 AXES = {"+x": (1.0, 0.0, 0.0), "-x": (-1.0, 0.0, 0.0), "+y": (0.0, 1.0, 0.0),
@@ -97,8 +97,8 @@ DEPTH_CAMERA_FORMATS = ("scvv",)
 FORMAT_UP = {"gltf": ("+y", "glTF is Y up (its specification)")}
 
 
-def parse_up(text):
-    """A unit up vector from ``+x`` ... ``-z`` (or ``x``, ``Y``...).
+def parse_up(text, what="up"):
+    """A unit vector from ``+x`` ... ``-z`` (or ``x``, ``Y``...): an up axis, or ``what`` it is.
 
     >>> parse_up("-y").tolist(), parse_up("Z").tolist()
     ([0.0, -1.0, 0.0], [0.0, 0.0, 1.0])
@@ -106,8 +106,17 @@ def parse_up(text):
     key = str(text).strip().lower()
     key = key if key[:1] in "+-" else "+" + key
     if key not in AXES:
-        raise ValueError(f"up must be one of {', '.join(AXES)}, not {text!r}")
+        raise ValueError(f"{what} must be one of {', '.join(AXES)}, not {text!r}")
     return np.array(AXES[key])
+
+
+def _nearest_axis(vector):
+    """The name of the coordinate axis nearest ``vector`` (what ``--front`` takes).
+
+    >>> _nearest_axis([0.2, -0.9, 0.1])
+    '-y'
+    """
+    return max(AXES, key=lambda name: float(np.dot(AXES[name], vector)))
 
 
 def _rows(matrix):
@@ -168,9 +177,10 @@ class Orientation:
 
     @property
     def front(self):
-        """The way the subject faces, in the file's coordinates: ``"+z"`` ... or a vector
-        where oblique (what ``--front`` takes)."""
-        return _axis_name(-np.asarray(self.matrix[1]))
+        """The coordinate axis nearest the way the subject faces, in the file's coordinates:
+        ``"+z"`` ... (what ``--front`` takes; across an oblique up, the front is that axis
+        made square to it)."""
+        return _nearest_axis(-np.asarray(self.matrix[1]))
 
     @classmethod
     def make(cls, up, front=None, units="m", mirrored=False, reasons=None):
@@ -283,19 +293,26 @@ def _front(front, direction, depth_camera, reasons):
     """The way the subject faces (file coordinates) and why (``reasons["front"]``): ``front``
     given, a depth camera's, or the convention of ``direction`` up."""
     if front is not None:
-        vector = parse_up(front)
-        if abs(float(vector @ direction)) > 0.5:
-            across = [name for name, axis in AXES.items() if abs(float(np.dot(axis, direction))) < 0.5]
+        vector = parse_up(front, "front")
+        if not across(vector, direction):
+            turns = [name for name, axis in AXES.items() if across(np.array(axis), direction)]
             raise ValueError(f"the front {front} lies along the up axis {_axis_name(direction)}; a front "
-                             f"must lie across it: {', '.join(across)}")
+                             f"must lie across it: {', '.join(turns)}")
         reasons["front"] = "given"
         return vector
     if depth_camera:
         vector, why = np.array([0.0, 0.0, -1.0]), "a depth camera's subject faces it"  # the camera at the origin
     else:
         vector, why = _default_front(direction), f"the convention of {_axis_name(direction)} up, not found in the body"
-    reasons["front"] = f"{why}; if the render shows a back, set --front {_axis_name(-vector)}"
+    square = vector - direction * float(vector @ direction)   # as Orientation.make turns it
+    reasons["front"] = f"{why}; if the render shows a back, set --front {_nearest_axis(-square)}"
     return vector
+
+
+def across(front, up):
+    """Whether ``front`` lies far enough across ``up`` to be made square to it (the two at
+    least :data:`SNAP_DEGREES` apart, as a front given along an oblique up may be)."""
+    return abs(float(np.dot(front, up))) <= math.cos(math.radians(SNAP_DEGREES))
 
 
 def detect(frames, format=None, up=None, units=None, mirror=None, body_frame=True, front=None):

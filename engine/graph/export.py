@@ -55,8 +55,9 @@ __all__ = ["export_edit", "default_format", "FORMATS", "has_sound", "POOL_FROM",
 #: them costs more than they save (about 50 ms on two cores).
 POOL_FROM = 16
 
-#: Formats whose writer mostly waits outside the GIL (DracoPy's encoder; a GLB's bytes to
-#: disk), encoded on threads of this process whatever their number: no fork, no pickling.
+#: Formats encoded on threads of this process whatever their number: DracoPy's encoder lets
+#: go of the GIL (two threads encode twice as fast as one); a GLB is mostly its bytes to disk,
+#: on threads as fast as on one and faster than on processes, which pickle every frame.
 THREADED = ("scvv", "glb")
 
 
@@ -143,7 +144,8 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
     schedule = edit.schedule
     capture_fps = library.sequence(schedule[0].sequence).fps if schedule else None
     shown = _shown(library, schedule, capture_fps, fps, smooth)
-    copies = [None] * len(shown) if fmt == "ply" else [_copy_source(library, item, fmt) for item in shown]
+    frame = _frame(library, schedule)   # the coordinates every frame of a capture's format is written in
+    copies = [None] * len(shown) if fmt == "ply" else [_copy_source(library, item, fmt, frame) for item in shown]
     encoded = 0 if fmt == "ply" else copies.count(None)
     if encoded >= POOL_FROM or fmt in THREADED:
         prepare(fmt)    # imported once here, not once in each worker process
@@ -153,7 +155,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         if fmt == "ply":
             writing = ((index, (_write_ply_frame(library, item, tmp, index), None)) for index, item in enumerate(shown))
         else:
-            writing = _written(library, shown, copies, fmt, tmp, pool)
+            writing = _written(library, shown, copies, fmt, tmp, pool, frame)
         # Closed whatever happens, so that no copy still runs into the folder once it is left.
         with contextlib.closing(writing):
             if progress:
@@ -229,15 +231,15 @@ def _write_ply_frame(library, item, folder, index):
     return name
 
 
-def _written(library, shown, copies, fmt, folder, pool):
+def _written(library, shown, copies, fmt, folder, pool, frame):
     """Write each output frame in ``fmt``; yield ``(index, (mesh file, texture file or None))``
     as each is written, the encoded ones first.
 
     A frame with a capture's file already in ``fmt`` (``copies``) is copied as it came:
     lossless, and as fast as a copy, on a thread of its own (a copy waits on the disk, not
-    on the GIL), all the while the others are encoded. Those are encoded on ``pool``: Draco's
-    encoder and a GLB's writes let go of the GIL, so threads run them side by side; OBJ's
-    text formatting holds it, so only worker processes do."""
+    on the GIL), all the while the others are encoded. Those are encoded on ``pool``: threads
+    for the formats of :data:`THREADED`; OBJ's text formatting holds the GIL, so only worker
+    processes share it."""
     stems = [f"frame_{index:05d}" for index in range(len(shown))]
     with ThreadPoolExecutor(1) as copier:
         copied = {index: copier.submit(_copy, source, folder, stems[index])
@@ -246,9 +248,9 @@ def _written(library, shown, copies, fmt, folder, pool):
             made = [index for index in range(len(shown)) if index not in copied]
             if pool.kind == "threads":  # each thread reads its frame too: no pickling, all cores
                 done = pool.map(lambda index: _encode((fmt, str(folder), stems[index],
-                                                       *_encoding(library, shown[index], fmt))), made)
+                                                       *_encoding(library, shown[index], fmt, frame))), made)
             else:
-                done = pool.map(_encode, ((fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt))
+                done = pool.map(_encode, ((fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt, frame))
                                           for index in made))
             yield from zip(made, done)
             for index, done in copied.items():
@@ -263,10 +265,19 @@ def _encode(task):
     return write_frame(*task)
 
 
-def _encoding(library, item, fmt):
+def _frame(library, schedule):
+    """The orientation of the edit's first sequence (the identity for a library read as its
+    files are): the capture's coordinates an export in a capture's format is written in."""
+    from ..capture.orientation import Orientation
+
+    return (library.orientation(schedule[0].sequence) if schedule else None) or Orientation()
+
+
+def _encoding(library, item, fmt, orientation):
     """``(positions, faces, colours, uv, image)`` of an output frame as ``fmt`` writes it: glTF's
-    Y up, else the capture's own coordinates and units (the build's orientation undone); the
-    texture as the capture's own image file where it is still there, else as stored."""
+    Y up, else the capture's coordinates and units of ``orientation`` (:func:`_frame`; the
+    build's orientation undone); the texture as the capture's own image file where it is
+    still there, else as stored."""
     entry = item[0]
     positions, colours, faces = _frame_mesh(library, item)
     texture = library.frame_texture(entry.key) if library.textured else None
@@ -274,7 +285,6 @@ def _encoding(library, item, fmt):
     if fmt == "glb":
         positions = np.asarray(positions, dtype=np.float64) @ _Y_UP.T
     else:
-        orientation = library.orientation(entry.sequence)
         matrix = np.asarray(orientation.matrix, dtype=np.float64) * orientation.scale
         positions = np.asarray(positions, dtype=np.float64) @ np.linalg.inv(matrix).T
         faces = orientation.apply_faces(np.asarray(faces))
@@ -285,11 +295,14 @@ def _encoding(library, item, fmt):
             None if uv is not None else np.ascontiguousarray(colours), uv, image)
 
 
-def _copy_source(library, item, fmt):
+def _copy_source(library, item, fmt, orientation):
     """``(mesh file, texture file or None)`` of the capture's own files of a captured frame
-    shown as stored, when they are already in ``fmt`` and still there; None otherwise."""
+    shown as stored, when they are already in ``fmt``, still there, and in the coordinates
+    the export is written in (``orientation``); None otherwise."""
     entry = item[0]
     if fmt != "scvv" or entry.blend is not None or (item[3] is not None and item[2]):
+        return None
+    if (library.orientation(entry.sequence) or orientation) != orientation:
         return None
     path = Path(_source_file(library, entry.sequence, entry.frame) or "")
     if path.suffix.lower() not in _DRACO or not path.is_file():
@@ -334,13 +347,15 @@ def _draco_texture(path):
 
 
 def _frame_of(library, schedule, fmt):
-    """The up axis, units and front an export in the capture's coordinates states beside its
-    frames, so it reads back upright and facing the camera whatever its motions (none for PLY
-    and glTF: tvmedit's and glTF's)."""
+    """The up axis, units, front and mirror an export in the capture's coordinates states beside
+    its frames, so it reads back upright and facing the camera whatever its motions (none for
+    PLY and glTF: tvmedit's and glTF's). Every frame is written in these coordinates, those of
+    the edit's first sequence (:func:`_encoding`)."""
     if fmt in ("ply", "glb") or not schedule:
         return {}
     orientation = library.orientation(schedule[0].sequence)
-    return {"up": orientation.up, "units": orientation.units, "front": orientation.front}
+    return {"up": orientation.up, "units": orientation.units, "front": orientation.front,
+            **({"mirror": True} if orientation.mirrored else {})}
 
 
 def _write_scvv_manifest(folder, frames, textures, fps):

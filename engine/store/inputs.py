@@ -10,10 +10,12 @@ corrections by hand (for the sequences still built) and a front given to a seque
 import os
 import warnings
 
+import numpy as np
+
 from .. import safewrite
 from . import layout
 from ..capture.load import expand_inputs, open_sequence, rate_assumed
-from ..capture.orientation import AXES
+from ..capture.orientation import AXES, across
 from ..errors import InputError, TvmError
 
 __all__ = ["open_inputs", "open_old", "check_target", "kept_corrections", "check_kept", "pass_on"]
@@ -52,7 +54,8 @@ def open_inputs(inputs, fps, log, frame=None, old=None):
 
 def _kept_front(old, sequence):
     """The front given to ``sequence`` (by name) in the library being replaced, where it
-    differs from the one ``sequence`` has now and lies across its up; else None."""
+    differs from the one ``sequence`` has now; None where there is none, and a warning where
+    it lies along the up this build has (an ``--up`` given anew), which turns it away."""
     if old is None or sequence.orientation.reasons.get("front") == "given":
         return None
     try:
@@ -61,7 +64,12 @@ def _kept_front(old, sequence):
         return None
     if was is None or was.reasons.get("front") != "given" or was.front == sequence.orientation.front:
         return None
-    return was.front if was.up == sequence.orientation.up and was.front in AXES else None
+    up = np.asarray(sequence.orientation.matrix[2])     # the file's up, the map's third row
+    if not across(np.array(AXES[was.front]), up):
+        warnings.warn(f"{sequence.name}: the front {was.front} given before lies along the up axis "
+                      f"{sequence.orientation.up} of this build, so it is not kept; give --front anew.")
+        return None
+    return was.front
 
 
 def check_target(out, force, sequences):
