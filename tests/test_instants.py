@@ -180,7 +180,11 @@ def test_a_rebuild_copies_the_fields_of_the_steps_it_did_not_change(small_librar
     node = before.nodes[-1]
     after = before.correct({"sequences": {node.sequence: {"drop": [node.name]}}})
     report = after.report
-    assert report["display_made"] < report["display_steps"] / 2, report
+    # Only the steps of runs made anew are fitted; those of runs copied, in-between frames and
+    # all, are copied with them.
+    from tvmedit.engine.inbetween.blend import MAX_FRAMES
+
+    assert report["display_made"] <= report["blend_made"] * (MAX_FRAMES + 1) < report["display_steps"], report
     others = [n for n in after.nodes if n.start != node.start]
     a = others[0]
     assert np.array_equal(np.asarray(after.instant_field((a.sequence, a.start), (a.sequence, a.start + 1))),

@@ -232,7 +232,12 @@ def test_a_front_given_once_is_kept_by_the_library_its_corrections_and_rebuilds(
     kept = Library.open(out).orientation("walk")
     assert (kept.front, kept.reasons["front"]) == ("+x", "given")
     assert main(["build", f"walk={walk}", "-o", str(out), "--force", "--front", "-y", *fast]) == 0
-    assert Library.open(out).orientation("walk").front == "-y"
+    library = Library.open(out)
+    assert library.orientation("walk").front == "-y"
+    # The meshes turned with it, not taken from the library it replaced (-y: as the files are).
+    node = library.nodes[0]
+    _, frame = next(iter_frames([library.sequence("walk").paths[node.start]]))
+    np.testing.assert_allclose(library.frame_mesh(("walk", node.start))[0], frame.positions, atol=1e-6)
 
 
 def test_across_an_oblique_up_the_front_check_names_is_taken(tmp_path):

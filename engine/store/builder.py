@@ -210,7 +210,7 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
 def _sequence_features(sequence, bins, skip_bad_frames, pool, old, cache, run):
     """The features of one sequence: from the library being replaced, the cache, or computed."""
     stats = featurecache.stat_list(sequence.paths)
-    key = featurecache.key(stats, bins, skip_bad_frames, sequence.orientation.for_features())
+    key = featurecache.key(stats, bins, skip_bad_frames, sequence.orientation.for_features(), sequence.orientation)
     entry = library_features(old, key, bins) or (_from_cache(key, bins) if cache else None)
     if entry is None:
         bar = run.bar(len(sequence.paths), f"features {sequence.name}")

@@ -53,11 +53,18 @@ def stat_list(paths):
     return rows
 
 
-def key(stats, bins, skip_bad_frames=False, orientation=None):
+def key(stats, bins, skip_bad_frames=False, orientation=None, meshes=None):
     """The cache key of features computed from files ``stats`` (:func:`stat_list`) with ``bins``,
     the frames mapped by ``orientation`` (an :class:`tvmedit.engine.capture.orientation.Orientation`, None for as
-    they are)."""
+    they are) and stored as ``meshes`` maps them (the sequence's own orientation).
+
+    A library reuses what another holds under the same key: features, and the meshes, runs and
+    display fields made from the same frames. Features in the body's own frame do not change
+    when the take is turned about up (``--front``), but its meshes do, so both maps count."""
     frame = [] if orientation is None or orientation.is_identity else [orientation.matrix, orientation.scale]
+    if meshes is not None and not meshes.is_identity and (orientation is None or (meshes.matrix, meshes.scale)
+                                                          != (orientation.matrix, orientation.scale)):
+        frame.append([meshes.matrix, meshes.scale])
     blob = json.dumps([stats, bins.to_json(), code_version(), bool(skip_bad_frames)] + frame)
     return hashlib.sha1(blob.encode()).hexdigest()[:20]
 

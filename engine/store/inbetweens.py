@@ -349,8 +349,8 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     edges = [e for e in blends["edges"] if count != 0 or e["count"]]
     pairs = display_pairs(nodes, edges, blends.get("wraps", []), lambda seq, frame: rows[seq, frame])
     kept = _old_fields(old, keys or {})
-    copied = {(a, b): kept[frames[a], frames[b]] for a, b in pairs
-              if a >= 0 and b >= 0 and (frames[a], frames[b]) in kept}
+    shows = _shows(frames, blends)
+    copied = {(a, b): kept[shows[a], shows[b]] for a, b in pairs if (shows.get(a), shows.get(b)) in kept}
     todo = [pair for pair in pairs if pair not in copied]
     chunks = [todo[k:k + FIELDS_PER_TASK] for k in range(0, len(todo), FIELDS_PER_TASK)]
     progress = bar(len(pairs), "in-betweens", unit="step") if bar is not None else None
@@ -373,9 +373,31 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     return {"pairs": len(table), "steps": len(pairs), "made": len(todo), "seconds": time.perf_counter() - started}
 
 
+def _shows(frames, blends):
+    """``{mesh id: what it shows}``: a stored frame's ``(sequence, frame)``; an in-between frame's
+    run and place in it, ``("edge", exit, entry, count, k)`` or ``("wrap", texton, at, count,
+    k)``. A run's frames follow from its two ends (or its texton), its count and the frames'
+    files alone, so two libraries' mesh ids that show the same are the same mesh."""
+    shows = dict(frames)
+    for edge in blends.get("edges", []):
+        for k in range(edge["count"]):
+            shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k)
+    for wrap in blends.get("wraps", []):
+        for k in range(wrap["count"]):
+            shows[-1 - (wrap["first"] + k)] = ("wrap", tuple(wrap["texton"]), wrap["at"], wrap["count"], k)
+    return shows
+
+
+def _sequences_of(shown):
+    """The sequences whose frames a mesh id's :func:`_shows` entry is made from."""
+    if shown[0] == "edge":
+        return {shown[1][0], shown[2][0]}
+    return {shown[1][0]} if shown[0] == "wrap" else {shown[0]}
+
+
 def _old_fields(old, keys):
-    """``{((sequence, frame), (sequence, frame)): field}`` of the steps between two stored frames
-    that ``old`` holds, for sequences read from the same frame files as the library being
+    """``{(shows, shows): field}`` (:func:`_shows`) of the steps ``old`` holds, stored and
+    in-between frames alike, for sequences read from the same frame files as the library being
     written (``keys``); {} when there is none or it cannot be read."""
     from ..errors import TvmError
 
@@ -383,9 +405,9 @@ def _old_fields(old, keys):
         if old is None or not old.smooth:
             return {}
         same = {r["name"] for r in old.manifest["sequences"] if keys.get(r["name"]) == r.get("feature_key")}
-        stored = old.stored_frames()
+        shows = _shows(dict(enumerate(old.stored_frames())), old.blend_data())
         table, fields = old._instants
     except (TvmError, KeyError, ValueError):   # a damaged library being replaced lends nothing
         return {}
-    return {(stored[a], stored[b]): fields[first:first + size] for (a, b), (first, size) in table.items()
-            if 0 <= a < len(stored) and 0 <= b < len(stored) and stored[a][0] in same and stored[b][0] in same}
+    return {(shows[a], shows[b]): fields[first:first + size] for (a, b), (first, size) in table.items()
+            if a in shows and b in shows and _sequences_of(shows[a]) | _sequences_of(shows[b]) <= same}
