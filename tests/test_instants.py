@@ -190,3 +190,19 @@ def test_a_rebuild_copies_the_fields_of_the_steps_it_did_not_change(small_librar
     assert np.array_equal(np.asarray(after.instant_field((a.sequence, a.start), (a.sequence, a.start + 1))),
                           np.asarray(Library.open(small_library).instant_field((a.sequence, a.start),
                                                                                (a.sequence, a.start + 1))))
+
+
+def test_a_take_captured_at_display_rate_gets_no_fields(tmp_path):
+    """At 60 fps a captured step lasts a redraw: a field would move the body within it, at six
+    times a 10 fps take's cost. The same frames at 10 fps get theirs."""
+    from tvmedit import engine
+
+    from conftest import synth_take
+
+    take = synth_take("gym", cycles=3, vertices=4000)
+    fast = engine.build([("gym", take)], tmp_path / "fast.tvmlib", fps=60, workers=2, cache=False, blend_frames=0)
+    assert fast.smooth and fast.report["display_steps"] == 0 and fast.report["display_made"] == 0
+    node = fast.nodes[0]
+    assert fast.instant_field((node.sequence, node.start), (node.sequence, node.start + 1)) is None
+    slow = engine.build([("gym", take)], tmp_path / "slow.tvmlib", fps=10, workers=2, cache=False, blend_frames=0)
+    assert slow.report["display_made"] > 0

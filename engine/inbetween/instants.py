@@ -28,7 +28,10 @@ the frame's own: over one step a normal turns little.
 Which steps: every pair of frames some schedule shows one after the other
 (:func:`display_pairs`): consecutive frames of each texton, its wrap (last frame to first, or
 through the frames that close its loop), and each edge's exit frame, its run and its entry
-frame. A step no field was made for (a library built before them) is shown as captured.
+frame; but none of a sequence captured at :data:`FIELDS_BELOW_FPS` or faster, whose steps
+last no longer than a redraw of a 48-60 Hz display: a field there would move the body within
+one redraw and costs the build as much as at 10 fps (a 60 fps take has six times the steps).
+A step no field was made for (a library built before them) is shown as captured.
 
 The fit for a step is coarse-to-fine over :data:`SIGMAS` with :data:`STEPS` iterations each:
 two frames a capture step apart differ by centimetres, not by a transition's cut, and fewer,
@@ -39,8 +42,11 @@ import numpy as np
 
 from .blend import align, kdtree
 
-__all__ = ["SIGMAS", "STEPS", "KEEP", "step_field", "helps", "display_pairs", "instants", "shown", "moved", "surface_distances",
-           "step_measures"]
+__all__ = ["SIGMAS", "STEPS", "KEEP", "FIELDS_BELOW_FPS", "step_field", "helps", "display_pairs", "instants",
+           "shown", "moved", "surface_distances", "step_measures"]
+
+#: Capture rates from which a sequence's steps get no field: each lasts about a redraw.
+FIELDS_BELOW_FPS = 48.0
 
 #: Gaussian radii (metres), coarse to fine, of a step's fit, iterations at each, nodes at the
 #: finest radius and nodes a vertex follows: fewer than a transition's, and as close a fit for

@@ -460,7 +460,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
                            pool, run.bar, old, keep_natural, rooms)
     run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
                              run.blends["data"], settings.blend_frames, pool, run.bar, old,
-                             {s.name: e.key for s, e in zip(sequences, computed)}) if settings.smooth else None
+                             {s.name: e.key for s, e in zip(sequences, computed)},
+                             {s.name: s.fps for s in sequences}) if settings.smooth else None
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 

@@ -323,7 +323,7 @@ def _same_mesh_field(a, b):
 FIELDS_PER_TASK = 6
 
 
-def instant_library(folder, names, graph, blends, count, pool, bar=None, old=None, keys=None):
+def instant_library(folder, names, graph, blends, count, pool, bar=None, old=None, keys=None, rates=None):
     """Make and store the field of every step a schedule of the library shows
     (:mod:`tvmedit.engine.inbetween.instants`), a build's stage after the in-between frames:
     ``instant_pairs.npy`` (per step: from mesh id, to mesh id, first row, rows) and
@@ -333,13 +333,15 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     0 (the paper's cut) the cut itself gets no field. A step between two stored frames that the
     library being replaced (``old``) holds, read from the same frame files (``keys``: sequence
     -> feature key), is copied, not fitted again: a correction by hand fits only the steps of
-    the textons and transitions it changed. Returns ``{"pairs"`` (fields stored), ``"steps"``
+    the textons and transitions it changed. A step of a sequence whose rate (``rates``: sequence
+    -> fps) is :data:`tvmedit.engine.inbetween.instants.FIELDS_BELOW_FPS` or more gets none.
+    Returns ``{"pairs"`` (fields stored), ``"steps"``
     (steps looked at), ``"made"`` (steps fitted), ``"seconds"}``.
     """
     import time
 
     from .arrays import NpyStream, frame_keys, frame_offsets, mesh_arrays
-    from ..inbetween.instants import display_pairs
+    from ..inbetween.instants import FIELDS_BELOW_FPS, display_pairs
 
     started = time.perf_counter()
     offsets = frame_offsets(folder, mesh_arrays(folder))
@@ -348,8 +350,10 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     nodes = [(d["sequence"], d["start"], d["end"]) for _, d in sorted(graph.nodes(data=True))]
     edges = [e for e in blends["edges"] if count != 0 or e["count"]]
     pairs = display_pairs(nodes, edges, blends.get("wraps", []), lambda seq, frame: rows[seq, frame])
-    kept = _old_fields(old, keys or {})
     shows = _shows(frames, blends)
+    fast = {name for name, fps in (rates or {}).items() if fps >= FIELDS_BELOW_FPS}
+    pairs = [pair for pair in pairs if not _sequences_of(shows[pair[0]]) & fast]
+    kept = _old_fields(old, keys or {})
     copied = {(a, b): kept[shows[a], shows[b]] for a, b in pairs if (shows.get(a), shows.get(b)) in kept}
     todo = [pair for pair in pairs if pair not in copied]
     chunks = [todo[k:k + FIELDS_PER_TASK] for k in range(0, len(todo), FIELDS_PER_TASK)]
