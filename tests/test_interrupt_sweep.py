@@ -30,7 +30,7 @@ pytestmark = pytest.mark.slow
 EXAMPLES = int(os.environ.get("TVMEDIT_INTERRUPT_EXAMPLES", "0"))
 SWEEP = settings(max_examples=EXAMPLES or 3, deadline=None, derandomize=not EXAMPLES, database=None,
                  suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
-COMMANDS = ["synth", "build", "correct", "export", "export-obj", "export-scvv", "render", "report"]
+COMMANDS = ["synth", "build", "correct", "export", "export-obj", "export-scvv", "export-glb", "render", "report"]
 
 
 @pytest.fixture(scope="module")
@@ -80,6 +80,7 @@ def _argv(world, command, place):
             "export-obj": ["export", world["library"], world["a"], world["b"], "-o", out, "-q", "--format", "obj"],
             # every frame encoded, on threads
             "export-scvv": ["export", world["library"], world["a"], world["b"], "-o", out, "-q", "--format", "scvv"],
+            "export-glb": ["export", world["library"], world["a"], world["b"], "-o", out, "-q", "--format", "glb"],
             "render": ["render", world["library"], world["a"], world["b"], "-o", out.with_suffix(".gif"), "--size",
                        "64x48", "-q"],
             "report": ["report", world["library"], "-o", out, "-q"]}[command]
