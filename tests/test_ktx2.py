@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from tvmedit.cli import main
+from tvmedit.engine.errors import InputError
 from tvmedit.engine.capture.ktx2 import IDENTIFIER, KtxLayer, layer_count
 from tvmedit.engine.capture.load import open_sequence
 from tvmedit.engine.capture.readers import read_image, read_mesh, texture_for
@@ -104,15 +105,27 @@ def test_without_the_decoder_a_ktx2_texture_is_one_sentence(player_take, monkeyp
     top, _ = player_take
     monkeypatch.setitem(sys.modules, "alktx2", None)
     layer = texture_for(top / "geometry_draco" / "00000.drc")
-    with pytest.raises(ValueError, match=r"is a KTX2 \(Basis Universal\) texture, which needs the alktx2 package; "
-                                         r"install it with: pip install 'tvmedit\[ktx2\]'$"):
+    with pytest.raises(InputError, match=r"is a KTX2 \(Basis Universal\) texture, which needs the alktx2 package; "
+                                         r"install it with: pip install 'tvmedit\[ktx2\]'\.$"):
         read_image(layer)
 
 
 def test_a_file_named_ktx2_that_is_not_is_named(tmp_path):
     bad = tmp_path / "t.ktx2"
     bad.write_bytes(b"not a texture at all, just text" * 3)
-    with pytest.raises(ValueError, match="is not a KTX2 file"):
+    with pytest.raises(InputError, match="is not a KTX2 file"):
         layer_count(bad)
-    with pytest.raises(ValueError, match="cannot be decoded as Basis Universal KTX2"):
+    with pytest.raises(InputError, match="cannot be decoded as Basis Universal KTX2"):
         read_image(KtxLayer(bad, 0))
+
+
+def test_a_texture_left_as_a_git_lfs_pointer_is_named_in_one_sentence(player_take, tmp_path, capsys):
+    top, _ = player_take
+    cloned = tmp_path / "cloned"
+    shutil.copytree(top, cloned)
+    first = cloned / "texture_ktx2-fps30-1k_baseColor_default" / "texture_0000000.ktx2"
+    first.write_text("version https://git-lfs.github.com/spec/v1\noid sha256:ab12\nsize 4096\n")
+    assert main(["check", str(cloned)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: texture {first} is a Git LFS pointer, not the texture; fetch it with `git lfs pull`")
+    assert "Traceback" not in err

@@ -32,6 +32,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import InputError
+
 __all__ = ["KtxLayer", "layer_count", "texture_folder", "layer_of", "read_layer", "rows_run_up", "IDENTIFIER"]
 
 #: The first twelve bytes of every KTX 2.0 file.
@@ -53,7 +55,7 @@ class KtxLayer(NamedTuple):
 
 
 def layer_count(path):
-    """The frames (array layers) of KTX2 file ``path``; ValueError where it is not KTX2.
+    """The frames (array layers) of KTX2 file ``path``; InputError where it is not KTX2.
 
     >>> import tempfile, os
     >>> with tempfile.TemporaryDirectory() as folder:
@@ -64,8 +66,12 @@ def layer_count(path):
     """
     with open(path, "rb") as handle:
         head = handle.read(48)
+    if head.startswith(b"version https://git-lfs"):
+        raise InputError(f"texture {path} is a Git LFS pointer, not the texture; fetch it with `git lfs pull` "
+                         "in the clone the capture came from.")
     if len(head) < 48 or head[:12] != IDENTIFIER:
-        raise ValueError(f"{path} is not a KTX2 file (its first bytes are not KTX 2.0's identifier)")
+        raise InputError(f"texture {path} is not a KTX2 file (its first bytes are not KTX 2.0's identifier); "
+                         "export the textures again or move the file out of the folder.")
     return max(1, struct.unpack("<I", head[32:36])[0])
 
 
@@ -150,14 +156,15 @@ def read_layer(texture):
     try:
         import alktx2
     except ImportError:
-        raise ValueError(f"{texture.path} is a KTX2 (Basis Universal) texture, which needs the alktx2 package; "
-                         "install it with: pip install 'tvmedit[ktx2]'") from None
+        raise InputError(f"{texture.path} is a KTX2 (Basis Universal) texture, which needs the alktx2 package; "
+                         "install it with: pip install 'tvmedit[ktx2]'.") from None
     path = Path(texture.path)
     data = _file_bytes(str(path), path.stat().st_mtime_ns)
     try:
         picture, _ = alktx2.decode_ktx2_to_bytes(data, format="tga", layer=int(texture.layer))
     except Exception as error:  # the binding raises RuntimeError and ValueError alike
-        raise ValueError(f"{texture} cannot be decoded as Basis Universal KTX2 ({error})") from None
+        raise InputError(f"texture {texture} cannot be decoded as Basis Universal KTX2 ({error}); export the "
+                         "textures again.") from None
     with Image.open(io.BytesIO(picture)) as image:
         rgb = np.asarray(image.convert("RGB"))
     return np.ascontiguousarray(rgb[::-1]) if rows_run_up(data) else rgb

@@ -241,6 +241,8 @@ def read_frame(path, orientation=None, detail="full"):
         raise InputError(f"frame {path} is an empty file; re-export it or remove it (or pass skip_bad_frames=True).")
     try:
         mesh = read_mesh(path, detail)
+    except InputError:  # a frame's texture that says what is wrong with it (ktx2)
+        raise
     except Exception as error:  # trimesh, DracoPy and Pillow raise many types for broken files
         reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         raise InputError(f"frame {path} is not a readable mesh (truncated or corrupt: {reason}); "
