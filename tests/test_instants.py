@@ -206,3 +206,18 @@ def test_a_take_captured_at_display_rate_gets_no_fields(tmp_path):
     assert fast.instant_field((node.sequence, node.start), (node.sequence, node.start + 1)) is None
     slow = engine.build([("gym", take)], tmp_path / "slow.tvmlib", fps=10, workers=2, cache=False, blend_frames=0)
     assert slow.report["display_made"] > 0
+
+
+def test_sequences_named_like_a_run_get_their_fields(tmp_path):
+    """Mesh ids are matched by what they show, and a run is told from a frame by a tag, not by
+    the sequence's name: a take named "edge" builds and rebuilds like any other."""
+    from tvmedit import engine
+
+    from conftest import synth_take
+
+    take = synth_take("gym", cycles=3, vertices=4000)
+    library = engine.build([("edge", take)], tmp_path / "edge.tvmlib", workers=2, cache=False, blend_frames=0)
+    assert library.report["display_made"] > 0
+    node = library.nodes[-1]
+    again = library.correct({"sequences": {"edge": {"drop": [node.name]}}})
+    assert again.report["display_made"] == 0 and again.smooth

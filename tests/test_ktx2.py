@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from tvmedit.cli import main
-from tvmedit.engine.errors import InputError
+from tvmedit.engine.errors import InputError, TvmError
 from tvmedit.engine.capture.ktx2 import IDENTIFIER, KtxLayer, layer_count
 from tvmedit.engine.capture.load import open_sequence
 from tvmedit.engine.capture.readers import read_image, read_mesh, texture_for
@@ -105,9 +105,21 @@ def test_without_the_decoder_a_ktx2_texture_is_one_sentence(player_take, monkeyp
     top, _ = player_take
     monkeypatch.setitem(sys.modules, "alktx2", None)
     layer = texture_for(top / "geometry_draco" / "00000.drc")
-    with pytest.raises(InputError, match=r"is a KTX2 \(Basis Universal\) texture, which needs the alktx2 package; "
+    with pytest.raises(TvmError, match=r"is a KTX2 \(Basis Universal\) texture, which needs the alktx2 package; "
                                          r"install it with: pip install 'tvmedit\[ktx2\]'\.$"):
         read_image(layer)
+
+
+def test_frames_mixing_drc_and_draco_count_as_one_sequence_and_read_geometry_without_textures(player_take, tmp_path):
+    top, images = player_take
+    mixed = tmp_path / "mixed"
+    shutil.copytree(top, mixed)
+    (mixed / "geometry_draco" / "00003.drc").rename(mixed / "geometry_draco" / "00003.draco")
+    mesh = read_mesh(mixed / "geometry_draco" / "00004.drc")
+    assert mesh.texture_path.layer == 4 and np.abs(mesh.texture.astype(int) - images[4]).mean() < 6
+    # Reading geometry alone never opens a texture: a broken one does not stop the features.
+    (mixed / "texture_ktx2-fps30-1k_baseColor_default" / "texture_0000000.ktx2").write_bytes(b"broken")
+    assert len(read_mesh(mixed / "geometry_draco" / "00004.drc", "geometry").vertices)
 
 
 def test_a_file_named_ktx2_that_is_not_is_named(tmp_path):

@@ -32,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, TvmError
 
 __all__ = ["KtxLayer", "layer_count", "texture_folder", "layer_of", "read_layer", "rows_run_up", "IDENTIFIER"]
 
@@ -76,9 +76,9 @@ def layer_count(path):
 
 
 def texture_folder(frames_folder):
-    """The folder of KTX2 textures beside (or in) a folder of mesh frames, or None: one of the
-    frames folder's siblings holding ``.ktx2`` files, a base colour's first where there are
-    several (a player ships normal or roughness maps too), else the frames folder itself."""
+    """The folder of KTX2 textures of a folder of mesh frames, or None: the frames folder itself
+    where it holds ``.ktx2`` files, else one of its siblings that does, a base colour's first
+    where there are several (a player ships normal or roughness maps too)."""
     frames_folder = Path(frames_folder)
     stamps = tuple(_mtime(p) for p in (frames_folder, frames_folder.parent))
     return _texture_folder(str(frames_folder), stamps)
@@ -94,12 +94,12 @@ def _mtime(path):
 @lru_cache(maxsize=64)
 def _texture_folder(frames_folder, _stamps):
     frames_folder = Path(frames_folder)
+    if any(frames_folder.glob("*.ktx2")):
+        return frames_folder
     siblings = sorted(p for p in frames_folder.parent.iterdir()
                       if p.is_dir() and p != frames_folder and any(p.glob("*.ktx2")))
-    if siblings:
-        colour = [p for p in siblings if "basecolor" in p.name.lower() or "albedo" in p.name.lower()]
-        return (colour or siblings)[0]
-    return frames_folder if any(frames_folder.glob("*.ktx2")) else None
+    colour = [p for p in siblings if "basecolor" in p.name.lower() or "albedo" in p.name.lower()]
+    return (colour or siblings or [None])[0]
 
 
 @lru_cache(maxsize=16)
@@ -156,8 +156,8 @@ def read_layer(texture):
     try:
         import alktx2
     except ImportError:
-        raise InputError(f"{texture.path} is a KTX2 (Basis Universal) texture, which needs the alktx2 package; "
-                         "install it with: pip install 'tvmedit[ktx2]'.") from None
+        raise TvmError(f"{texture.path} is a KTX2 (Basis Universal) texture, which needs the alktx2 package; "
+                       "install it with: pip install 'tvmedit[ktx2]'.") from None
     path = Path(texture.path)
     data = _file_bytes(str(path), path.stat().st_mtime_ns)
     try:

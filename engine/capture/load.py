@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, summarise
+from ..errors import InputError, TvmError, summarise
 from .orientation import Orientation, detect, sample_indices
 from ..checks import MAX_FPS, json_value, listed
 from .readers import READERS, natural_key as _natural_key, read_manifest, read_mesh, reader_for
@@ -241,7 +241,7 @@ def read_frame(path, orientation=None, detail="full"):
         raise InputError(f"frame {path} is an empty file; re-export it or remove it (or pass skip_bad_frames=True).")
     try:
         mesh = read_mesh(path, detail)
-    except InputError:  # a frame's texture that says what is wrong with it (ktx2)
+    except TvmError:    # a frame's texture that says what is wrong with it (ktx2)
         raise
     except Exception as error:  # trimesh, DracoPy and Pillow raise many types for broken files
         reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__

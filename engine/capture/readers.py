@@ -413,7 +413,7 @@ def read_draco(path, detail="full"):
     if colours is not None and len(colours) == len(vertices):
         data.colours = np.asarray(colours)[:, :3].astype(np.uint8)
     uv = getattr(mesh, "tex_coord", None)
-    if uv is not None and len(uv) == len(vertices):
+    if uv is not None and len(uv) == len(vertices) and detail != "geometry":
         image_path = texture_for(path)
         if image_path is not None:
             data.uv = np.asarray(uv, dtype=np.float32)[:, :2]
@@ -456,10 +456,14 @@ def _ktx2_layer(mesh_path):
     folder = texture_folder(mesh_path.parent)
     if folder is None:
         return None
-    suffix = mesh_path.suffix.lower()
-    frames = sorted((p for p in mesh_path.parent.iterdir() if p.suffix.lower() == suffix), key=natural_key)
-    names = [p.name for p in frames]
+    names = _frame_names(str(mesh_path.parent), mesh_path.parent.stat().st_mtime_ns)
     return layer_of(folder, names.index(mesh_path.name), natural_key) if mesh_path.name in names else None
+
+
+@lru_cache(maxsize=16)
+def _frame_names(folder, _stamp):
+    """The names of a folder's Draco frames (``.drc`` and ``.draco`` alike), in natural order."""
+    return [p.name for p in sorted(Path(folder).iterdir(), key=natural_key) if (reader_for(p) or ("",))[0] == "draco"]
 
 
 def _mtime(folder):

@@ -294,7 +294,7 @@ def sequence_features(folder, bins=None, cache_dir=None, frame="body"):
     paths = sequence.paths
     orientation = sequence.orientation.for_features()
     stats = featurecache.stat_list(paths)
-    key = featurecache.key(stats, bins, orientation=orientation)
+    key = featurecache.key(stats, bins, orientation=orientation, meshes=sequence.orientation)
     found = featurecache.read(key, bins, cache_dir)
     if found is not None:
         return found[0]

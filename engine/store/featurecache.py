@@ -62,9 +62,8 @@ def key(stats, bins, skip_bad_frames=False, orientation=None, meshes=None):
     display fields made from the same frames. Features in the body's own frame do not change
     when the take is turned about up (``--front``), but its meshes do, so both maps count."""
     frame = [] if orientation is None or orientation.is_identity else [orientation.matrix, orientation.scale]
-    if meshes is not None and not meshes.is_identity and (orientation is None or (meshes.matrix, meshes.scale)
-                                                          != (orientation.matrix, orientation.scale)):
-        frame.append([meshes.matrix, meshes.scale])
+    if meshes is not None and not meshes.is_identity:
+        frame.append(["meshes", meshes.matrix, meshes.scale])
     blob = json.dumps([stats, bins.to_json(), code_version(), bool(skip_bad_frames)] + frame)
     return hashlib.sha1(blob.encode()).hexdigest()[:20]
 

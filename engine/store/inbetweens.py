@@ -378,11 +378,11 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
 
 
 def _shows(frames, blends):
-    """``{mesh id: what it shows}``: a stored frame's ``(sequence, frame)``; an in-between frame's
-    run and place in it, ``("edge", exit, entry, count, k)`` or ``("wrap", texton, at, count,
-    k)``. A run's frames follow from its two ends (or its texton), its count and the frames'
-    files alone, so two libraries' mesh ids that show the same are the same mesh."""
-    shows = dict(frames)
+    """``{mesh id: what it shows}``: a stored frame's ``("frame", sequence, frame)``; an in-between
+    frame's run and place in it, ``("edge", exit, entry, count, k)`` or ``("wrap", texton, at,
+    count, k)``. A run's frames follow from its two ends (or its texton), its count and the
+    frames' files alone, so two libraries' mesh ids that show the same are the same mesh."""
+    shows = {row: ("frame", *key) for row, key in frames.items()}
     for edge in blends.get("edges", []):
         for k in range(edge["count"]):
             shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k)
@@ -396,7 +396,7 @@ def _sequences_of(shown):
     """The sequences whose frames a mesh id's :func:`_shows` entry is made from."""
     if shown[0] == "edge":
         return {shown[1][0], shown[2][0]}
-    return {shown[1][0]} if shown[0] == "wrap" else {shown[0]}
+    return {shown[1][0]} if shown[0] == "wrap" else {shown[1]}
 
 
 def _old_fields(old, keys):
