@@ -69,7 +69,7 @@ import numpy as np
 
 from ..features import spread_indices
 
-__all__ = ["Orientation", "detect", "feature_frame", "parse_up", "across", "sample_indices", "AXES", "SNAP_DEGREES", "UNITS",
+__all__ = ["Orientation", "detect", "feature_frame", "parse_up", "sample_indices", "AXES", "SNAP_DEGREES", "UNITS",
            "FRAME_DEGREES", "IDENTITY"]
 
 AXES = {"+x": (1.0, 0.0, 0.0), "-x": (-1.0, 0.0, 0.0), "+y": (0.0, 1.0, 0.0),
@@ -294,8 +294,8 @@ def _front(front, direction, depth_camera, reasons):
     given, a depth camera's, or the convention of ``direction`` up."""
     if front is not None:
         vector = parse_up(front, "front")
-        if not across(vector, direction):
-            turns = [name for name, axis in AXES.items() if across(np.array(axis), direction)]
+        if not _across(vector, direction):
+            turns = [name for name, axis in AXES.items() if _across(np.array(axis), direction)]
             raise ValueError(f"the front {front} lies along the up axis {_axis_name(direction)}; a front "
                              f"must lie across it: {', '.join(turns)}")
         reasons["front"] = "given"
@@ -309,7 +309,7 @@ def _front(front, direction, depth_camera, reasons):
     return vector
 
 
-def across(front, up):
+def _across(front, up):
     """Whether ``front`` lies far enough across ``up`` to be made square to it (the two at
     least :data:`SNAP_DEGREES` apart, as a front given along an oblique up may be)."""
     return abs(float(np.dot(front, up))) <= math.cos(math.radians(SNAP_DEGREES))

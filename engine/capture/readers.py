@@ -46,7 +46,7 @@ import numpy as np
 
 from ..checks import json_value
 
-__all__ = ["MeshData", "Manifest", "READERS", "register", "reader_for", "read_mesh", "read_image", "natural_key",
+__all__ = ["MeshData", "Manifest", "READERS", "register", "reader_for", "read_mesh", "read_image", "natural_key", "is_draco",
            "texture_colours", "read_manifest", "MANIFEST_NAMES", "IMAGE_SUFFIXES"]
 
 #: File names of a sequence manifest, in the order they are looked for.
@@ -463,7 +463,12 @@ def _ktx2_layer(mesh_path):
 @lru_cache(maxsize=16)
 def _frame_names(folder, _stamp):
     """The names of a folder's Draco frames (``.drc`` and ``.draco`` alike), in natural order."""
-    return [p.name for p in sorted(Path(folder).iterdir(), key=natural_key) if (reader_for(p) or ("",))[0] == "draco"]
+    return [p.name for p in sorted(Path(folder).iterdir(), key=natural_key) if is_draco(p)]
+
+
+def is_draco(path):
+    """Whether ``path`` is a frame file the Draco reader reads (``.drc``, ``.draco``)."""
+    return (reader_for(path) or ("",))[0] == "draco"
 
 
 def _mtime(folder):

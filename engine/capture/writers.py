@@ -99,9 +99,8 @@ def write_obj(path, positions, faces, colours=None, uv=None, image=None):
     if textured:
         texture = _obj_texture(path.stem, image)
         head = f"mtllib {path.stem}.mtl\nusemtl material_0\n"
-        body = (("v %.8f %.8f %.8f\n" * len(positions)) % tuple(positions.ravel().tolist())
-                + ("vt %.8f %.8f\n" * len(positions)) % tuple(np.asarray(uv, np.float64).ravel().tolist())
-                + ("f %d/%d %d/%d %d/%d\n" * len(faces)) % tuple(np.repeat(faces.ravel(), 2).tolist()))
+        body = (_lines("v %.8f %.8f %.8f\n", positions) + _lines("vt %.8f %.8f\n", np.asarray(uv, np.float64))
+                + _lines("f %d/%d %d/%d %d/%d\n", np.repeat(faces, 2, axis=1)))
         (path.parent / f"{path.stem}.mtl").write_text(
             "newmtl material_0\nKa 1.0 1.0 1.0\nKd 1.0 1.0 1.0\nKs 0.0 0.0 0.0\nillum 1\n"
             f"map_Kd {texture}\n")
@@ -113,12 +112,17 @@ def write_obj(path, positions, faces, colours=None, uv=None, image=None):
         head = ""
         if colours is not None:
             rows = np.hstack([positions, np.asarray(colours, np.float64)[:, :3] / 255.0])
-            body = ("v %.8f %.8f %.8f %.8f %.8f %.8f\n" * len(rows)) % tuple(rows.ravel().tolist())
+            body = _lines("v %.8f %.8f %.8f %.8f %.8f %.8f\n", rows)
         else:
-            body = ("v %.8f %.8f %.8f\n" * len(positions)) % tuple(positions.ravel().tolist())
-        body += ("f %d %d %d\n" * len(faces)) % tuple(faces.ravel().tolist())
+            body = _lines("v %.8f %.8f %.8f\n", positions)
+        body += _lines("f %d %d %d\n", faces)
     path.write_text(head + body)
     return path
+
+
+def _lines(line, rows):
+    """``line`` (a %-format of one row) filled with every row of ``rows``, in one ``%``."""
+    return (line * len(rows)) % tuple(np.asarray(rows).ravel().tolist())
 
 
 def write_glb(path, positions, faces, colours=None, uv=None, image=None):

@@ -43,7 +43,7 @@ import numpy as np
 from .. import safewrite
 from ..capture.load import SIDECAR, sidecar_json
 from ..capture.plyfast import write_ply
-from ..capture.readers import MANIFEST_NAMES, texture_for
+from ..capture.readers import MANIFEST_NAMES, is_draco, texture_for
 from ..capture.writers import prepare, write_frame
 from ..errors import ParameterError
 from ..parallel import Workers
@@ -184,7 +184,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         if fmt != "ply":
             record["format"] = fmt
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
-        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(library, schedule, fmt)))
+        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(frame, schedule, fmt)))
         if fmt == "scvv":
             _write_scvv_manifest(tmp, frames, textures, fps)
     return record
@@ -246,12 +246,11 @@ def _written(library, shown, copies, fmt, folder, pool, frame):
                   for index, source in enumerate(copies) if source is not None}
         try:
             made = [index for index in range(len(shown)) if index not in copied]
+            task = lambda index: (fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt, frame))  # noqa: E731
             if pool.kind == "threads":  # each thread reads its frame too: no pickling, all cores
-                done = pool.map(lambda index: _encode((fmt, str(folder), stems[index],
-                                                       *_encoding(library, shown[index], fmt, frame))), made)
+                done = pool.map(lambda index: _encode(task(index)), made)
             else:
-                done = pool.map(_encode, ((fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt, frame))
-                                          for index in made))
+                done = pool.map(_encode, map(task, made))
             yield from zip(made, done)
             for index, done in copied.items():
                 yield index, done.result()
@@ -305,7 +304,7 @@ def _copy_source(library, item, fmt, orientation):
     if (library.orientation(entry.sequence) or orientation) != orientation:
         return None
     path = Path(_source_file(library, entry.sequence, entry.frame) or "")
-    if path.suffix.lower() not in _DRACO or not path.is_file():
+    if not is_draco(path) or not path.is_file():
         return None
     texture = _draco_texture(path)
     if library.textured and texture is None:
@@ -332,28 +331,23 @@ def _texture_file(library, entry):
     return None if origin is None else _draco_texture(_source_file(library, *origin))
 
 
-#: Suffixes of Draco frame files.
-_DRACO = (".drc", ".draco")
-
-
 def _draco_texture(path):
     """The texture image of the Draco capture file ``path`` by its reader's rule
     (:func:`tvmedit.engine.capture.readers.texture_for`), where it is there; None for a file of
     another format, or no image."""
-    if path is None or Path(path).suffix.lower() not in _DRACO:
+    if path is None or not is_draco(path):
         return None
     texture = texture_for(path)     # a KTX2 file's layer is no image file to copy
     return texture if isinstance(texture, Path) and texture.is_file() else None
 
 
-def _frame_of(library, schedule, fmt):
+def _frame_of(orientation, schedule, fmt):
     """The up axis, units, front and mirror an export in the capture's coordinates states beside
     its frames, so it reads back upright and facing the camera whatever its motions (none for
-    PLY and glTF: tvmedit's and glTF's). Every frame is written in these coordinates, those of
-    the edit's first sequence (:func:`_encoding`)."""
+    PLY and glTF: tvmedit's and glTF's). Every frame is written in these coordinates,
+    ``orientation``, those of the edit's first sequence (:func:`_frame`, :func:`_encoding`)."""
     if fmt in ("ply", "glb") or not schedule:
         return {}
-    orientation = library.orientation(schedule[0].sequence)
     return {"up": orientation.up, "units": orientation.units, "front": orientation.front,
             **({"mirror": True} if orientation.mirrored else {})}
 

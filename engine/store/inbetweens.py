@@ -330,10 +330,11 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     ``instant_fields.npy`` (float16, a row per vertex of each step's first mesh).
 
     ``blends`` is what ``blends.json`` holds (:func:`blend_library`'s ``data``); with ``count``
-    0 (the paper's cut) the cut itself gets no field. A step between two stored frames that the
-    library being replaced (``old``) holds, read from the same frame files (``keys``: sequence
-    -> feature key), is copied, not fitted again: a correction by hand fits only the steps of
-    the textons and transitions it changed. A step of a sequence whose rate (``rates``: sequence
+    0 (the paper's cut) the cut itself gets no field. A step the library being replaced
+    (``old``) holds between the same meshes (:func:`_shows`: stored frames read from the same
+    frame files, ``keys``: sequence -> feature key, or in-between frames of the same run) is
+    copied, not fitted again: a correction by hand fits only the steps of the textons and
+    transitions it changed. A step of a sequence whose rate (``rates``: sequence
     -> fps) is :data:`tvmedit.engine.inbetween.instants.FIELDS_BELOW_FPS` or more gets none.
     Returns ``{"pairs"`` (fields stored), ``"steps"``
     (steps looked at), ``"made"`` (steps fitted), ``"seconds"}``.

@@ -10,12 +10,9 @@ corrections by hand (for the sequences still built) and a front given to a seque
 import os
 import warnings
 
-import numpy as np
-
 from .. import safewrite
 from . import layout
 from ..capture.load import expand_inputs, open_sequence, rate_assumed
-from ..capture.orientation import AXES, across
 from ..errors import InputError, TvmError
 
 __all__ = ["open_inputs", "open_old", "check_target", "kept_corrections", "check_kept", "pass_on"]
@@ -36,8 +33,13 @@ def open_inputs(inputs, fps, log, frame=None, old=None):
         if frame.get("front") is None:
             for k, ((name, source), sequence) in enumerate(zip(expanded, sequences)):
                 kept = _kept_front(old, sequence)
-                if kept is not None:
+                if kept is None:
+                    continue
+                try:
                     sequences[k] = open_sequence(source, name=name, fps=fps, **{**frame, "front": kept})
+                except InputError:  # it lies along the up this build has (an --up given anew)
+                    warnings.warn(f"{sequence.name}: the front {kept} given before lies along the up axis "
+                                  f"{sequence.orientation.up} of this build, so it is not kept; give --front anew.")
     pass_on(caught, log)
     for sequence in sequences:
         assumed = rate_assumed(sequence)
@@ -54,8 +56,7 @@ def open_inputs(inputs, fps, log, frame=None, old=None):
 
 def _kept_front(old, sequence):
     """The front given to ``sequence`` (by name) in the library being replaced, where it
-    differs from the one ``sequence`` has now; None where there is none, and a warning where
-    it lies along the up this build has (an ``--up`` given anew), which turns it away."""
+    differs from the one ``sequence`` has now; None where there is none."""
     if old is None or sequence.orientation.reasons.get("front") == "given":
         return None
     try:
@@ -63,11 +64,6 @@ def _kept_front(old, sequence):
     except (TvmError, KeyError, ValueError):    # not in it, or an entry that cannot be read
         return None
     if was is None or was.reasons.get("front") != "given" or was.front == sequence.orientation.front:
-        return None
-    up = np.asarray(sequence.orientation.matrix[2])     # the file's up, the map's third row
-    if not across(np.array(AXES[was.front]), up):
-        warnings.warn(f"{sequence.name}: the front {was.front} given before lies along the up axis "
-                      f"{sequence.orientation.up} of this build, so it is not kept; give --front anew.")
         return None
     return was.front
 
