@@ -1,5 +1,5 @@
 """A library knows its own bytes: damage on disk is found by `check LIB`, and stops export and
-render before they write a frame (checksums in the manifest; each frame within its bounds)."""
+render with nothing written (checksums in the manifest, beside the frames; each frame within its bounds)."""
 
 import json
 import shutil
@@ -39,12 +39,16 @@ def test_same_size_damage_to_any_array_is_named_by_check(small_library, tmp_path
     assert "Traceback" not in result.stderr
 
 
+@pytest.mark.parametrize("name", ["colours.npy", "positions.npy"])
 @pytest.mark.parametrize("command", ["export", "render"])
-def test_damage_stops_export_and_render_before_any_frame(small_library, tmp_path, command):
-    copy = _damaged(small_library, tmp_path, "colours.npy")
+def test_damage_stops_export_and_render_and_leaves_nothing(small_library, tmp_path, command, name):
+    # The checksums run beside the frames: damage a frame read meets first (positions off
+    # their bounds) is named by them all the same, and nothing is left at the output.
+    copy = _damaged(small_library, tmp_path, name)
     out = tmp_path / ("edit" if command == "export" else "edit.mp4")
     result = tvmedit(command, copy, "0", "1", "-o", out, "-q")
-    assert result.returncode == 2 and "colours.npy" in result.stderr and not out.exists()
+    assert result.returncode == 2 and f"{name} does not hold the bytes written" in result.stderr, result.stderr
+    assert not out.exists() and list(tmp_path.iterdir()) == [copy]
 
 
 def test_without_checksums_a_vertex_off_its_bounds_is_still_caught(small_library, tmp_path):

@@ -138,7 +138,6 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         raise ParameterError(f"format {fmt!r} is not one of {', '.join(FORMATS)}.")
     out = Path(out)
     _check_target(out, force, library)
-    library.verify(library.MESH_FILES)  # damage on disk stops the export before its first frame
     # Checked again before the swap: the folder may have changed meanwhile.
     recheck = lambda target: _check_target(target, force, library)  # noqa: E731
     schedule = edit.schedule
@@ -149,7 +148,9 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
     encoded = 0 if fmt == "ply" else copies.count(None)
     if encoded >= POOL_FROM or fmt in THREADED:
         prepare(fmt)    # imported once here, not once in each worker process
+    # Damage on disk stops the export and leaves nothing: the checksums run beside the frames.
     with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
+            library.verifying(library.MESH_FILES), \
             _encoders(fmt, encoded) as pool:   # left only once no worker writes
         pool.start()    # forked before any thread of this export runs
         if fmt == "ply":

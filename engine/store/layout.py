@@ -46,6 +46,7 @@ Only the frames of database textons (after a correction by hand, maybe more: :mo
 keeps a library's arrays rather than copy them) and the transitions' in-between frames are stored.
 """
 
+import contextlib
 import dataclasses
 import json
 import time
@@ -301,6 +302,27 @@ def verify(path, manifest, names=None):
     sums = manifest.get("checksums", {})
     names = [name for name in sums if names is None or name in names]
     return [name for name, found in zip(names, _checksums(path, names)) if found != sums[name]]
+
+
+@contextlib.contextmanager
+def verifying(path, manifest, names=None):
+    """:func:`verify` on a thread while the body reads frames (an export, a render): the
+    checksums of a large library take a second or more, and the frames need not wait for them.
+    Leaving the body waits for them and raises their LibraryError where files are damaged, so
+    a body inside a temporary output (:mod:`tvmedit.engine.safewrite`) leaves nothing; where
+    the body meets a damaged frame first, the checksums name the files all the same."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(1) as pool:
+        checking = pool.submit(verify, path, manifest, names)
+        try:
+            yield
+        except LibraryError:
+            if checking.result():
+                raise damaged_files(path, checking.result()) from None
+            raise
+        if checking.result():
+            raise damaged_files(path, checking.result())
 
 
 def damaged_files(path, names):

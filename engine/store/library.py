@@ -386,6 +386,10 @@ class Library(DisplaySteps):
             raise layout.damaged_files(self.path, bad)
         return sum(1 for name in self.manifest.get("checksums", {}) if wanted is None or name in wanted)
 
+    def verifying(self, names=None):
+        """:meth:`verify` beside the reads of an export or a render (:func:`tvmedit.engine.store.layout.verifying`)."""
+        return layout.verifying(self.path, self.manifest, None if names is None else set(names))
+
     def blend_row(self, row):
         """:meth:`frame_mesh` of the ``row``-th in-between frame stored (runs one after another,
         as ``blends.json`` lists them)."""
