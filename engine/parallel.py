@@ -25,7 +25,7 @@ from .checks import whole
 #: Most local worker processes a pool may start.
 MAX_WORKERS = 512
 
-__all__ = ["Workers", "default_workers", "signals_held"]
+__all__ = ["Workers", "default_workers", "signals_held", "helper_threads"]
 
 #: Signals held back while workers are forked or GL compiles (:func:`signals_held`).
 _HELD = {signal.SIGINT, signal.SIGTERM}
@@ -52,6 +52,23 @@ def signals_held():
         yield
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _hold_in_thread():
+    """Thread initializer: this thread never takes Ctrl-C or SIGTERM, so the kernel delivers
+    them to the main thread alone, where :func:`signals_held` can hold them back."""
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+
+
+def helper_threads(count):
+    """A ``ThreadPoolExecutor`` of ``count`` threads that never take Ctrl-C or SIGTERM (nor
+    do the threads they start): with one such signal arriving in a helper, Python would raise
+    it in the main thread even inside :func:`signals_held`, while workers are forked or GL
+    compiles, or while a pool's writers are waited for before a folder is tidied."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(count, initializer=_hold_in_thread)
 
 
 def _watch_parent(parent):
@@ -158,9 +175,7 @@ class Workers:
                 raise TvmError(f"cannot reach the dask scheduler at {self.dask} ({error}); "
                                "start one with `dask scheduler` or use dask=local.") from None
         elif self.kind == "threads" and self._executor is None:
-            from concurrent.futures import ThreadPoolExecutor
-
-            self._executor = ThreadPoolExecutor(self.workers)
+            self._executor = helper_threads(self.workers)
         elif self.kind == "processes" and self._executor is None:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor

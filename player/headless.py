@@ -94,15 +94,18 @@ def render_frames(source, keys, out, size=(640, 480), fps=10, camera=None, orbit
         width, height = width - width % 2, height - height % 2
     _check_output(out, kind, force, source)
     out.parent.mkdir(parents=True, exist_ok=True)
-    base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
-    shown = list(_shown(source, keys, capture_fps, fps, smooth))
+    # A library's frames hold the bytes written, or nothing is kept: the checksums name the
+    # damaged files where a read fails here, then run beside the drawing.
+    checked = (lambda beside: source.verifying(source.MESH_FILES, beside)) if hasattr(source, "verifying") \
+        else (lambda beside: contextlib.nullcontext())
+    with checked(False):
+        base = _camera(camera, source.bounds(), (width, height), all_azimuths=bool(orbit_deg_per_s))
+        shown = list(_shown(source, keys, capture_fps, fps, smooth))
     bar = tqdm(shown, desc=f"render {out.name}", unit="frame", disable=not progress)
     # A folder is swapped in whole; a file is written under a temporary name with its suffix.
     target = safewrite.replacing_folder(out, kind="frames") if kind == "folder" else safewrite.replacing_file(out)
     try:
-        # A library's frames hold the bytes written, or nothing is kept: checked beside the drawing.
-        verifying = source.verifying(source.MESH_FILES) if hasattr(source, "verifying") else contextlib.nullcontext()
-        with target as temporary, verifying, _renderer(source, (width, height), grid, background, samples) as renderer:
+        with target as temporary, checked(True), _renderer(source, (width, height), grid, background, samples) as renderer:
             frames = (_draw(renderer, source, key, base.orbit(orbit_deg_per_s * i / fps), shading, instant)
                       for i, (key, instant) in enumerate(bar))
             _WRITERS[kind](frames, temporary, (width, height), fps)

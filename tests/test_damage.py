@@ -60,3 +60,50 @@ def test_without_checksums_a_vertex_off_its_bounds_is_still_caught(small_library
             library.frame_mesh(key)
     result = tvmedit("check", copy)
     assert result.returncode == 2 and "outside the bounds" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_damage_met_before_the_frames_is_named_by_the_checksums(small_library, tmp_path):
+    # At 30 fps an export reads the display fields' table before it starts writing: a damaged
+    # one is named as such, not as an array that does not match.
+    copy = _damaged(small_library, tmp_path, "instant_pairs.npy")
+    out = tmp_path / "edit"
+    result = tvmedit("export", copy, "0", "1", "--fps", "30", "-o", out, "-q")
+    assert result.returncode == 2 and "instant_pairs.npy does not hold the bytes written" in result.stderr, \
+        result.stderr
+    assert not out.exists() and "Traceback" not in result.stderr
+
+
+def test_an_export_forks_its_workers_before_any_thread_of_it_runs(small_library, tmp_path):
+    # Worker processes forked beside a running thread inherit its locks held; the checksums'
+    # thread must start after them.
+    import os
+    import threading
+
+    from tvmedit.engine.graph.export import POOL_FROM
+
+    library = Library.open(small_library)
+    edit = library.edit(list(range(len(library.nodes))))
+    assert len(edit.schedule) >= POOL_FROM    # OBJ on worker processes
+    before = set(threading.enumerate())
+    seen = []
+    os.register_at_fork(before=lambda: seen.append(set(threading.enumerate()) - before) if watching else None)
+    watching = True
+    try:
+        from tvmedit.engine.graph.export import export_edit
+
+        export_edit(edit, tmp_path / "obj", fmt="obj")
+    finally:
+        watching = False
+    assert seen and all(not extra for extra in seen), [sorted(t.name for t in extra) for extra in seen]
+
+
+def test_a_stopped_check_reads_no_further_and_reports_nothing(small_library):
+    import threading
+
+    from tvmedit.engine.store import layout
+
+    stop = threading.Event()
+    stop.set()
+    library = Library.open(small_library)
+    assert layout.checksum(small_library / "positions.npy", stop) is None
+    assert layout.verify(small_library, library.manifest, None, stop) == []

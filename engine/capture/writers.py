@@ -136,12 +136,14 @@ def _text(head, rows, decimals, twice=None):
     >>> _text(b"v ", np.array([[1.5, -0.0, 12.25]]), 2), _text(b"f ", np.array([[1, 20, 300]]), 0, "/")
     (b'v 1.50 -0.00 12.25\\n', b'f 1/1 20/20 300/300\\n')
     """
-    rows = np.asarray(rows, np.float64)
+    given = np.asarray(rows)
+    rows = given.astype(np.float64)
     exact = len(rows) and rows.shape[1] and np.abs(rows).max() * 10.0 ** decimals < 2.0 ** 53 and (
         decimals == 0 and np.array_equal(rows, np.rint(rows)) or np.array_equal(rows, rows.astype(np.float32)))
     if not exact:
-        line = head.decode() + " ".join([f"%.{decimals}f" + (f"{twice}%.{decimals}f" if twice else "")] * rows.shape[1]) + "\n"
-        return ((line * len(rows)) % tuple(np.repeat(rows, 2 if twice else 1, axis=1).ravel().tolist())).encode()
+        spec, values = ("%d", given) if decimals == 0 and given.dtype.kind in "iu" else (f"%.{decimals}f", rows)
+        line = head.decode() + " ".join([spec + (f"{twice}{spec}" if twice else "")] * rows.shape[1]) + "\n"
+        return ((line * len(rows)) % tuple(np.repeat(values, 2 if twice else 1, axis=1).ravel().tolist())).encode()
     numbers = [_number_chars(rows[:, j], decimals) for j in range(rows.shape[1])]
     copies = 2 if twice else 1
     width = len(head) + sum(copies * (chars.shape[1] + 1) for chars, _ in numbers)

@@ -35,7 +35,6 @@ import contextlib
 import json
 import re
 import shutil
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -46,7 +45,7 @@ from ..capture.plyfast import write_ply
 from ..capture.readers import MANIFEST_NAMES, is_draco, texture_for
 from ..capture.writers import prepare, write_frame
 from ..errors import ParameterError
-from ..parallel import Workers
+from ..parallel import Workers, helper_threads
 from ..checks import json_value
 
 __all__ = ["export_edit", "default_format", "FORMATS", "has_sound", "POOL_FROM", "THREADED"]
@@ -142,17 +141,27 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
     recheck = lambda target: _check_target(target, force, library)  # noqa: E731
     schedule = edit.schedule
     capture_fps = library.sequence(schedule[0].sequence).fps if schedule else None
-    shown = _shown(library, schedule, capture_fps, fps, smooth)
-    frame = _frame(library, schedule)   # the coordinates every frame of a capture's format is written in
-    copies = [None] * len(shown) if fmt == "ply" else [_copy_source(library, item, fmt, frame) for item in shown]
+    # Damage on disk stops the export and leaves nothing: the checksums name the damaged
+    # files, here where a read fails, then beside the frames written.
+    with library.verifying(library.MESH_FILES, beside=False):
+        shown = _shown(library, schedule, capture_fps, fps, smooth)
+        frame = _frame(library, schedule)   # the coordinates every frame of a capture's format is written in
+        copies = [None] * len(shown) if fmt == "ply" else [_copy_source(library, item, fmt, frame) for item in shown]
     encoded = 0 if fmt == "ply" else copies.count(None)
     if encoded >= POOL_FROM or fmt in THREADED:
         prepare(fmt)    # imported once here, not once in each worker process
-    # Damage on disk stops the export and leaves nothing: the checksums run beside the frames.
     with safewrite.replacing_folder(out, recheck=recheck, kind="export") as tmp, \
-            library.verifying(library.MESH_FILES), \
             _encoders(fmt, encoded) as pool:   # left only once no worker writes
         pool.start()    # forked before any thread of this export runs
+        record = _write_all(library, edit, shown, copies, fmt, tmp, pool, frame, (fps, capture_fps), progress, out)
+    return record
+
+
+def _write_all(library, edit, shown, copies, fmt, tmp, pool, frame, rates, progress, out):
+    """Write every frame of ``shown`` and the export's own files into ``tmp``, the checksums
+    running beside them; returns the record ``edit.json`` holds."""
+    fps, capture_fps = rates
+    with library.verifying(library.MESH_FILES):
         if fmt == "ply":
             writing = ((index, (_write_ply_frame(library, item, tmp, index), None)) for index, item in enumerate(shown))
         else:
@@ -170,7 +179,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
             entry = item[0]
             frames.append({"index": index, "file": name, **entry.to_json(),
                            "source_file": _source_file(library, entry.sequence, entry.frame),
-                           **_instant_json(item, schedule, fps)})
+                           **_instant_json(item, edit.schedule, fps)})
         fps = capture_fps if fps is None else fps
         record = {
             "library": str(Path(library.path).resolve()),
@@ -185,7 +194,7 @@ def export_edit(edit, out, force=False, progress=False, fmt=None, fps=None, smoo
         if fmt != "ply":
             record["format"] = fmt
         (tmp / "edit.json").write_text(json.dumps(record, indent=1))
-        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(frame, schedule, fmt)))
+        (tmp / SIDECAR).write_text(sidecar_json(record["fps"], out.name, **_frame_of(frame, edit.schedule, fmt)))
         if fmt == "scvv":
             _write_scvv_manifest(tmp, frames, textures, fps)
     return record
@@ -242,7 +251,7 @@ def _written(library, shown, copies, fmt, folder, pool, frame):
     for the formats of :data:`THREADED`; OBJ's text formatting holds the GIL, so only worker
     processes share it."""
     stems = [f"frame_{index:05d}" for index in range(len(shown))]
-    with ThreadPoolExecutor(1) as copier:
+    with helper_threads(1) as copier:
         copied = {index: copier.submit(_copy, source, folder, stems[index])
                   for index, source in enumerate(copies) if source is not None}
         try:

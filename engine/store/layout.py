@@ -256,10 +256,10 @@ def manifest(records, params, feature_columns, counts, bounds, max_counts):
     }
 
 
-def checksum(path):
+def checksum(path, stop=None):
     """CRC-32 of a file's bytes as 8 hex digits (zlib, a gigabyte a second or more): enough to
     tell damage of any size from the bytes written, where a file's size alone tells only
-    truncation.
+    truncation. None where the event ``stop`` is set before the end (looked at every 4 MB).
 
     >>> import tempfile; f = tempfile.NamedTemporaryFile(delete=False); _ = f.write(b"tvm"); f.close()
     >>> checksum(f.name)
@@ -270,6 +270,8 @@ def checksum(path):
     crc = 0
     with open(path, "rb") as handle:
         while chunk := handle.read(1 << 22):
+            if stop is not None and stop.is_set():
+                return None
             crc = zlib.crc32(chunk, crc)
     return f"{crc:08x}"
 
@@ -284,45 +286,66 @@ def write_manifest(folder, data):
     write_json(folder / "manifest.json", data)
 
 
-def _checksums(folder, names):
+def _checksums(folder, names, stop=None):
     """:func:`checksum` of each of the files ``names`` in ``folder``, files side by side on every
     core: reading and zlib's CRC both let go of the GIL, so threads share the work."""
-    from concurrent.futures import ThreadPoolExecutor
+    from ..parallel import default_workers, helper_threads
 
-    from ..parallel import default_workers
-
-    with ThreadPoolExecutor(default_workers()) as pool:
-        return list(pool.map(lambda name: checksum(Path(folder) / name), names))
+    with helper_threads(default_workers()) as pool:
+        return list(pool.map(lambda name: checksum(Path(folder) / name, stop), names))
 
 
-def verify(path, manifest, names=None):
+def verify(path, manifest, names=None, stop=None):
     """The names of the library's files whose bytes differ from those written (checksums in
     the manifest; ``names`` limits which), in manifest order; [] for a library built before
-    checksums."""
+    checksums, and for files not read to their end because the event ``stop`` was set."""
     sums = manifest.get("checksums", {})
     names = [name for name in sums if names is None or name in names]
-    return [name for name, found in zip(names, _checksums(path, names)) if found != sums[name]]
+    return [name for name, found in zip(names, _checksums(path, names, stop)) if found not in (None, sums[name])]
 
 
 @contextlib.contextmanager
-def verifying(path, manifest, names=None):
+def verifying(path, manifest, names=None, beside=True):
     """:func:`verify` on a thread while the body reads frames (an export, a render): the
     checksums of a large library take a second or more, and the frames need not wait for them.
-    Leaving the body waits for them and raises their LibraryError where files are damaged, so
-    a body inside a temporary output (:mod:`tvmedit.engine.safewrite`) leaves nothing; where
-    the body meets a damaged frame first, the checksums name the files all the same."""
-    from concurrent.futures import ThreadPoolExecutor
 
-    with ThreadPoolExecutor(1) as pool:
-        checking = pool.submit(verify, path, manifest, names)
+    Leaving the body waits for them and raises their LibraryError where files are damaged, so
+    a body inside a temporary output (:mod:`tvmedit.engine.safewrite`) leaves nothing. Where the
+    body fails first (a frame off its bounds, an array that does not match its offsets), the
+    checksums still name the damaged files; where they find none, or cannot read a file, the
+    body's own error stands. A Ctrl-C stops them within 4 MB of reading. Their threads never
+    take Ctrl-C (:func:`tvmedit.engine.parallel.helper_threads`); enter this after worker
+    processes are forked, which no running thread may see. With ``beside`` False they run only
+    where the body fails (reads made before such a fork)."""
+    import threading
+
+    from ..parallel import helper_threads
+
+    stop = threading.Event()
+    with helper_threads(1) as pool:
+        checking = pool.submit(verify, path, manifest, names, stop) if beside else None
         try:
             yield
-        except LibraryError:
-            if checking.result():
-                raise damaged_files(path, checking.result()) from None
+        except Exception as error:
+            bad = _found(checking or pool.submit(verify, path, manifest, names))
+            if bad:
+                raise damaged_files(path, bad) from error
             raise
-        if checking.result():
-            raise damaged_files(path, checking.result())
+        except BaseException:   # Ctrl-C, SIGTERM: no wait for the rest of the checksums
+            stop.set()
+            raise
+        bad = checking.result() if beside else []
+        if bad:
+            raise damaged_files(path, bad)
+
+
+def _found(checking):
+    """The damaged files a finished :func:`verify` found; [] where it could not read a file (the
+    error of the body it ran beside says more)."""
+    try:
+        return checking.result()
+    except Exception:
+        return []
 
 
 def damaged_files(path, names):

@@ -369,7 +369,7 @@ class Library(DisplaySteps):
         return self._mesh_at(arrays, offsets, row, f"frame {key[1]} of {key[0]}")
 
     #: The files a frame's geometry, colours and in-betweens come from: what export and render
-    #: verify before they write a frame.
+    #: check beside the frames they write (:meth:`verifying`).
     MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "uvs.npy",
                   "textures.npy", "texture_frames.npy", "blend_positions.npy", "blend_colours.npy",
                   "blend_normals.npy", "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy",
@@ -386,9 +386,9 @@ class Library(DisplaySteps):
             raise layout.damaged_files(self.path, bad)
         return sum(1 for name in self.manifest.get("checksums", {}) if wanted is None or name in wanted)
 
-    def verifying(self, names=None):
+    def verifying(self, names=None, beside=True):
         """:meth:`verify` beside the reads of an export or a render (:func:`tvmedit.engine.store.layout.verifying`)."""
-        return layout.verifying(self.path, self.manifest, None if names is None else set(names))
+        return layout.verifying(self.path, self.manifest, None if names is None else set(names), beside)
 
     def blend_row(self, row):
         """:meth:`frame_mesh` of the ``row``-th in-between frame stored (runs one after another,
