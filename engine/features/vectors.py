@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import InputError
 from .histograms import BinSizes, frame_histograms
 
-__all__ = ["Features", "FeatureAccumulator", "centred_histograms", "CENTRED_VERTICES", "stacked", "features_of",
+__all__ = ["Features", "FeatureAccumulator", "centred_histograms", "stored_rows", "CENTRED_VERTICES", "stacked", "features_of",
            "frame_origin", "moves_across", "FOLLOW_M", "SAMPLE_FRAMES", "follow_picks", "spread_indices",
            "frame_distance", "histogram_distance", "distance_matrix"]
 
@@ -176,6 +176,21 @@ def centred_histograms(positions, origin, bins: BinSizes = BinSizes()):
     positions = np.asarray(positions)
     sample = positions[:: max(1, len(positions) // CENTRED_VERTICES)]
     return frame_histograms(sample, frame_origin(sample, origin, True), bins)
+
+
+def stored_rows(positions, origin, bins: BinSizes = BinSizes(), follow=False):
+    """What a build keeps of one frame: ``(own, centred)``, its histograms about the sequence's
+    origin (:func:`frame_origin`) and about its own centre (:func:`centred_histograms`; None
+    where the origin follows), as float32, the precision :class:`Features` stores.
+
+    >>> own, centred = stored_rows(np.array([[0.0, 0, 0], [0.0, 0, 0.1]]), np.zeros(3))
+    >>> [h.dtype.name for h in own], len(centred)
+    (['float32', 'float32', 'float32'], 3)
+    """
+    positions = np.asarray(positions)
+    own = frame_histograms(positions, frame_origin(positions, origin, follow), bins)
+    centred = None if follow else tuple(h.astype(np.float32) for h in centred_histograms(positions, origin, bins))
+    return tuple(h.astype(np.float32) for h in own), centred
 
 
 class FeatureAccumulator:

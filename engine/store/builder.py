@@ -41,8 +41,7 @@ from ..inbetween.blend import preload
 from .inbetweens import blend_library, instant_library, loop_frames
 from .inputs import check_kept, check_target, kept_corrections, open_inputs, open_old, pass_on
 from ..errors import InputError, summarise
-from ..features import (FeatureAccumulator, Features, centred_histograms, follow_picks, frame_histograms, frame_origin,
-                       moves_across)
+from ..features import FeatureAccumulator, Features, follow_picks, moves_across, stored_rows
 from ..capture.load import read_frame
 from ..parallel import Workers
 from .advice import more_motions
@@ -66,10 +65,6 @@ def _read(path, skip_bad_frames, orientation=None, detail="full"):
         return None, str(error)
 
 
-def _float32(histograms):
-    return tuple(h.astype(np.float32) for h in histograms)
-
-
 def _feature_task(task):
     """Histograms of a chunk of frames: ``(rows, read_s, compute_s)``.
 
@@ -86,9 +81,7 @@ def _feature_task(task):
             rows.append(reason)
             continue
         t1 = time.perf_counter()
-        own = frame_histograms(frame.positions, frame_origin(frame.positions, origin, follow), bins)
-        centred = None if follow else _float32(centred_histograms(frame.positions, origin, bins))
-        rows.append((_float32(own), centred))
+        rows.append(stored_rows(frame.positions, origin, bins, follow))
         read_s += t1 - t0
         compute_s += time.perf_counter() - t1
     return rows, read_s, compute_s
