@@ -145,7 +145,10 @@ def frame_origin(positions, origin, follow):
     """
     if not follow:
         return origin
-    centre = np.asarray(positions, dtype=np.float64).mean(axis=0)
+    # Summed as (3, N) rows: numpy reduces (N, 3) over axis 0 several times slower (the same
+    # centre to the last bit or two; no histogram of the dev suite's frames changed with it).
+    rows = np.ascontiguousarray(np.asarray(positions, dtype=np.float64).T)
+    centre = rows.sum(axis=1) / len(rows[0])
     return np.array([centre[0], centre[1], origin[2]])
 
 
