@@ -197,11 +197,12 @@ def write_glb(path, positions, faces, colours=None, uv=None, image=None):
     import struct
 
     positions = np.ascontiguousarray(positions, dtype="<f4").reshape(-1, 3)
-    parts, views, accessors = [], [], []
+    parts, views, accessors = [], [], []   # parts: the binary chunk's pieces, written as they are
 
     def add(data, target=None, **accessor):
-        offset = sum(len(part) for part in parts)
-        parts.append(data + b"\0" * (-len(data) % 4))
+        data = memoryview(data).cast("B") if isinstance(data, np.ndarray) else data
+        offset = sum(len(part) + -len(part) % 4 for part in parts)
+        parts.append(data)
         views.append({"buffer": 0, "byteOffset": offset, "byteLength": len(data),
                       **({"target": target} if target else {})})
         if accessor:
@@ -213,7 +214,7 @@ def write_glb(path, positions, faces, colours=None, uv=None, image=None):
         raise ValueError(f"{path}: a frame without triangles cannot be written as GLB")
     rows = np.ascontiguousarray(positions.T)   # reduced as rows: twenty times faster than (N, 3) by axis 0
     low, high = rows.min(axis=1), rows.max(axis=1)
-    attributes = {"POSITION": add(positions.tobytes(), 34962, componentType=5126, count=count, type="VEC3",
+    attributes = {"POSITION": add(positions, 34962, componentType=5126, count=count, type="VEC3",
                                   min=[float(v) for v in low], max=[float(v) for v in high])}
     primitive = {"attributes": attributes, "mode": 4}
     gltf = {"asset": {"version": "2.0", "generator": "tvmedit"}, "scene": 0, "scenes": [{"nodes": [0]}],
@@ -222,32 +223,34 @@ def write_glb(path, positions, faces, colours=None, uv=None, image=None):
     if textured:
         flipped = np.array(uv, dtype="<f4").reshape(-1, 2)
         flipped[:, 1] = 1.0 - flipped[:, 1]     # glTF's v runs down the image
-        attributes["TEXCOORD_0"] = add(flipped.tobytes(), 34962,
+        attributes["TEXCOORD_0"] = add(flipped, 34962,
                                        componentType=5126, count=count, type="VEC2")
     elif colours is not None:
         rgba = np.full((count, 4), 255, np.uint8)
         rgba[:, :3] = np.asarray(colours, dtype=np.uint8)[:, :3]
-        attributes["COLOR_0"] = add(rgba.tobytes(), 34962, componentType=5121, normalized=True, count=count,
+        attributes["COLOR_0"] = add(rgba, 34962, componentType=5121, normalized=True, count=count,
                                     type="VEC4")
     indices = np.ascontiguousarray(faces, dtype="<u4").reshape(-1)
-    primitive["indices"] = add(indices.tobytes(), 34963, componentType=5125, count=len(indices), type="SCALAR")
+    primitive["indices"] = add(indices, 34963, componentType=5125, count=len(indices), type="SCALAR")
     if textured:
         data, mime = _image_bytes(image)
         gltf.update(images=[{"bufferView": add(data), "mimeType": mime}], samplers=[{}],
                     textures=[{"sampler": 0, "source": 0}],
                     materials=[{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0}}])
         primitive["material"] = 0
-    binary = b"".join(parts)
-    gltf.update(bufferViews=views, accessors=accessors, buffers=[{"byteLength": len(binary)}])
+    binary = sum(len(part) + -len(part) % 4 for part in parts)
+    gltf.update(bufferViews=views, accessors=accessors, buffers=[{"byteLength": binary}])
     text = json.dumps(gltf, separators=(",", ":")).encode()
     text += b" " * (-len(text) % 4)
-    total = 12 + 8 + len(text) + 8 + len(binary)
+    total = 12 + 8 + len(text) + 8 + binary
     path = Path(path)
     with open(path, "wb") as out:
         out.write(struct.pack("<III", 0x46546C67, 2, total))
         out.write(struct.pack("<II", len(text), 0x4E4F534A) + text)
-        out.write(struct.pack("<II", len(binary), 0x004E4942))
-        out.write(binary)
+        out.write(struct.pack("<II", binary, 0x004E4942))
+        for part in parts:     # each piece padded to 4 bytes, as its view's offset says
+            out.write(part)
+            out.write(b"\0" * (-len(part) % 4))
     return path
 
 
