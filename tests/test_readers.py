@@ -333,6 +333,35 @@ def test_card_edit_exports_as_scvv_and_reads_back_as_the_capture(card_library, t
         assert np.abs(a - b)[person].mean() <= 3.0, (index, np.abs(a - b)[person].mean())
 
 
+def test_card_keeps_its_in_between_frames_as_the_draco_an_export_would_encode(card_library, tmp_path):
+    # The build encodes each in-between frame once; an export copies those bytes, and they are
+    # the bytes an export of a library without them (built before) encodes itself.
+    import json
+    import shutil
+
+    from tvmedit import Library
+    from tvmedit.engine.graph.export import export_edit
+
+    library = Library.open(card_library)
+    edit = library.edit(list(range(len(library.nodes))))
+    moved = [entry for entry in edit.schedule if entry.blend is not None]
+    assert moved and all(library.capture_bytes(entry.key) for entry in moved)
+    older = tmp_path / "older.tvmlib"
+    shutil.copytree(card_library, older)
+    manifest = json.loads((older / "manifest.json").read_text())
+    for name in ("blend_draco.npy", "blend_draco_frames.npy"):
+        (older / name).unlink()
+        manifest["files"].pop(name), manifest["checksums"].pop(name)
+    (older / "manifest.json").write_text(json.dumps(manifest))
+    older_library = Library.open(older)
+    assert older_library.capture_bytes(moved[0].key) is None
+    kept = export_edit(edit, tmp_path / "kept", fmt="scvv")
+    made = export_edit(older_library.edit(list(edit.keys)), tmp_path / "made", fmt="scvv")
+    names = [frame["file"] for frame in kept["frames"]]
+    assert names == [frame["file"] for frame in made["frames"]]
+    assert all((tmp_path / "kept" / name).read_bytes() == (tmp_path / "made" / name).read_bytes() for name in names)
+
+
 @pytest.mark.parametrize("fmt", ["obj", "glb"])
 def test_card_edit_exports_as_obj_and_glb_with_textures_and_times(card_library, tmp_path, fmt):
     import json

@@ -218,6 +218,19 @@ class Orientation:
         """Triangles re-wound when the map is a reflection, so their normals still face out."""
         return faces[:, ::-1] if self.mirrored else faces
 
+    def undo(self, positions, faces):
+        """``(positions float32, faces)`` of a frame in tvmedit's frame taken back to the file's
+        coordinates and units (what an export in a capture's format writes).
+
+        >>> o = Orientation.make(parse_up("+y"), units="mm")
+        >>> p, f = o.undo(o.apply(np.array([[1.0, 2.0, 3.0]])), np.array([[0, 1, 2]]))
+        >>> p.round(3).tolist(), f.tolist()
+        ([[1.0, 2.0, 3.0]], [[0, 1, 2]])
+        """
+        matrix = np.asarray(self.matrix, dtype=np.float64) * self.scale
+        positions = np.asarray(positions, dtype=np.float64) @ np.linalg.inv(matrix).T
+        return positions.astype(np.float32), self.apply_faces(np.asarray(faces))
+
     def for_features(self):
         """The map from the file's coordinates to the body's own frame, where features are
         computed: this one followed by :attr:`features` (an :class:`Orientation` itself, for

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["WRITERS", "SUFFIXES", "TAKES", "prepare", "write_frame", "write_draco", "write_obj", "write_glb", "write_image",
-           "QUANTIZATION_BITS", "UV_BITS", "COMPRESSION_LEVEL", "JPG_QUALITY"]
+__all__ = ["WRITERS", "SUFFIXES", "TAKES", "prepare", "write_frame", "encode_draco", "write_draco", "write_obj",
+           "write_glb", "write_image", "QUANTIZATION_BITS", "UV_BITS", "COMPRESSION_LEVEL", "JPG_QUALITY"]
 
 #: Draco position quantisation (bits per axis over the frame's extent).
 QUANTIZATION_BITS = 14
@@ -60,17 +60,22 @@ def write_image(path, image, quality=JPG_QUALITY):
     return path
 
 
-def write_draco(path, positions, faces, colours=None, uv=None):
-    """One frame as a Draco mesh (``.drc``/``.draco``); its texture is written by the caller
-    (:func:`write_frame` puts it beside, as scvv does). Returns the path."""
+def encode_draco(positions, faces, colours=None, uv=None):
+    """One frame's Draco bytes, at :data:`QUANTIZATION_BITS`, :data:`UV_BITS` and
+    :data:`COMPRESSION_LEVEL` (what :func:`write_draco` writes)."""
     import DracoPy
 
-    data = DracoPy.encode(np.asarray(positions, dtype=np.float32), faces=np.asarray(faces, dtype=np.uint32),
+    return DracoPy.encode(np.asarray(positions, dtype=np.float32), faces=np.asarray(faces, dtype=np.uint32),
                           quantization_bits=QUANTIZATION_BITS, compression_level=COMPRESSION_LEVEL,
                           colors=None if colours is None else np.asarray(colours, dtype=np.uint8),
                           tex_coord=None if uv is None else np.asarray(uv, dtype=np.float64),
                           tex_coord_quantization_bits=UV_BITS if uv is not None else None)
-    Path(path).write_bytes(data)
+
+
+def write_draco(path, positions, faces, colours=None, uv=None):
+    """One frame as a Draco mesh (``.drc``/``.draco``); its texture is written by the caller
+    (:func:`write_frame` puts it beside, as scvv does). Returns the path."""
+    Path(path).write_bytes(encode_draco(positions, faces, colours, uv))
     return Path(path)
 
 

@@ -44,7 +44,7 @@ from .. import safewrite
 from ..capture.load import SIDECAR, sidecar_json
 from ..capture.plyfast import write_ply
 from ..capture.readers import MANIFEST_NAMES, is_draco, texture_for
-from ..capture.writers import prepare, write_frame
+from ..capture.writers import SUFFIXES, prepare, write_frame
 from ..errors import ParameterError
 from ..parallel import Workers, helper_threads
 from ..checks import json_value
@@ -299,9 +299,7 @@ def _encoding(library, item, fmt, orientation):
     if fmt == "glb":    # glTF's (x, y, z) is tvmedit's (x, z, -y): exact, no product
         positions = np.asarray(positions, dtype=np.float32)[:, _Y_UP_AXES] * _Y_UP_SIGNS
     else:
-        matrix = np.asarray(orientation.matrix, dtype=np.float64) * orientation.scale
-        positions = np.asarray(positions, dtype=np.float64) @ np.linalg.inv(matrix).T
-        faces = orientation.apply_faces(np.asarray(faces))
+        positions, faces = orientation.undo(positions, faces)
     if uv is not None:
         image = _texture_file(library, entry) or np.ascontiguousarray(image)
         uv = np.ascontiguousarray(uv)
@@ -312,12 +310,18 @@ def _encoding(library, item, fmt, orientation):
 def _copy_source(library, item, fmt, orientation):
     """``(mesh file, texture file or None)`` of the capture's own files of a captured frame
     shown as stored, when they are already in ``fmt``, still there, and in the coordinates
-    the export is written in (``orientation``); None otherwise."""
+    the export is written in (``orientation``); for an in-between frame, its Draco bytes as
+    the build made them (:mod:`tvmedit.engine.store.capturecopy`) in place of the file; None
+    otherwise."""
     entry = item[0]
-    if fmt != "scvv" or entry.blend is not None or (item[3] is not None and item[2]):
+    if fmt != "scvv" or (item[3] is not None and item[2]):
         return None
     if (library.orientation(entry.sequence) or orientation) != orientation:
         return None
+    if entry.blend is not None:     # an in-between frame, as the build encoded it, where it did
+        data = library.capture_bytes(entry.key)
+        texture = _texture_file(library, entry)
+        return None if data is None or (library.textured and texture is None) else (data, texture)
     path = Path(_source_file(library, entry.sequence, entry.frame) or "")
     if not is_draco(path) or not path.is_file():
         return None
@@ -328,12 +332,16 @@ def _copy_source(library, item, fmt, orientation):
 
 
 def _copy(source, folder, stem):
-    """Copy a frame's files ``source`` into ``folder`` as ``stem``; their names there."""
+    """Copy a frame's files ``source`` (a mesh file or its bytes, and a texture file or None)
+    into ``folder`` as ``stem``; their names there."""
     names = []
-    for path in source:
-        if path is not None:
-            names.append(f"{stem}{path.suffix.lower()}")
-            shutil.copyfile(path, Path(folder) / names[-1])
+    for item in source:
+        if isinstance(item, bytes):
+            names.append(f"{stem}{SUFFIXES['scvv']}")
+            (Path(folder) / names[-1]).write_bytes(item)
+        elif item is not None:
+            names.append(f"{stem}{item.suffix.lower()}")
+            shutil.copyfile(item, Path(folder) / names[-1])
     return names[0], (names[1] if len(names) > 1 else None)
 
 

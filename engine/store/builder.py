@@ -38,6 +38,7 @@ from . import featurecache
 from . import layout
 from . import meshfiles
 from ..inbetween.blend import preload
+from . import capturecopy
 from .inbetweens import blend_library, instant_library, loop_frames
 from .inputs import check_kept, check_target, kept_corrections, open_inputs, open_old, pass_on
 from ..errors import InputError, summarise
@@ -451,6 +452,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
                            pool, run.bar, old, keep_natural, rooms)
+    if capturecopy.applies(sequences) and run.blends["frames"]:   # in-between frames as an export writes them
+        run.stage("draco", capturecopy.encode_blends, tmp, sequences[0].orientation)
     run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
                              run.blends["data"], settings.blend_frames, pool, run.bar, old,
                              {s.name: e.key for s, e in zip(sequences, computed)},

@@ -33,6 +33,9 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     with ``at`` and ``texton``); ``natural_step``, ``blend_frames``, ``feature_keys``, and
     ``pair_steps`` (``[sequence, frame, step, tail]`` the natural step and ``natural_tail``, its
     99th percentile, are the medians of).
+``blend_draco.npy``, ``blend_draco_frames.npy``
+    only for a capture read from Draco frames: each in-between frame's Draco bytes, as an
+    export in the capture's format writes it (:mod:`tvmedit.engine.store.capturecopy`).
 ``instant_pairs.npy``, ``instant_fields.npy``
     the display-rate in-betweens (:mod:`tvmedit.engine.inbetween.instants`): per step a
     schedule can show, ``[from, to, first row, rows]`` (mesh ids: a stored frame's row, ``-1 -
@@ -74,7 +77,7 @@ CHECKED_FILES = ("features.npy", "features_centred.npy", "structure.json", "data
                  "uvs.npy", "textures.npy", "texture_frames.npy", "corrections.json", "parse.json",
                  "blends.json", "blend_positions.npy", "blend_colours.npy", "blend_normals.npy",
                  "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy", "blend_texture_frames.npy",
-                 "instant_pairs.npy", "instant_fields.npy")
+                 "instant_pairs.npy", "instant_fields.npy", "blend_draco.npy", "blend_draco_frames.npy")
 
 def tvmedit_version():
     """The installed tvmedit's version, recorded in every manifest."""

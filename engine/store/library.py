@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import arrays, layout
+from . import arrays, capturecopy, layout
 from ..graph.database import Node
 from ..errors import LibraryError, build_call
 from .infoschema import INFO_SCHEMA  # re-exported: tvmedit.engine.store.library.INFO_SCHEMA
@@ -58,7 +58,7 @@ class LibrarySequence:
 _reads_format = layout.reads_format
 
 
-class Library(DisplaySteps):
+class Library(DisplaySteps, capturecopy.CaptureCopies):
     """A library opened for editing and playing; use :meth:`open`.
 
     Implements the player's ``MeshSource`` protocol (:meth:`frame_mesh`, :meth:`bounds`,
@@ -370,10 +370,10 @@ class Library(DisplaySteps):
 
     #: The files a frame's geometry, colours and in-betweens come from: what export and render
     #: check beside the frames they write (:meth:`verifying`).
-    MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "uvs.npy",
-                  "textures.npy", "texture_frames.npy", "blend_positions.npy", "blend_colours.npy",
-                  "blend_normals.npy", "blend_faces.npy", "blend_frames.npy", "blend_uvs.npy",
-                  "blend_texture_frames.npy", "instant_pairs.npy", "instant_fields.npy")
+    MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "uvs.npy", "textures.npy",
+                  "texture_frames.npy", "blend_positions.npy", "blend_colours.npy", "blend_normals.npy", "blend_faces.npy",
+                  "blend_frames.npy", "blend_uvs.npy", "blend_texture_frames.npy", "instant_pairs.npy",
+                  "instant_fields.npy", "blend_draco.npy", "blend_draco_frames.npy")
 
     def verify(self, names=None):
         """Raise LibraryError, naming them, where files of the library (``names``: only those)
