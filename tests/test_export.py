@@ -74,3 +74,45 @@ def test_frames_of_sequences_turned_apart_go_out_in_the_one_frame_the_export_sta
         shown = np.asarray(library.frame_mesh((entry["sequence"], entry["frame"]))[0])
         assert np.abs(frames[tmp_path / "out" / entry["file"]].positions - shown).max() < 1e-4
     assert sequences == {"walk", "side"}
+
+
+def test_a_vertex_coloured_draco_capture_keeps_colours_on_its_in_between_frames(tmp_path):
+    # Draco frames with vertex colours and no texture: the in-between frames the build keeps as
+    # Draco carry their colours, byte for byte as an export of a library without them encodes.
+    import json
+    import shutil
+
+    import DracoPy
+    import numpy as np
+    import trimesh
+
+    from conftest import synth_take
+    from tvmedit import Library, build
+    from tvmedit.engine.graph.export import export_edit
+
+    take = synth_take("gym", cycles=3, vertices=4000)
+    frames = tmp_path / "draco"
+    frames.mkdir()
+    for path in sorted(take.glob("*.ply")):
+        mesh = trimesh.load(path, process=False)
+        (frames / f"{path.stem}.drc").write_bytes(DracoPy.encode(
+            np.asarray(mesh.vertices, np.float32), faces=np.asarray(mesh.faces, np.uint32),
+            colors=np.asarray(mesh.visual.vertex_colors, np.uint8)[:, :3], quantization_bits=14))
+    (frames / "sequence.json").write_text('{"fps": 10}')
+    library = build([frames], tmp_path / "draco.tvmlib", cache=False)
+    edit = library.edit(list(range(len(library.nodes))))
+    moved = [k for k, entry in enumerate(edit.schedule) if entry.blend is not None]
+    assert moved and library.capture_bytes(edit.schedule[moved[0]].key)
+    older = tmp_path / "older.tvmlib"   # the same library as built before it kept them
+    shutil.copytree(library.path, older)
+    manifest = json.loads((older / "manifest.json").read_text())
+    for name in ("blend_draco.npy", "blend_draco_frames.npy"):
+        (older / name).unlink()
+        manifest["files"].pop(name), manifest["checksums"].pop(name)
+    (older / "manifest.json").write_text(json.dumps(manifest))
+    kept = export_edit(edit, tmp_path / "kept", fmt="scvv")
+    made = export_edit(Library.open(older).edit(list(edit.keys)), tmp_path / "made", fmt="scvv")
+    names = [frame["file"] for frame in kept["frames"]]
+    assert all((tmp_path / "kept" / name).read_bytes() == (tmp_path / "made" / name).read_bytes() for name in names)
+    decoded = DracoPy.decode((tmp_path / "kept" / names[moved[0]]).read_bytes())
+    assert decoded.colors is not None and len(decoded.colors) == len(decoded.points)

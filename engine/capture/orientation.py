@@ -218,6 +218,17 @@ class Orientation:
         """Triangles re-wound when the map is a reflection, so their normals still face out."""
         return faces[:, ::-1] if self.mirrored else faces
 
+    def same_coordinates(self, other):
+        """Whether ``other`` (an Orientation, or None for the identity) takes the same file
+        coordinates to tvmedit's: the same matrix, scale and mirror, whatever the body frame
+        features are computed in. Frames read with either go back to their files alike.
+
+        >>> Orientation().same_coordinates(None), Orientation(scale=0.001).same_coordinates(Orientation())
+        (True, False)
+        """
+        other = Orientation() if other is None else other
+        return (self.matrix, self.scale, self.mirrored) == (other.matrix, other.scale, other.mirrored)
+
     def undo(self, positions, faces):
         """``(positions float32, faces)`` of a frame in tvmedit's frame taken back to the file's
         coordinates and units (what an export in a capture's format writes).

@@ -44,7 +44,7 @@ from .. import safewrite
 from ..capture.load import SIDECAR, sidecar_json
 from ..capture.plyfast import write_ply
 from ..capture.readers import MANIFEST_NAMES, is_draco, texture_for
-from ..capture.writers import SUFFIXES, prepare, write_frame
+from ..capture.writers import SUFFIXES, TAKES, prepare, write_frame
 from ..errors import ParameterError
 from ..parallel import Workers, helper_threads
 from ..checks import json_value
@@ -297,7 +297,7 @@ def _encoding(library, item, fmt, orientation):
     texture = library.frame_texture(entry.key) if library.textured else None
     uv, image = texture if texture is not None else (None, None)
     if fmt == "glb":    # glTF's (x, y, z) is tvmedit's (x, z, -y): exact, no product
-        positions = np.asarray(positions, dtype=np.float32)[:, _Y_UP_AXES] * _Y_UP_SIGNS
+        positions = np.asarray(positions, dtype=np.float32)[:, _Y_UP_AXES] * _Y_UP_SIGNS + np.float32(0.0)  # no -0
     else:
         positions, faces = orientation.undo(positions, faces)
     if uv is not None:
@@ -316,11 +316,13 @@ def _copy_source(library, item, fmt, orientation):
     entry = item[0]
     if fmt != "scvv" or (item[3] is not None and item[2]):
         return None
-    if (library.orientation(entry.sequence) or orientation) != orientation:
+    if not orientation.same_coordinates(library.orientation(entry.sequence)):
         return None
     if entry.blend is not None:     # an in-between frame, as the build encoded it, where it did
         data = library.capture_bytes(entry.key)
         texture = _texture_file(library, entry)
+        if texture is not None and texture.suffix.lower() not in TAKES[fmt]:
+            return None     # an image the format does not take as it is: encoded as a JPG
         return None if data is None or (library.textured and texture is None) else (data, texture)
     path = Path(_source_file(library, entry.sequence, entry.frame) or "")
     if not is_draco(path) or not path.is_file():

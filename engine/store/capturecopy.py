@@ -4,19 +4,20 @@ An edit of a Draco capture (an scvv card, a web player's export) goes out as Dra
 (:mod:`tvmedit.engine.graph.export`). Its captured frames are copied as they came; its
 in-between frames (a transition's run, a loop's closing) are the library's own meshes, and
 each export would encode them again: 8 ms a frame, most of an export's time, for the same
-bytes every time. A library whose every sequence was read from Draco frames, in one frame of
-reference, therefore stores each in-between frame's Draco bytes once, at build time, made as
+bytes every time. A library whose every sequence was read from Draco frames, in the same
+capture coordinates, therefore stores each in-between frame's Draco bytes once, at build time, made as
 an export makes them (:func:`tvmedit.engine.capture.writers.encode_draco`, in the capture's
-coordinates, :meth:`tvmedit.engine.capture.orientation.Orientation.undo`), and an export
-copies them like a captured frame's file:
+coordinates, :meth:`tvmedit.engine.capture.orientation.Orientation.undo`; texture coordinates
+where the frame has a texture, else its vertex colours), and an export copies them like a
+captured frame's file (with the JPG of the captured frame it moves):
 
 ``blend_draco.npy``
     uint8, the frames' Draco bytes one after another (one column);
 ``blend_draco_frames.npy``
     int64 ``[first byte, bytes]`` per in-between frame, in ``blend_frames.npy``'s order.
 
-A library without them (another format, several frames of reference, a build before them)
-has its in-between frames encoded at export, as before. The bytes cost a few percent of the
+A library without them (another format, sequences in other coordinates, a build before
+them) has its in-between frames encoded at export, as are frames moved by ``--fps``. The bytes cost a few percent of the
 library (60 kB a card frame beside 1.2 MB of arrays) and, on threads (DracoPy lets go of the
 GIL), about 5 ms a frame of the build.
 """
@@ -36,19 +37,24 @@ DRACO_FORMATS = ("scvv", "draco")
 
 def applies(sequences):
     """Whether a library of ``sequences`` (with ``format`` and ``orientation``) keeps its
-    in-between frames as Draco bytes: every one read from Draco frames, in one frame of
-    reference (so each in-between frame's capture coordinates are those of any export)."""
-    return bool(sequences) and all(seq.format in DRACO_FORMATS for seq in sequences) and all(
-        seq.orientation == sequences[0].orientation for seq in sequences)
+    in-between frames as Draco bytes: every one read from Draco frames, in the same capture
+    coordinates (so each in-between frame's are those of any export)."""
+    from ..capture.orientation import Orientation
+
+    first = sequences[0].orientation or Orientation() if sequences else None
+    return bool(sequences) and all(seq.format in DRACO_FORMATS and first.same_coordinates(seq.orientation)
+                                   for seq in sequences)
 
 
 def _encode_task(task):
+    """Draco bytes of one frame, as the export encodes it: texture coordinates where it has a
+    texture, else its vertex colours."""
     from ..capture.writers import encode_draco
 
-    positions, faces, uv, orientation = task
+    positions, faces, colours, uv, orientation = task
     if orientation is not None:
         positions, faces = orientation.undo(positions, faces)
-    return encode_draco(positions, faces, uv=uv)
+    return encode_draco(positions, faces, None if uv is not None else colours, uv)
 
 
 def encode_blends(folder, orientation):
@@ -61,11 +67,13 @@ def encode_blends(folder, orientation):
     folder = Path(folder)
     meshes = mesh_arrays(folder, "blend_")
     offsets = frame_offsets(folder, meshes, "blend_").tolist()
-    uvs = (texture_arrays(folder, len(meshes["positions"]), len(offsets), "blend_")[0]
-           if (folder / "blend_uvs.npy").exists() else None)
+    uvs, _, rows = (texture_arrays(folder, len(meshes["positions"]), len(offsets), "blend_")
+                    if (folder / "blend_uvs.npy").exists() else (None, None, None))
+    textured = [uvs is not None and rows[k][1] > 0 for k in range(len(offsets))]   # a texture's height
     tasks = ((np.asarray(meshes["positions"][v0:v0 + nv]), np.asarray(meshes["faces"][f0:f0 + nf]),
-              None if uvs is None else np.asarray(uvs[v0:v0 + nv]), orientation)
-             for v0, nv, f0, nf in offsets)
+              np.asarray(meshes["colours"][v0:v0 + nv]), np.asarray(uvs[v0:v0 + nv]) if textured[k] else None,
+              orientation)
+             for k, (v0, nv, f0, nf) in enumerate(offsets))
     table, stream = [], NpyStream(folder / "blend_draco.npy", np.uint8, 1)
     try:
         with Workers(None, threads=True) as pool:
