@@ -53,3 +53,36 @@ def test_frames_the_replaced_library_stores_are_copied_others_read(built, take_1
         np.testing.assert_array_equal(colours, mesh.colours)
         np.testing.assert_array_equal(faces, mesh.faces)
     assert Library.open(built.path).stored_frames() == built.stored_frames()
+
+
+def test_frames_added_by_a_rebuild_lie_beside_those_kept_and_read_back_as_stored(built, take_13_30, tmp_path,
+                                                                                monkeypatch):
+    # Every frame the library stores is still needed: its arrays are kept as they are (linked,
+    # not rewritten) and the frames it lacks go into a part of their own. A build that keeps no
+    # spare frames then copies those it needs from both parts into one.
+    from interrupt import tvmedit
+    from tvmedit.engine.store import arrays
+
+    out = tmp_path / "grown.lib"
+    shutil.copytree(built.path, out)
+    kept = {name: os.stat(out / name).st_ino for name in ("positions.npy", "faces.npy", "frames.npy")}
+    grown = build(_inputs(take_13_30), out, workers=1, cache=False, keep_frames="all", force=True)
+    assert arrays.parts(grown.path) == ["", "part1_"]
+    assert {name: os.stat(out / name).st_ino for name in kept} == kept    # linked, not written again
+    paths = {name: open_sequence(source).paths for name, source in _inputs(take_13_30)}
+    for name, frame in grown.stored_frames():
+        np.testing.assert_array_equal(grown.frame_mesh((name, frame))[0], read_frame(paths[name][frame]).positions)
+    assert tvmedit("check", grown.path).returncode == 0
+    damaged = tmp_path / "damaged.lib"
+    shutil.copytree(grown.path, damaged)
+    data = bytearray((damaged / "part1_positions.npy").read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    (damaged / "part1_positions.npy").write_bytes(bytes(data))
+    result = tvmedit("check", damaged)
+    assert result.returncode == 2 and "part1_positions.npy does not hold the bytes written" in result.stderr
+    monkeypatch.setattr(meshfiles, "SPARE_SHARE", 0.0)
+    fewer = build(_inputs(take_13_30), out, workers=1, cache=False, force=True)   # the motions' frames only
+    assert arrays.parts(fewer.path) == [""] and len(fewer.stored_frames()) < len(grown.stored_frames())
+    assert fewer.report["read_frames"] == 0     # every one copied
+    for name, frame in fewer.stored_frames():
+        np.testing.assert_array_equal(fewer.frame_mesh((name, frame))[0], read_frame(paths[name][frame]).positions)

@@ -16,7 +16,8 @@ import numpy as np
 
 from .layout import damaged, load_array
 
-__all__ = ["MESH_ARRAYS", "NpyStream", "MeshWriter", "mesh_arrays", "frame_offsets", "frame_keys", "texture_arrays"]
+__all__ = ["MESH_ARRAYS", "NpyStream", "MeshWriter", "PartedArray", "parts", "mesh_arrays", "frame_offsets", "frame_keys",
+           "texture_arrays"]
 
 #: The flat per-vertex and per-face arrays of the stored meshes: name, dtype, width.
 MESH_ARRAYS = (("positions", np.float32, 3), ("colours", np.uint8, 3), ("normals", np.float32, 3),
@@ -97,7 +98,7 @@ class MeshWriter:
         self._uvs = self._texels = None
         self._texture_rows = []
         self._offsets = NpyStream(folder / f"{prefix}frames.npy", np.int64, 4)
-        self._keys = None if prefix else NpyStream(folder / "frame_keys.npy", np.int64, 2)
+        self._keys = None if prefix == "blend_" else NpyStream(folder / f"{prefix}frame_keys.npy", np.int64, 2)
         self._low, self._high = np.full(3, np.inf), np.full(3, -np.inf)
         self._starts = [0, 0]
         self.frames = 0
@@ -141,12 +142,14 @@ class MeshWriter:
         """Append the stored frames ``rows`` (consecutive rows, untextured) of ``library`` (an
         :class:`tvmedit.engine.store.library.Library`) as frames ``keys`` (``(sequence index, frame)``), byte for
         byte. Their bounds are taken as the library's (its corners over all its frames)."""
-        offsets = frame_offsets(library.path, mesh_arrays(library.path))[rows[0]:rows[-1] + 1]
+        part, first = part_of(library.path, rows[0])
+        offsets = np.asarray(load_array(library.path, f"{part}frames.npy"))[rows[0] - first:rows[-1] - first + 1]
         if len(offsets) != len(rows) or len(keys) != len(rows):
-            raise ValueError("copy_frames takes consecutive rows, one key each")
+            raise ValueError("copy_frames takes consecutive rows of one part, one key each")
         (v0, f0), (v1, f1) = offsets[0, [0, 2]].tolist(), (offsets[-1, [0, 2]] + offsets[-1, [1, 3]]).tolist()
         for name, _, _ in MESH_ARRAYS:
-            self._arrays[name].copy_rows(Path(library.path) / f"{name}.npy", *((f0, f1) if name == "faces" else (v0, v1)))
+            self._arrays[name].copy_rows(Path(library.path) / f"{part}{name}.npy",
+                                         *((f0, f1) if name == "faces" else (v0, v1)))
         if self._uvs is not None:
             self._uvs.append(np.zeros((v1 - v0, 2), np.float32))
         self._texture_rows += [[0, 0, 0]] * len(rows)
@@ -180,35 +183,98 @@ class MeshWriter:
                     np.array(self._texture_rows, np.int64).reshape(-1, 3))
 
 
-def mesh_arrays(path, prefix=""):
-    """The flat mesh arrays of :data:`MESH_ARRAYS` (``prefix="blend_"``: of the in-between
-    frames), memory-mapped, their shapes checked."""
+def part_of(path, row):
+    """``(prefix, first row)`` of the part (:func:`parts`) that holds stored frame ``row``."""
+    first = 0
+    for part in parts(path):
+        count = len(load_array(path, f"{part}frames.npy"))
+        if row < first + count:
+            return part, first
+        first += count
+    raise IndexError(f"no stored frame {row} in {path}")
+
+
+def parts(path):
+    """The prefixes of the stored frames' parts in the library folder ``path``: ``""`` (the
+    frames a build stored) and ``"part1_"``, ``"part2_"`` ... (the frames a rebuild added
+    beside them, :mod:`tvmedit.engine.store.meshfiles`), in storage order."""
+    found = [""]
+    while (Path(path) / f"part{len(found)}_frames.npy").exists():
+        found.append(f"part{len(found)}_")
+    return found
+
+
+class PartedArray:
+    """The rows of several parts' arrays read as one: ``len``, ``shape``, ``dtype`` and slices
+    that lie within one part (a frame's rows never straddle two), each a view of its part."""
+
+    def __init__(self, pieces):
+        self.pieces = pieces
+        self.starts = np.cumsum([0] + [len(piece) for piece in pieces])
+        self.dtype, self.ndim = pieces[0].dtype, pieces[0].ndim
+        self.shape = (int(self.starts[-1]), *pieces[0].shape[1:])
+
+    def __len__(self):
+        return self.shape[0]
+
+    def __getitem__(self, rows):
+        start, stop, step = rows.indices(len(self)) if isinstance(rows, slice) else (None, None, None)
+        if step != 1:
+            raise TypeError("a parted array is read in slices of rows")
+        k = min(int(np.searchsorted(self.starts, start, side="right")) - 1, len(self.pieces) - 1)
+        if stop > self.starts[k + 1]:
+            raise IndexError(f"rows {start}:{stop} straddle two parts")
+        return self.pieces[k][start - self.starts[k]:stop - self.starts[k]]
+
+
+def _part_arrays(path, prefix):
     arrays = {name: load_array(path, f"{prefix}{name}.npy") for name, _, _ in MESH_ARRAYS}
     for name, dtype, width in MESH_ARRAYS:
         array = arrays[name]
         if array.ndim != 2 or array.shape[1] != width or array.dtype != dtype:
-            raise damaged(path, ValueError(f"{name}.npy holds {array.dtype} {array.shape}"))
+            raise damaged(path, ValueError(f"{prefix}{name}.npy holds {array.dtype} {array.shape}"))
     if not len(arrays["positions"]) == len(arrays["colours"]) == len(arrays["normals"]):
         raise damaged(path, ValueError("the vertex arrays differ in length"))
     return arrays
 
 
+def mesh_arrays(path, prefix=""):
+    """The flat mesh arrays of :data:`MESH_ARRAYS` (``prefix="blend_"``: of the in-between
+    frames), memory-mapped, their shapes checked; the stored frames' parts (:func:`parts`)
+    read as one (:class:`PartedArray`)."""
+    prefixes = parts(path) if prefix == "" else [prefix]
+    if len(prefixes) == 1:
+        return _part_arrays(path, prefix)
+    pieces = [_part_arrays(path, part) for part in prefixes]
+    return {name: PartedArray([piece[name] for piece in pieces]) for name, _, _ in MESH_ARRAYS}
+
+
 def frame_offsets(path, arrays, prefix=""):
-    """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays."""
-    offsets = np.asarray(load_array(path, f"{prefix}frames.npy"))
-    vertices, faces = len(arrays["positions"]), len(arrays["faces"])
-    ok = offsets.ndim == 2 and offsets.shape[1] == 4 and offsets.dtype == np.int64
-    if ok and len(offsets):
-        v0, nv, f0, nf = offsets.T
-        ok = bool((offsets >= 0).all() and (v0 + nv <= vertices).all() and (f0 + nf <= faces).all())
-    if not ok:
-        raise damaged(path, ValueError(f"{prefix}frames.npy does not match the mesh arrays"))
-    return offsets
+    """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays
+    (the parts' ranges one after another, as :func:`mesh_arrays` reads them)."""
+    pieces = ([{name: array.pieces[k] for name, array in arrays.items()} for k in range(len(arrays["positions"].pieces))]
+              if isinstance(arrays["positions"], PartedArray) else [arrays])
+    prefixes = parts(path) if len(pieces) > 1 else [prefix]
+    tables, vertices, faces = [], 0, 0
+    for part, piece in zip(prefixes, pieces):
+        offsets = np.asarray(load_array(path, f"{part}frames.npy"))
+        ok = offsets.ndim == 2 and offsets.shape[1] == 4 and offsets.dtype == np.int64
+        if ok and len(offsets):
+            v0, nv, f0, nf = offsets.T
+            ok = bool((offsets >= 0).all() and (v0 + nv <= len(piece["positions"])).all()
+                      and (f0 + nf <= len(piece["faces"])).all())
+        if not ok:
+            raise damaged(path, ValueError(f"{part}frames.npy does not match the mesh arrays"))
+        tables.append(offsets + np.array([vertices, 0, faces, 0]) if len(offsets) else offsets)
+        vertices, faces = vertices + len(piece["positions"]), faces + len(piece["faces"])
+    return tables[0] if len(tables) == 1 else np.concatenate(tables)
 
 
 def frame_keys(path, frames, sequences):
-    """``frame_keys.npy`` as an (n, 2) int64 array of (sequence index, frame), checked."""
-    keys = np.asarray(load_array(path, "frame_keys.npy"))
+    """``frame_keys.npy`` (and its parts') as an (n, 2) int64 array of (sequence index, frame),
+    checked."""
+    keys = [np.asarray(load_array(path, f"{part}frame_keys.npy")) for part in parts(path)]
+    keys = keys[0] if len(keys) == 1 else np.concatenate(keys) if all(k.ndim == 2 for k in keys) else keys[0][:0]
     ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
     if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
         raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))

@@ -25,6 +25,9 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     the stored frames' flat mesh arrays and their ranges (:mod:`tvmedit.engine.store.arrays`); only
     where some frame is textured, its texture coordinates beside ``positions``, the texels frame
     after frame, and each frame's first texel, height and width.
+``part1_positions.npy`` ... ``part1_frame_keys.npy``, ``part2_...``
+    frames a rebuild stored beside those it kept as they were (:mod:`tvmedit.engine.store.meshfiles`),
+    laid out as the arrays above, read as their continuation (:func:`tvmedit.engine.store.arrays.parts`).
 ``blend_*.npy``, ``blends.json``
     the in-between frames (:mod:`tvmedit.engine.inbetween.blend`) laid out as the frames above
     (no keys), run after run; per graph edge ``{"from", "to", "first", "count", "jump", "steps", "exit",
@@ -52,6 +55,7 @@ keeps a library's arrays rather than copy them) and the transitions' in-between 
 import contextlib
 import dataclasses
 import json
+import re
 import time
 from pathlib import Path
 
@@ -111,6 +115,20 @@ def write_json(path, data):
 #: The files of the stored meshes (:class:`tvmedit.engine.store.arrays.MeshWriter` writes them).
 MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy",
               "uvs.npy", "textures.npy", "texture_frames.npy")
+#: The files of the stored frames a rebuild added beside a library's (``part1_positions.npy``
+#: ...; :func:`tvmedit.engine.store.arrays.parts`): checked as the file each continues.
+PART_FILE = re.compile(r"part[1-9][0-9]*_((?:positions|colours|normals|faces|frames|frame_keys)\.npy)")
+
+
+def checked(name):
+    """Whether the library file ``name`` gets a checksum: one of :data:`CHECKED_FILES` or a part."""
+    return name in CHECKED_FILES or PART_FILE.fullmatch(name) is not None
+
+
+def _wanted(name, names):
+    """Whether file ``name`` is among ``names`` (None: all), a part as the file it continues."""
+    part = PART_FILE.fullmatch(name)
+    return names is None or name in names or (part is not None and part.group(1) in names)
 
 
 def link_meshes(library, folder):
@@ -122,9 +140,9 @@ def link_meshes(library, folder):
     import shutil
     from types import SimpleNamespace
 
-    for name in MESH_FILES:
+    for name in library.manifest.get("files", {}):
         source = Path(library.path) / name
-        if name in library.manifest.get("files", {}):
+        if name in MESH_FILES or PART_FILE.fullmatch(name):
             try:
                 os.link(source, Path(folder) / name)
             except OSError:
@@ -283,7 +301,7 @@ def write_manifest(folder, data):
     """Record the sizes and checksums of the :data:`CHECKED_FILES` in ``folder`` and write
     ``manifest.json`` last."""
     folder = Path(folder)
-    names = [path.name for path in sorted(folder.iterdir()) if path.name in CHECKED_FILES]
+    names = [path.name for path in sorted(folder.iterdir()) if checked(path.name)]
     data = dict(data, files={name: (folder / name).stat().st_size for name in names},
                 checksums=dict(zip(names, _checksums(folder, names))))
     write_json(folder / "manifest.json", data)
@@ -303,7 +321,7 @@ def verify(path, manifest, names=None, stop=None):
     the manifest; ``names`` limits which), in manifest order; [] for a library built before
     checksums, and for files not read to their end because the event ``stop`` was set."""
     sums = manifest.get("checksums", {})
-    names = [name for name in sums if names is None or name in names]
+    names = [name for name in sums if _wanted(name, names)]
     return [name for name, found in zip(names, _checksums(path, names, stop)) if found not in (None, sums[name])]
 
 

@@ -9,6 +9,11 @@ a build or a rebuild takes them from the library being replaced wherever it can:
 
 * every frame needed is stored there already, under the same sequence, and it stores at
   most :data:`SPARE_SHARE` more: its arrays are kept as they are (hard links), in no time;
+* every frame it stores is still needed (a correction that adds motions or moves their
+  frames) and it is untextured: its arrays are kept as they are, and the frames it lacks are
+  read and stored beside them, in a part of their own (``part1_positions.npy`` ...,
+  :func:`tvmedit.engine.store.arrays.parts`, at most :data:`MAX_PARTS`): nothing stored is
+  written again, however large the library;
 * otherwise the stored frames are copied from it (byte for byte, in runs of consecutive
   frames) and only the others are read from their files (:func:`tvmedit.engine.capture.load.read_frame`) on
   the workers, with their vertex normals.
@@ -16,7 +21,10 @@ a build or a rebuild takes them from the library being replaced wherever it can:
 ``run.read_frames`` then says how many frame files were read.
 """
 
+import contextlib
 import time
+
+import numpy as np
 
 from . import arrays, layout
 from ..errors import InputError
@@ -31,6 +39,9 @@ MESH_CHUNK = 4
 #: meshes are kept as they are by a rebuild rather than copied: a correction that drops a
 #: motion keeps its frames (disk) rather than copying all others (time), up to twice the size.
 SPARE_SHARE = 1.0
+#: Parts a library's stored frames may lie in (each rebuild that adds frames adds one); the
+#: rebuild after that writes them all anew, in one.
+MAX_PARTS = 8
 
 
 def _mesh_task(paths):
@@ -67,30 +78,91 @@ def _linkable(old, keys, stored):
 
 def _next_read(results, missing):
     """The next chunk of frames read; a frame that cannot be read says why it was needed."""
-    try:
+    with _named_reads(missing):
         return next(results)
+
+
+@contextlib.contextmanager
+def _named_reads(missing):
+    """A frame that cannot be read says why it was needed: one of ``missing`` frames a library
+    did not store before."""
+    try:
+        yield
     except InputError as error:
         raise InputError(f"{str(error).rstrip('.')}; the library needs {missing} frame(s) it did not "
                          "store before (of motions that changed, or that their loops are closed onto), "
                          "so put the sequence's frame files back where it was built from.") from None
 
 
+def _part_firsts(library):
+    """The first stored row of each part of ``library``'s frames."""
+    firsts, row = set(), 0
+    for part in arrays.parts(library.path):
+        firsts.add(row)
+        row += len(layout.load_array(library.path, f"{part}frames.npy"))
+    return firsts
+
+
+def _growable(old, keys, stored, missing):
+    """Whether ``old``'s arrays can be kept as they are, the ``missing`` frames added beside
+    them in a part of their own (:func:`tvmedit.engine.store.arrays.parts`): every frame it
+    stores is one of the new library's, by the same sequence index; it is untextured (a part
+    holds no texels); at most :data:`SPARE_SHARE` more frames than needed; :data:`MAX_PARTS`."""
+    if old is None or old.textured or not missing or len(arrays.parts(old.path)) >= MAX_PARTS:
+        return False
+    names = [seq.name for seq in old.sequences]
+    mine = [(names.index(name), frame) for name, frame in old.stored_frames()]
+    return (all(stored.get(key) == (names[key[0]], key[1]) for key in mine)
+            and len(mine) + len(missing) <= (1 + SPARE_SHARE) * len(keys))
+
+
+def _grown(tmp, old, missing, pool, run, bar):
+    """``old``'s meshes linked into ``tmp`` and the ``missing`` frames read on ``pool`` into a
+    part of their own: what a build's :class:`tvmedit.engine.store.arrays.MeshWriter` tells."""
+    from types import SimpleNamespace
+
+    kept = layout.link_meshes(old, tmp)
+    tasks = ([(path, orientation) for _, _, path, orientation in missing[i:i + MESH_CHUNK]]
+             for i in range(0, len(missing), MESH_CHUNK))
+    items = iter(missing)
+    with arrays.MeshWriter(tmp, prefix=f"part{len(arrays.parts(old.path))}_") as writer:
+        for meshes, read_s, compute_s in pool.map(_mesh_task, tasks, window=2 * pool.workers + 2):
+            run.add_times(read_s, compute_s)
+            for mesh in meshes:
+                seq_index, frame, _, _ = next(items)
+                writer.add(seq_index, frame, *mesh)
+                bar.update()
+    return SimpleNamespace(frames=kept.frames + writer.frames,
+                           bounds=[np.minimum(kept.bounds[0], writer.bounds[0]).tolist(),
+                                   np.maximum(kept.bounds[1], writer.bounds[1]).tolist()],
+                           max_counts=np.maximum(kept.max_counts, writer.max_counts).tolist())
+
+
 def write(tmp, needed, pool, run, old=None, stored=None):
     """Store the ``needed`` frames ``(sequence index, frame, path, orientation)`` in the library
     folder ``tmp``: linked or copied from ``old`` where ``stored`` (:func:`reusable`) has them,
-    else read on ``pool``. Returns the :class:`tvmedit.engine.store.arrays.MeshWriter` (or what
-    :func:`tvmedit.engine.store.layout.link_meshes` returns)."""
+    else read on ``pool``; where ``old``'s can all be kept, the others are added beside them
+    (:func:`_growable`), nothing stored rewritten. Returns the
+    :class:`tvmedit.engine.store.arrays.MeshWriter` (or what tells the same)."""
     stored = stored or {}
     run.read_frames = 0
     if _linkable(old, [item[:2] for item in needed], stored):
         return layout.link_meshes(old, tmp)
     bar = run.bar(len(needed), "meshes")
     missing = [item for item in needed if item[:2] not in stored]
+    if _growable(old, [item[:2] for item in needed], stored, missing):
+        try:
+            with _named_reads(len(missing)):
+                return _grown(tmp, old, missing, pool, run, bar)
+        finally:
+            bar.close()
+            run.read_frames = len(missing)
     chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
     tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
     read = iter(())
     # Untextured stored frames are copied in runs of consecutive rows, byte for byte.
     rows = {key: r for r, key in enumerate(old.stored_frames())} if old is not None and not old.textured else {}
+    firsts = _part_firsts(old) if rows else set()    # a run of rows copied lies in one part
     pending = []
 
     def flush():
@@ -104,7 +176,7 @@ def write(tmp, needed, pool, run, old=None, stored=None):
             for seq_index, frame, _, _ in needed:
                 key = stored.get((seq_index, frame))
                 if key in rows:
-                    if pending and pending[-1][0] != rows[key] - 1:
+                    if pending and (pending[-1][0] != rows[key] - 1 or rows[key] in firsts):
                         flush()
                     pending.append((rows[key], (seq_index, frame)))
                 elif key is not None:
