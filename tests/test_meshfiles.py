@@ -86,3 +86,45 @@ def test_frames_added_by_a_rebuild_lie_beside_those_kept_and_read_back_as_stored
     assert fewer.report["read_frames"] == 0     # every one copied
     for name, frame in fewer.stored_frames():
         np.testing.assert_array_equal(fewer.frame_mesh((name, frame))[0], read_frame(paths[name][frame]).positions)
+
+
+def test_textured_frames_to_add_are_stored_anew_and_the_kept_files_left_untouched(built, take_13_30, tmp_path):
+    # A part holds no texels: frames to add that come with a texture (here a textured capture
+    # added to an untextured library) make every frame stored anew, textured, and the files
+    # the old library shares by hard link are never written into.
+    from conftest import SHARED
+    from tvmedit.engine.capture.readers import texture_for
+    from tvmedit.engine.store import arrays
+
+    card = SHARED / "data" / "scvv-card"
+    if not card.is_dir():
+        pytest.skip(f"the scvv capture is not at {card}")
+    frames = tmp_path / "card"
+    frames.mkdir()
+    for draco in sorted(card.glob("*.draco"))[:16]:
+        shutil.copy(draco, frames / draco.name)
+        shutil.copy(texture_for(draco), frames / texture_for(draco).name)
+    (frames / "sequence.json").write_text('{"fps": 30}')
+    out = tmp_path / "lib"
+    shutil.copytree(built.path, out)
+    shared = tmp_path / "shared_positions.npy"     # the old library's file, as a link keeps it
+    os.link(out / "positions.npy", shared)
+    before = shared.read_bytes()
+    library = build([*_inputs(take_13_30), ("card", str(frames))], out, workers=1, cache=False, keep_frames="all",
+                    force=True)
+    assert library.textured and arrays.parts(library.path) == [""]
+    assert library.frame_texture(("card", 0)) is not None and library.frame_texture(("gym", 0)) is None
+    assert shared.read_bytes() == before
+
+
+def test_a_grown_library_without_its_marker_is_still_replaced_with_force(built, take_13_30, tmp_path):
+    from tvmedit.engine.safewrite import MARKER
+    from tvmedit.engine.store import arrays
+
+    out = tmp_path / "grown.lib"
+    shutil.copytree(built.path, out)
+    build(_inputs(take_13_30), out, workers=1, cache=False, keep_frames="all", force=True)
+    assert arrays.parts(out) == ["", "part1_"]
+    (out / MARKER).unlink()     # copied without its dotfiles: a library as built before the marker
+    again = build(_inputs(take_13_30), out, workers=1, cache=False, keep_frames="all", force=True)
+    assert len(again.stored_frames()) == 120

@@ -393,8 +393,8 @@ def legacy_foreign(path):
     if safewrite.owner(path) != "library":
         # A manifest too damaged to read: still a library when it holds nothing but library files.
         whole = {"manifest.json", "features.npy", "database.json"} <= set(names)
-        return [] if whole and set(names) <= set(LIBRARY_FILES) else None
-    return [name for name in names if name not in LIBRARY_FILES]
+        return [] if whole and all(name in LIBRARY_FILES or checked(name) for name in names) else None
+    return [name for name in names if name not in LIBRARY_FILES and not checked(name)]
 
 
 def read_manifest(path):

@@ -72,7 +72,7 @@ def reusable(old, computed):
 def _linkable(old, keys, stored):
     """Whether ``old``'s arrays can be kept as they are for the frames ``keys``."""
     return (old is not None and len(stored) == len(old.stored_frames())
-            and all(stored.get(k) == (old.sequences[k[0]].name, k[1]) for k in keys)
+            and all(k[0] < len(old.sequences) and stored.get(k) == (old.sequences[k[0]].name, k[1]) for k in keys)
             and len(stored) <= (1 + SPARE_SHARE) * len(keys))
 
 
@@ -105,9 +105,10 @@ def _part_firsts(library):
 
 def _growable(old, keys, stored, missing):
     """Whether ``old``'s arrays can be kept as they are, the ``missing`` frames added beside
-    them in a part of their own (:func:`tvmedit.engine.store.arrays.parts`): every frame it
-    stores is one of the new library's, by the same sequence index; it is untextured (a part
-    holds no texels); at most :data:`SPARE_SHARE` more frames than needed; :data:`MAX_PARTS`."""
+    them in a part of their own (:func:`tvmedit.engine.store.arrays.parts`): each frame it
+    stores is stored by the new library under the same sequence index; it is untextured (a
+    part holds no texels); it stores at most :data:`SPARE_SHARE` more frames than the new
+    library needs; it has fewer than :data:`MAX_PARTS` parts."""
     if old is None or old.textured or not missing or len(arrays.parts(old.path)) >= MAX_PARTS:
         return False
     names = [seq.name for seq in old.sequences]
@@ -116,9 +117,14 @@ def _growable(old, keys, stored, missing):
             and len(mine) + len(missing) <= (1 + SPARE_SHARE) * len(keys))
 
 
+class _Textured(Exception):
+    """A frame to add beside a library's arrays has a texture, which a part cannot hold."""
+
+
 def _grown(tmp, old, missing, pool, run, bar):
     """``old``'s meshes linked into ``tmp`` and the ``missing`` frames read on ``pool`` into a
-    part of their own: what a build's :class:`tvmedit.engine.store.arrays.MeshWriter` tells."""
+    part of their own: what a build's :class:`tvmedit.engine.store.arrays.MeshWriter` tells.
+    Raises :class:`_Textured`, before it writes that frame, where one has a texture."""
     from types import SimpleNamespace
 
     kept = layout.link_meshes(old, tmp)
@@ -129,6 +135,8 @@ def _grown(tmp, old, missing, pool, run, bar):
         for meshes, read_s, compute_s in pool.map(_mesh_task, tasks, window=2 * pool.workers + 2):
             run.add_times(read_s, compute_s)
             for mesh in meshes:
+                if mesh[4] is not None:
+                    raise _Textured
                 seq_index, frame, _, _ = next(items)
                 writer.add(seq_index, frame, *mesh)
                 bar.update()
@@ -136,6 +144,27 @@ def _grown(tmp, old, missing, pool, run, bar):
                            bounds=[np.minimum(kept.bounds[0], writer.bounds[0]).tolist(),
                                    np.maximum(kept.bounds[1], writer.bounds[1]).tolist()],
                            max_counts=np.maximum(kept.max_counts, writer.max_counts).tolist())
+
+
+def _growing(tmp, old, needed, stored, missing, pool, run):
+    """:func:`_grown` where :func:`_growable`, else None; None too, its files gone from
+    ``tmp`` (unlinked: the links are the old library's own files), where a frame to add has a
+    texture, for every frame to be stored anew."""
+    import os
+
+    if not _growable(old, [item[:2] for item in needed], stored, missing):
+        return None
+    bar = run.bar(len(missing), "meshes")
+    try:
+        with _named_reads(len(missing)):
+            return _grown(tmp, old, missing, pool, run, bar)
+    except _Textured:
+        for name in os.listdir(tmp):
+            if name in layout.MESH_FILES or name.startswith("part"):
+                os.unlink(os.path.join(tmp, name))
+        return None
+    finally:
+        bar.close()
 
 
 def write(tmp, needed, pool, run, old=None, stored=None):
@@ -148,15 +177,12 @@ def write(tmp, needed, pool, run, old=None, stored=None):
     run.read_frames = 0
     if _linkable(old, [item[:2] for item in needed], stored):
         return layout.link_meshes(old, tmp)
-    bar = run.bar(len(needed), "meshes")
     missing = [item for item in needed if item[:2] not in stored]
-    if _growable(old, [item[:2] for item in needed], stored, missing):
-        try:
-            with _named_reads(len(missing)):
-                return _grown(tmp, old, missing, pool, run, bar)
-        finally:
-            bar.close()
-            run.read_frames = len(missing)
+    grown = _growing(tmp, old, needed, stored, missing, pool, run)
+    if grown is not None:
+        run.read_frames = len(missing)
+        return grown
+    bar = run.bar(len(needed), "meshes")
     chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
     tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
     read = iter(())
