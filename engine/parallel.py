@@ -1,4 +1,4 @@
-"""Running independent tasks on local worker processes or a dask.distributed cluster.
+"""Running independent tasks on local worker processes, threads or a dask.distributed cluster.
 
 A library build reads and summarises thousands of frame files, each independently of the
 others once a sequence's origin is known. :class:`Workers` spreads such tasks and hands the

@@ -10,7 +10,8 @@ textured. Frames without a texture carry vertex colours; in-between frames carry
 of the captured frame they were warped from, as the capture's own image file where it is
 still there (copied or embedded as it came: no second loss, no encoder). The writers are
 :mod:`tvmedit.engine.capture.writers`, the readers' twins. Captured frames already in the
-format are copied; the others are encoded where they are made fastest: Draco on threads, OBJ
+format are copied, and so are in-between frames whose Draco the build kept
+(:mod:`tvmedit.engine.store.capturecopy`); the others are encoded where they are made fastest: Draco on threads, OBJ
 on worker processes, glTF in this thread as PLY (:data:`THREADED`, :data:`POOL_FROM`,
 :data:`IN_THIS_THREAD`).
 
@@ -250,7 +251,8 @@ def _written(library, shown, copies, fmt, folder, pool, frame):
     """Write each output frame in ``fmt``; yield ``(index, (mesh file, texture file or None))``
     as each is written, the encoded ones first.
 
-    A frame with a capture's file already in ``fmt`` (``copies``) is copied as it came:
+    A frame with a capture's file already in ``fmt`` (``copies``; or an in-between frame's
+    Draco bytes the build kept) is copied as it came:
     lossless, and as fast as a copy, on a thread of its own (a copy waits on the disk, not
     on the GIL), all the while the others are encoded. Those are encoded on ``pool``: threads
     for the formats of :data:`THREADED`; OBJ's text formatting holds the GIL, so only worker

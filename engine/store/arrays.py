@@ -2,7 +2,8 @@
 
 Every stored frame's vertices, colours, normals and faces lie one after another in flat
 arrays (:data:`MESH_ARRAYS`), with ``frames.npy`` giving each frame's ranges and
-``frame_keys.npy`` its sequence and frame; textured frames add ``uvs.npy`` and their texels
+``frame_keys.npy`` its sequence and frame (after a rebuild that added frames, in those and
+the parts beside them, ``part1_*.npy`` ..., read as one: :func:`parts`, :class:`PartedArray`); textured frames add ``uvs.npy`` and their texels
 (:mod:`tvmedit.engine.store.layout` lists every file of a library). Flat arrays plus ranges
 (as Motion-Matching's database keeps its frames) let the player stream without parsing:
 :class:`MeshWriter` appends frames to growing ``.npy`` files whose lengths are known only at

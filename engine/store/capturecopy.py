@@ -5,7 +5,8 @@ An edit of a Draco capture (an scvv card, a web player's export) goes out as Dra
 in-between frames (a transition's run, a loop's closing) are the library's own meshes, and
 each export would encode them again: 8 ms a frame, most of an export's time, for the same
 bytes every time. A library whose every sequence was read from Draco frames, in the same
-capture coordinates, therefore stores each in-between frame's Draco bytes once, at build time, made as
+capture coordinates, therefore stores each in-between frame's Draco bytes, made anew by every
+build and correction (a few milliseconds a frame, on threads) as
 an export makes them (:func:`tvmedit.engine.capture.writers.encode_draco`, in the capture's
 coordinates, :meth:`tvmedit.engine.capture.orientation.Orientation.undo`; texture coordinates
 where the frame has a texture, else its vertex colours), and an export copies them like a

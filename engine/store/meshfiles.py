@@ -1,4 +1,4 @@
-"""The meshes a library stores: which frames, and whether they are linked, copied or read.
+"""The meshes a library stores: which frames, and whether they are linked, grown, copied or read.
 
 Only the frames of database motions can ever be played, so by default only they are stored,
 with the few frames of the neighbouring repetitions their loops are closed onto
@@ -9,9 +9,10 @@ a build or a rebuild takes them from the library being replaced wherever it can:
 
 * every frame needed is stored there already, under the same sequence, and it stores at
   most :data:`SPARE_SHARE` more: its arrays are kept as they are (hard links), in no time;
-* every frame it stores is still needed (a correction that adds motions or moves their
-  frames) and it is untextured: its arrays are kept as they are, and the frames it lacks are
-  read and stored beside them, in a part of their own (``part1_positions.npy`` ...,
+* every frame it stores is of a sequence kept at the same index, it stores at most
+  :data:`SPARE_SHARE` more than needed, and it and the frames it lacks are untextured (a
+  correction that adds motions or moves their frames): its arrays are kept as they are, and
+  the frames it lacks are read and stored beside them, in a part of their own (``part1_positions.npy`` ...,
   :func:`tvmedit.engine.store.arrays.parts`, at most :data:`MAX_PARTS`): nothing stored is
   written again, however large the library;
 * otherwise the stored frames are copied from it (byte for byte, in runs of consecutive

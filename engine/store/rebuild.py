@@ -3,8 +3,8 @@
 A library keeps its features, its automatic parse and its frame files' records, so the cheap
 stages (corrections, database, graph) can run again without reading a frame file or
 computing a feature: :func:`rebuild` makes the sequences and features the builder's last
-stages need (:func:`tvmedit.engine.store.builder.derive`) from the library itself. Meshes are copied from
-the library; only the frames of a motion it never stored (a new representative texton,
+stages need (:func:`tvmedit.engine.store.builder.derive`) from the library itself. Meshes are linked, grown
+(new frames stored beside) or copied from the library (:mod:`tvmedit.engine.store.meshfiles`); only the frames of a motion it never stored (a new representative texton,
 after a boundary was added) are read from their files, and none from a library built with
 ``keep_frames="all"``. The library's natural step is kept, so only the transitions the
 correction changed get their in-between frames made anew (:mod:`tvmedit.engine.inbetween.blend`). A library
