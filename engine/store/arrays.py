@@ -3,8 +3,9 @@
 Every stored frame's vertices, colours, normals and faces lie one after another in flat
 arrays (:data:`MESH_ARRAYS`), with ``frames.npy`` giving each frame's ranges and
 ``frame_keys.npy`` its sequence and frame (after a rebuild that added frames, in those and
-the parts beside them, ``part1_*.npy`` ..., read as one: :func:`parts`, :class:`PartedArray`); textured frames add ``uvs.npy`` and their texels
-(:mod:`tvmedit.engine.store.layout` lists every file of a library). Flat arrays plus ranges
+the parts beside them, ``part1_*.npy`` ..., read as one: :func:`parts`, :class:`PartedArray`);
+textured frames add ``uvs.npy`` and their texels (:mod:`tvmedit.engine.store.layout` lists
+every file of a library). Flat arrays plus ranges
 (as Motion-Matching's database keeps its frames) let the player stream without parsing:
 :class:`MeshWriter` appends frames to growing ``.npy`` files whose lengths are known only at
 the end (:class:`NpyStream`), and the readers here check the arrays' shapes against each
@@ -184,14 +185,21 @@ class MeshWriter:
                     np.array(self._texture_rows, np.int64).reshape(-1, 3))
 
 
-def part_of(path, row):
-    """``(prefix, first row)`` of the part (:func:`parts`) that holds stored frame ``row``."""
-    first = 0
+def part_rows(path):
+    """``(prefix, first row, frames)`` of each part (:func:`parts`) of the stored frames."""
+    rows, first = [], 0
     for part in parts(path):
         count = len(load_array(path, f"{part}frames.npy"))
+        rows.append((part, first, count))
+        first += count
+    return rows
+
+
+def part_of(path, row):
+    """``(prefix, first row)`` of the part (:func:`parts`) that holds stored frame ``row``."""
+    for part, first, count in part_rows(path):
         if row < first + count:
             return part, first
-        first += count
     raise IndexError(f"no stored frame {row} in {path}")
 
 
@@ -253,7 +261,7 @@ def mesh_arrays(path, prefix=""):
 def frame_offsets(path, arrays, prefix=""):
     """``frames.npy`` as an (n, 4) int64 array, every frame's range inside the mesh arrays
     (the parts' ranges one after another, as :func:`mesh_arrays` reads them)."""
-    pieces = ([{name: array.pieces[k] for name, array in arrays.items()} for k in range(len(arrays["positions"].pieces))]
+    pieces = ([dict(zip(arrays, part)) for part in zip(*(array.pieces for array in arrays.values()))]
               if isinstance(arrays["positions"], PartedArray) else [arrays])
     prefixes = parts(path) if len(pieces) > 1 else [prefix]
     tables, vertices, faces = [], 0, 0
@@ -275,7 +283,8 @@ def frame_keys(path, frames, sequences):
     """``frame_keys.npy`` (and its parts') as an (n, 2) int64 array of (sequence index, frame),
     checked."""
     keys = [np.asarray(load_array(path, f"{part}frame_keys.npy")) for part in parts(path)]
-    keys = keys[0] if len(keys) == 1 else np.concatenate(keys) if all(k.ndim == 2 for k in keys) else keys[0][:0]
+    # Parts of another shape cannot be joined: the check below then refuses them.
+    keys = np.concatenate(keys) if all(k.ndim == 2 and k.shape[1:] == (2,) for k in keys) else np.zeros((0, 0))
     ok = keys.ndim == 2 and keys.shape == (frames, 2) and keys.dtype == np.int64
     if not ok or (len(keys) and not ((keys[:, 0] >= 0) & (keys[:, 0] < sequences) & (keys[:, 1] >= 0)).all()):
         raise damaged(path, ValueError("frame_keys.npy does not match frames.npy and the sequences"))

@@ -120,6 +120,11 @@ MESH_FILES = ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frame
 PART_FILE = re.compile(r"part[1-9][0-9]*_((?:positions|colours|normals|faces|frames|frame_keys)\.npy)")
 
 
+def mesh_file(name):
+    """Whether the library file ``name`` holds stored frames: one of :data:`MESH_FILES` or a part."""
+    return name in MESH_FILES or PART_FILE.fullmatch(name) is not None
+
+
 def checked(name):
     """Whether the library file ``name`` gets a checksum: one of :data:`CHECKED_FILES` or a part."""
     return name in CHECKED_FILES or PART_FILE.fullmatch(name) is not None
@@ -142,7 +147,7 @@ def link_meshes(library, folder):
 
     for name in library.manifest.get("files", {}):
         source = Path(library.path) / name
-        if name in MESH_FILES or PART_FILE.fullmatch(name):
+        if mesh_file(name):
             try:
                 os.link(source, Path(folder) / name)
             except OSError:

@@ -60,6 +60,13 @@ def _mesh_task(paths):
     return meshes, read_s, compute_s
 
 
+def _read_tasks(items):
+    """Worker tasks of :data:`MESH_CHUNK` frames ``(sequence index, frame, path, orientation)``
+    each, for :func:`_mesh_task`."""
+    return ([(path, orientation) for _, _, path, orientation in items[i:i + MESH_CHUNK]]
+            for i in range(0, len(items), MESH_CHUNK))
+
+
 def reusable(old, computed):
     """``{(sequence index, frame): (old name, frame)}`` for every frame the library ``old`` stores
     from the same frame files (the same feature key) as ``computed[index]``."""
@@ -95,15 +102,6 @@ def _named_reads(missing):
                          "so put the sequence's frame files back where it was built from.") from None
 
 
-def _part_firsts(library):
-    """The first stored row of each part of ``library``'s frames."""
-    firsts, row = set(), 0
-    for part in arrays.parts(library.path):
-        firsts.add(row)
-        row += len(layout.load_array(library.path, f"{part}frames.npy"))
-    return firsts
-
-
 def _growable(old, keys, stored, missing):
     """Whether ``old``'s arrays can be kept as they are, the ``missing`` frames added beside
     them in a part of their own (:func:`tvmedit.engine.store.arrays.parts`): each frame it
@@ -129,8 +127,7 @@ def _grown(tmp, old, missing, pool, run, bar):
     from types import SimpleNamespace
 
     kept = layout.link_meshes(old, tmp)
-    tasks = ([(path, orientation) for _, _, path, orientation in missing[i:i + MESH_CHUNK]]
-             for i in range(0, len(missing), MESH_CHUNK))
+    tasks = _read_tasks(missing)
     items = iter(missing)
     with arrays.MeshWriter(tmp, prefix=f"part{len(arrays.parts(old.path))}_") as writer:
         for meshes, read_s, compute_s in pool.map(_mesh_task, tasks, window=2 * pool.workers + 2):
@@ -161,7 +158,7 @@ def _growing(tmp, old, needed, stored, missing, pool, run):
             return _grown(tmp, old, missing, pool, run, bar)
     except _Textured:
         for name in os.listdir(tmp):
-            if name in layout.MESH_FILES or name.startswith("part"):
+            if layout.mesh_file(name):
                 os.unlink(os.path.join(tmp, name))
         return None
     finally:
@@ -184,12 +181,11 @@ def write(tmp, needed, pool, run, old=None, stored=None):
         run.read_frames = len(missing)
         return grown
     bar = run.bar(len(needed), "meshes")
-    chunks = [missing[i:i + MESH_CHUNK] for i in range(0, len(missing), MESH_CHUNK)]
-    tasks = ([(path, orientation) for _, _, path, orientation in chunk] for chunk in chunks)
+    tasks = _read_tasks(missing)
     read = iter(())
     # Untextured stored frames are copied in runs of consecutive rows, byte for byte.
     rows = {key: r for r, key in enumerate(old.stored_frames())} if old is not None and not old.textured else {}
-    firsts = _part_firsts(old) if rows else set()    # a run of rows copied lies in one part
+    firsts = {first for _, first, _ in arrays.part_rows(old.path)} if rows else set()   # a copied run lies in one part
     pending = []
 
     def flush():
