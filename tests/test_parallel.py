@@ -177,6 +177,8 @@ _HELD_WITH_HELPER = """
 import os, signal, threading, time
 from tvmedit.engine.parallel import helper_threads, signals_held
 
+# Ctrl-C as a terminal gives it: a shell starts a background job (CI's, say) with it ignored.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 started = threading.Event()
 with helper_threads(1) as pool:
     mask = pool.submit(lambda: (started.set(), signal.pthread_sigmask(signal.SIG_BLOCK, []), time.sleep(0.5))[1])
