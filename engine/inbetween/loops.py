@@ -18,12 +18,14 @@ end: its first ``k`` frames, ``start + m``, are warped onto ``end + 1 + m`` by `
 so ``end`` leads into them as into ``end + 1`` (:func:`plan`, :func:`window`).
 
 What counts as a pop is a step beyond both the library's natural step and the capture's own
-step across the same phase (:func:`pace`): a fast motion steps more than the natural step
-between every pair of captured frames. ``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most
+step at the same phase (:func:`paces`): a fast motion steps more than the natural step between
+every pair of captured frames, and more at some phases than at others, so each step of the
+path through the window is held to what the capture steps at its phase, in the texton and in
+the repetition the window is warped onto (the larger), not to what it steps at the wrap. ``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most
 a third of the texton and as many as the cluster holds beyond it) whose steps around the
 wrap all stay at or below that, else the one with the smallest largest step; 0 where the wrap
-is already no larger, or where no closing makes the largest step smaller than the wrap's
-(:func:`close_loop`).
+is already no larger, or where no closing makes the largest step smaller than the wrap's, by
+that measure and in metres (:func:`close_loop`).
 
 Every frame stays one captured frame's own mesh, colours and motion, moved; none is left out
 and none added, so a schedule's length, the play length rule, edits of a given length
@@ -33,7 +35,7 @@ visit that leaves the texton inside the window, or enters inside it, shows the c
 frames, so transitions (whose in-between frames start from captured frames) are as they were.
 """
 
-__all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "pace"]
+__all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "phase_pairs", "paces"]
 
 #: Most texton frames a loop's closing warps.
 MAX_CLOSING = 4
@@ -124,7 +126,7 @@ def closed_at(shown, frame, start, end, count, at, left):
     return index
 
 
-def close_loop(meshes, start, end, at, limit, natural, tail=None):
+def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
     """The closing frames of one texton's loop (:func:`plan` gives ``at`` and ``limit``).
 
     Parameters
@@ -136,13 +138,16 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
     natural, tail : float, float or None
         The library's natural step and its 99th percentile
         (:func:`tvmedit.engine.inbetween.blend.chamfer_and_tail`), which a closing's steps keep
-        within (or the capture's own at that phase).
+        within (or the capture's own at each step's phase, :func:`paces`).
+    has : callable or None
+        ``has(frame)``: whether ``meshes`` can give that frame (None: every frame can).
 
     Returns
     -------
     tvmedit.engine.inbetween.blend.BlendRun
         ``count = len(run)`` warped frames in play order (``side`` is the frame's index; none
-        where the wrap is at most ``max(natural, pace)``, or where no closing lowers its
+        where the wrap is at most the larger of ``natural`` and the capture's own step there
+        (:func:`paces`), or where no closing lowers its
         largest step below the wrap's); ``jump`` is the wrap's own step (``end`` to
         ``start``), ``steps`` those from the last captured frame before the window (or ``end``)
         through the window to ``start`` (or the first captured frame after it).
@@ -153,6 +158,7 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
     from ..capture.normals import vertex_normals
 
     cache = {}
+    has = has or (lambda frame: True)
 
     def mesh(frame):  # each frame read once, with its k-d tree built once
         if frame not in cache:
@@ -167,11 +173,20 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
     jump, jump_tail = step(mesh(end), mesh(start))
     if natural <= 0 or limit <= 0:
         return BlendRun([], [jump], jump)
-    own = pace(lambda frame: mesh(frame)[:3], start, end, at, tails=True)
-    goal, goal_tail = max(natural, own[0]), max(tail or 0.0, own[1])
-    # A step's size against the goal, by its mean and (given the library's) its tail.
-    size = (lambda m, t: max(m / goal, t / goal_tail)) if tail else (lambda m, t: m / goal)
-    if size(jump, jump_tail) <= 1.0:
+    captured = {}
+
+    def captured_step(f, g):  # the capture's own steps, each measured once
+        if (f, g) not in captured:
+            captured[f, g] = step(mesh(f), mesh(g))
+        return captured[f, g]
+
+    def goals(count):  # per step of the path: the larger of the natural step and the capture's at its phase
+        return [(max(natural, m), max(tail or 0.0, t)) for m, t in paces(captured_step, start, end, at, count, has)]
+
+    # A step's size against its goal, by its mean and (given the library's) its tail.
+    size = (lambda m, t, g: max(m / g[0], t / g[1])) if tail else (lambda m, t, g: m / g[0])
+    wrap_size = size(jump, jump_tail, goals(0)[0])
+    if wrap_size <= 1.0:
         return BlendRun([], [jump], jump)
     fields, best, best_sizes = {}, None, None
     for count in range(1, limit + 1):
@@ -186,34 +201,65 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
             run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
         ends = (frames[0] - 1, start) if at == "end" else (end, frames[-1] + 1)
         points = [mesh(ends[0]), *run, mesh(ends[1])]
-        figures, sizes = [(0.0, 0.0)] * (len(points) - 1), [0.0] * (len(points) - 1)
+        figures, sizes, goal = [(0.0, 0.0)] * (len(points) - 1), [0.0] * (len(points) - 1), goals(count)
         stop = None if best is None else 0.95 * max(best_sizes)
         # The step at the wrap first: a count that would not help is told by it alone.
         for i in sorted(range(len(sizes)), reverse=at == "end"):
             figures[i] = step(points[i], points[i + 1])
-            sizes[i] = size(*figures[i])
+            sizes[i] = size(*figures[i], goal[i])
             if stop is not None and sizes[i] >= stop:
                 break
         if stop is not None and max(sizes) >= stop:
             break  # more frames would not help
+        if max(m for m, _ in figures) >= 0.95 * jump:
+            continue  # a step not clearly less far than the wrap (a jump moved to a faster phase is still one)
         best = BlendRun([(p, c, f, None, i) for i, (p, c, f, _) in enumerate(run)], [m for m, _ in figures], jump)
         best_sizes = sizes
         if max(sizes) <= 1.0:
             break
-    if max(best_sizes) >= size(jump, jump_tail):  # the warps' own residual outweighs the wrap: keep the cut
+    if best is None or max(best_sizes) >= wrap_size:  # the warps' own residual outweighs the wrap: keep the cut
         return BlendRun([], [jump], jump)
     best.frames = [(p, c, f, vertex_normals(p, f), i) for p, c, f, _, i in best.frames]
     return best
 
 
-def pace(meshes, start, end, at, tails=False):
-    """The step the capture itself makes where the loop wraps: from the neighbouring repetition
-    into the texton's first frame (``start - 1`` to ``start``, ``at="end"``) or out of its last
-    (``end`` to ``end + 1``). A fast motion steps more than the library's natural step in every
-    frame; its wrap pops only where it jumps more than the capture does there. With ``tails``,
-    ``(step, 99th percentile)``."""
-    from .blend import chamfer_and_tail
+def phase_pairs(start, end, at, count):
+    """The captured steps at the phase of each step a wrap closed by ``count`` frames shows.
 
-    pair = (start - 1, start) if at == "end" else (end, end + 1)
-    figures = chamfer_and_tail(meshes(pair[0])[0], meshes(pair[1])[0], stride=4)
-    return figures if tails else figures[0]
+    The path runs from the captured frame before the window, through its ``count`` warped
+    frames, to the captured frame after it (``count + 1`` steps; with 0, the wrap itself,
+    ``end`` to ``start``). At each step's phase the capture steps twice, once in the texton,
+    ``q`` to ``q + 1``, and once in the neighbouring repetition the window is warped onto, a
+    period (``end + 1 - start`` frames) away: the pairs of frames of both, per step.
+
+    >>> phase_pairs(20, 31, "end", 2)
+    [[(29, 30), (17, 18)], [(30, 31), (18, 19)], [(31, 32), (19, 20)]]
+    >>> phase_pairs(20, 31, "start", 1)
+    [[(19, 20), (31, 32)], [(20, 21), (32, 33)]]
+    """
+    period = end + 1 - start
+    if at == "end":
+        return [[(q, q + 1), (q - period, q + 1 - period)] for q in range(end - count, end + 1)]
+    return [[(q, q + 1), (q + period, q + 1 + period)] for q in range(start - 1, start + count)]
+
+
+def paces(step, start, end, at, count, has):
+    """The capture's own step at the phase of each step of a closed wrap's path
+    (:func:`phase_pairs`): ``(mean, 99th percentile)`` per step, the larger of the two captured
+    steps there whose frames ``has(frame)`` (at least one pair of each step's always is, where
+    ``has`` holds the texton and the frames its window is warped onto; (0, 0) where none is, a
+    texton that is its whole sequence). ``step(f, g)`` measures the step from frame ``f`` to
+    frame ``g``.
+
+    A fast motion steps more than the library's natural step in every frame, and more at some
+    phases than at others: a closing frame pops only where it steps more than the capture does
+    at its own phase, not more than at the wrap's.
+
+    >>> paces(lambda f, g: (f / 10, f / 5), 20, 31, "start", 1, lambda f: f < 33)
+    [(3.1, 6.2), (2.0, 4.0)]
+    """
+    out = []
+    for pairs in phase_pairs(start, end, at, count):
+        found = [step(f, g) for f, g in pairs if has(f) and has(g)] or [(0.0, 0.0)]
+        out.append((max(m for m, _ in found), max(t for _, t in found)))
+    return out

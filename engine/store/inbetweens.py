@@ -99,7 +99,8 @@ def _blend_task(task):
         run = blend(*_meshes(folder, (exit_row, entry_row)), natural, count, tail=tail)
     else:
         _, folder, rows, (start, end, at, limit), natural, tail = task
-        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail)
+        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail,
+                         has=rows.__contains__)
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
