@@ -154,7 +154,7 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
     """
     import numpy as np
 
-    from .blend import BlendRun, align, chamfer_and_tail, kdtree
+    from .blend import BlendRun, chamfer_and_tail, kdtree
     from ..capture.normals import vertex_normals
 
     cache = {}
@@ -173,16 +173,7 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
     jump, jump_tail = step(mesh(end), mesh(start))
     if natural <= 0 or limit <= 0:
         return BlendRun([], [jump], jump)
-    captured = {}
-
-    def captured_step(f, g):  # the capture's own steps, each measured once
-        if (f, g) not in captured:
-            captured[f, g] = step(mesh(f), mesh(g))
-        return captured[f, g]
-
-    def goals(count):  # per step of the path: the larger of the natural step and the capture's at its phase
-        return [(max(natural, m), max(tail or 0.0, t)) for m, t in paces(captured_step, start, end, at, count, has)]
-
+    goals = _phase_goals(lambda f, g: step(mesh(f), mesh(g)), natural, tail, start, end, at, has)
     # A step's size against its goal, by its mean and (given the library's) its tail.
     size = (lambda m, t, g: max(m / g[0], t / g[1])) if tail else (lambda m, t, g: m / g[0])
     wrap_size = size(jump, jump_tail, goals(0)[0])
@@ -190,15 +181,7 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
         return BlendRun([], [jump], jump)
     fields, best, best_sizes = {}, None, None
     for count in range(1, limit + 1):
-        frames, targets = window(start, end, at, count)
-        run = []
-        for index, (frame, target) in enumerate(zip(frames, targets)):
-            if frame not in fields:
-                fields[frame] = align(mesh(frame)[0], mesh(target)[0])
-            share = (index + 1) / count if at == "end" else (count - index) / count
-            positions, colours, faces, _ = mesh(frame)
-            positions = (np.asarray(positions, np.float32) + np.float32(share) * fields[frame]).astype(np.float32)
-            run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
+        frames, run = _warped_window(mesh, fields, start, end, at, count)
         ends = (frames[0] - 1, start) if at == "end" else (end, frames[-1] + 1)
         points = [mesh(ends[0]), *run, mesh(ends[1])]
         figures, sizes, goal = [(0.0, 0.0)] * (len(points) - 1), [0.0] * (len(points) - 1), goals(count)
@@ -221,6 +204,43 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
         return BlendRun([], [jump], jump)
     best.frames = [(p, c, f, vertex_normals(p, f), i) for p, c, f, _, i in best.frames]
     return best
+
+
+def _phase_goals(step, natural, tail, start, end, at, has):
+    """``goals(count)``: per step of the path through a closing of ``count`` frames, the larger
+    of the natural step (and ``tail``) and the capture's own step at its phase (:func:`paces`),
+    ``(mean, 99th percentile)``; each captured step measured once by ``step(f, g)``."""
+    captured = {}
+
+    def measured(f, g):
+        if (f, g) not in captured:
+            captured[f, g] = step(f, g)
+        return captured[f, g]
+
+    return lambda count: [(max(natural, m), max(tail or 0.0, t))
+                          for m, t in paces(measured, start, end, at, count, has)]
+
+
+def _warped_window(mesh, fields, start, end, at, count):
+    """The texton frames a closing of ``count`` warps (:func:`window`) and the frames it shows
+    instead, in play order: each moved its share of the way onto the neighbouring repetition's
+    frame of its phase, ``(positions, colours, faces, k-d tree)``. ``mesh(frame)`` gives a
+    frame's ``(positions, colours, faces, tree)``; ``fields`` keeps each frame's alignment
+    (:func:`tvmedit.engine.inbetween.blend.align`) for the next count."""
+    import numpy as np
+
+    from .blend import align, kdtree
+
+    frames, targets = window(start, end, at, count)
+    run = []
+    for index, (frame, target) in enumerate(zip(frames, targets)):
+        if frame not in fields:
+            fields[frame] = align(mesh(frame)[0], mesh(target)[0])
+        share = (index + 1) / count if at == "end" else (count - index) / count
+        positions, colours, faces, _ = mesh(frame)
+        positions = (np.asarray(positions, np.float32) + np.float32(share) * fields[frame]).astype(np.float32)
+        run.append((positions, np.asarray(colours, np.uint8), np.asarray(faces, np.uint32), kdtree(positions)))
+    return frames, run
 
 
 def phase_pairs(start, end, at, count):
