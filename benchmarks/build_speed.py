@@ -158,7 +158,8 @@ def main():
           f"limit {LIMIT_SECONDS:g} s: {verdict(seconds <= LIMIT_SECONDS)})")
     print(f"  stages: {stages}")
     print(f"  in-between frames at {report['edges']} transitions: {report.get('blend_frames', 0)} frames in "
-          f"{blends:.2f} s more ({blends / max(report['edges'], 1):.2f} s a transition on {workers}); "
+          f"{blends:.2f} s more ({report['stages'].get('blends', 0.0) / max(report['edges'], 1):.2f} s a transition "
+          f"on {workers}); "
           f"the whole build {total:.2f} s, {total / bare:.2f}x the bare loop "
           f"(limit {LIMIT_WHOLE_RATIO:g}x: {verdict(total / bare <= LIMIT_WHOLE_RATIO)})")
     print(f"  worker time: reading files {share:.0%}, computing histograms and normals {1 - share:.0%} "

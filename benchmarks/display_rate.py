@@ -24,7 +24,8 @@ their 99th percentile (the few hundred vertices of a hand or forearm that a mean
   the natural one (bars: transitions 1.25x by the 99th percentile; wraps 1.25x by both
   figures, each step over the larger of the natural step and the capture's own at its phase,
   in the texton or the repetition its closing is warped onto, as fast as the motion moves
-  there: ``tvmedit.engine.inbetween.loops.paces``). The raw figures over the natural step are
+  there, among the frames the build looked at: ``tvmedit.engine.inbetween.loops.paces`` and
+  ``reach``). The raw figures over the natural step are
   printed beside them.
 """
 
@@ -44,7 +45,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from tvmedit import Library, engine  # noqa: E402
 from tvmedit.engine.inbetween.instants import moved, shown, step_measures  # noqa: E402
-from tvmedit.engine.inbetween.loops import paces  # noqa: E402
+from tvmedit.engine.inbetween.loops import paces, reach  # noqa: E402
 
 STRIDE = 8
 BARS = {"mean60": 0.35, "p99_60": 0.5, "wrap": 1.25, "transition_p99": 1.25, "size": 1.4, "build": 1.5}
@@ -125,7 +126,10 @@ def wraps(library, nat):
     closings = {tuple(w["texton"]): w for w in library.blend_data().get("wraps", [])}
     for node in library.nodes:
         w = closings.get((node.sequence, node.start, node.end))
-        count, at = (w["count"], w["at"]) if w and w["count"] else (0, "end")
+        count, at = (w["count"], w["at"]) if w else (0, "end")
+        # The capture's steps are those of the frames the build looked at (the texton alone
+        # where no closing was tried).
+        first, last = reach(node.start, node.end, at, w.get("limit", 0)) if w else (node.start, node.end)
         if count:
             keys = ([(node.sequence, node.end - count)] if at == "end" else [(node.sequence, node.end)])
             keys += [(node.sequence, 0, ((node.id, node.id), k)) for k in range(count)]
@@ -133,14 +137,13 @@ def wraps(library, nat):
         else:
             keys = [(node.sequence, node.end), (node.sequence, node.start)]
         figures = [measure(_mesh(library, a), _mesh(library, b)) for a, b in zip(keys, keys[1:])]
-        length = library.sequence(node.sequence).frames
 
         def source(frame):
             mesh = library.source_mesh((node.sequence, frame))
             return np.asarray(mesh[0]), np.asarray(mesh[2])
 
         own = paces(lambda f, g: measure(source(f), source(g)), node.start, node.end, at, count,
-                    lambda f: 0 <= f < length)
+                    lambda f: first <= f <= last)
         ratios = [(m / max(nat[0], om), p / max(nat[1], op)) for (m, p), (om, op) in zip(figures, own)]
         out[node.name] = ((max(m for m, _ in figures), max(p for _, p in figures)),
                           (max(r for r, _ in ratios), max(r for _, r in ratios)))

@@ -12,7 +12,6 @@ write it last and atomically). ``make test`` runs the tests in several processes
 import hashlib
 import json
 import os
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -26,29 +25,6 @@ SHARED = Path(os.environ.get("TVMEDIT_SHARED", ROOT.parent / "shared"))
 MOCAP2TVM = SHARED / "tools" / "mocap2tvm.py"
 MOCAP_DATA = SHARED / "data" / "mocap6"
 CACHE = Path(os.environ.get("TVMEDIT_TEST_CACHE", ROOT / ".cache" / "testdata"))
-
-
-# A passing test's folder goes as soon as the test ends, not when the whole run does: the
-# tests write real libraries, meshes and renders (gigabytes in all), and a CI machine's disk
-# filled up with them once. A failing test's folder stays, to look at (as
-# ``tmp_path_retention_policy = "failed"`` keeps it at the end).
-FAILED = pytest.StashKey[bool]()
-
-
-@pytest.hookimpl(wrapper=True)
-def pytest_runtest_makereport(item, call):
-    report = yield
-    if report.failed:
-        item.stash[FAILED] = True
-    return report
-
-
-@pytest.fixture(autouse=True)
-def _tmp_path_goes_when_passed(request):
-    yield
-    folder = request.node.funcargs.get("tmp_path")
-    if folder is not None and not request.node.stash.get(FAILED, False):
-        shutil.rmtree(folder, ignore_errors=True)
 
 
 def _key(*parts):

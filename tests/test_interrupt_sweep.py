@@ -118,6 +118,7 @@ def test_an_interrupt_at_any_time_leaves_the_old_state_or_the_new(world, command
     old = _state(command, place / "out")
     result = run_interrupted(_argv(world, command, place), signum, after=fraction * world["seconds"][command])
     if result.stderr.startswith("Fatal Python error: init_"):     # init_import_site, init_sys_streams...
+        shutil.rmtree(place)
         return      # the signal landed in Python's own start, before any line of tvmedit ran
     assert "Traceback" not in result.stderr and "Exception" not in result.stderr, result.stderr
     # Before Python has set its handlers the signal ends the process itself (a shell shows 130 or 143).

@@ -8,7 +8,7 @@ from conftest import built_library
 from tvmedit.engine.inbetween import blend
 from tvmedit import Library
 from tvmedit.engine.playback import Playhead
-from tvmedit.engine.inbetween.loops import closing, paces, window
+from tvmedit.engine.inbetween.loops import closing, paces, reach, window
 
 
 @pytest.fixture(scope="module")
@@ -30,6 +30,16 @@ def _loop(library, node):
     return [(n.sequence, n.end)] + closed + [(n.sequence, n.start + k)], warped, k
 
 
+def _reach(library, node):
+    """Where ``node``'s loop is closed and the frames its closing looked at
+    (:func:`tvmedit.engine.inbetween.loops.reach`; the texton alone where none was tried)."""
+    tried = {tuple(w["texton"]): w for w in library.blend_data().get("wraps", [])}
+    w = tried.get((node.sequence, node.start, node.end))
+    if w is None:
+        return "end", (node.start, node.end)
+    return w["at"], reach(node.start, node.end, w["at"], w.get("limit", 0))
+
+
 def test_every_loop_wraps_within_a_natural_step_where_the_cut_did_not(libraries):
     raw, closed = {}, 0
     for name, library in libraries.items():
@@ -42,13 +52,14 @@ def test_every_loop_wraps_within_a_natural_step_where_the_cut_did_not(libraries)
             steps = [blend.chamfer(a, b) for a, b in zip(meshes, meshes[1:])]
             # A pop is a step beyond natural motion, and beyond what the capture itself steps
             # at the same phase (a fast motion steps more in every frame, more at some phases).
-            at = library.graph.nodes[node.id].get("wrap_at", "end")
-            source = library.source_mesh
-            length = library.sequence(node.sequence).frames
+            # The capture's steps are those of the frames the build looked at (loops.reach).
+            at, (first, last) = _reach(library, node)
 
-            def goals(count):
-                own = paces(lambda f, g: (blend.chamfer(source((node.sequence, f))[0], source((node.sequence, g))[0]), 0.0),
-                            node.start, node.end, at, count, lambda f: 0 <= f < length)
+            def goals(count, seq=node.sequence, start=node.start, end=node.end, at=at, first=first, last=last):
+                def step(f, g):
+                    return blend.chamfer(library.source_mesh((seq, f))[0], library.source_mesh((seq, g))[0]), 0.0
+
+                own = paces(step, start, end, at, count, lambda f: first <= f <= last)
                 return [max(natural, m) for m, _ in own]
 
             goal = goals(k)
@@ -63,13 +74,13 @@ def test_every_loop_wraps_within_a_natural_step_where_the_cut_did_not(libraries)
             closed += k > 0
             for i, frame in enumerate(warped):   # each is a captured frame of the texton, moved
                 positions, colours, faces, _ = library.frame_mesh(keys[1 + i])
-                source = library.frame_mesh((node.sequence, frame))
-                assert np.array_equal(colours, source[1]) and np.array_equal(faces, source[2])
-                area = blend.surface_area(positions, faces) / blend.surface_area(source[0], source[2])
+                captured = library.frame_mesh((node.sequence, frame))
+                assert np.array_equal(colours, captured[1]) and np.array_equal(faces, captured[2])
+                area = blend.surface_area(positions, faces) / blend.surface_area(captured[0], captured[2])
                 assert abs(area - 1) <= 0.10, (name, node.name, i)
                 # Moved toward the neighbouring repetition, but still its own pose: less than the
                 # wrap's jump away from the captured frame.
-                assert blend.chamfer(positions, source[0]) < wrap, (name, node.name, i)
+                assert blend.chamfer(positions, captured[0]) < wrap, (name, node.name, i)
     # Without the closing frames a wrap of a real take pops by nearly twice that.
     assert max(max(r) for r in raw.values()) > 1.5 and closed >= 3
 

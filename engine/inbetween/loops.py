@@ -35,7 +35,7 @@ visit that leaves the texton inside the window, or enters inside it, shows the c
 frames, so transitions (whose in-between frames start from captured frames) are as they were.
 """
 
-__all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "phase_pairs", "paces"]
+__all__ = ["MAX_CLOSING", "closing", "closed_at", "plan", "window", "close_loop", "reach", "phase_pairs", "paces"]
 
 #: Most texton frames a loop's closing warps.
 MAX_CLOSING = 4
@@ -126,7 +126,7 @@ def closed_at(shown, frame, start, end, count, at, left):
     return index
 
 
-def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
+def close_loop(meshes, start, end, at, limit, natural, tail=None):
     """The closing frames of one texton's loop (:func:`plan` gives ``at`` and ``limit``).
 
     Parameters
@@ -139,8 +139,6 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
         The library's natural step and its 99th percentile
         (:func:`tvmedit.engine.inbetween.blend.chamfer_and_tail`), which a closing's steps keep
         within (or the capture's own at each step's phase, :func:`paces`).
-    has : callable or None
-        ``has(frame)``: whether ``meshes`` can give that frame (None: every frame can).
 
     Returns
     -------
@@ -158,7 +156,7 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
     from ..capture.normals import vertex_normals
 
     cache = {}
-    has = has or (lambda frame: True)
+    first, last = reach(start, end, at, limit)
 
     def mesh(frame):  # each frame read once, with its k-d tree built once
         if frame not in cache:
@@ -173,7 +171,8 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, has=None):
     jump, jump_tail = step(mesh(end), mesh(start))
     if natural <= 0 or limit <= 0:
         return BlendRun([], [jump], jump)
-    goals = _phase_goals(lambda f, g: step(mesh(f), mesh(g)), natural, tail, start, end, at, has)
+    goals = _phase_goals(lambda f, g: step(mesh(f), mesh(g)), natural, tail, start, end, at,
+                         lambda frame: first <= frame <= last)
     # A step's size against its goal, by its mean and (given the library's) its tail.
     size = (lambda m, t, g: max(m / g[0], t / g[1])) if tail else (lambda m, t, g: m / g[0])
     wrap_size = size(jump, jump_tail, goals(0)[0])
@@ -243,6 +242,18 @@ def _warped_window(mesh, fields, start, end, at, count):
     return frames, run
 
 
+def reach(start, end, at, limit):
+    """The frames a closing of at most ``limit`` frames looks at, ``(first, last)``: the texton
+    and the frames its window may be warped onto (:func:`window`), all of them stored by a
+    build; the capture's own steps it is held to (:func:`paces`) are those within them, so a
+    library keeping every frame closes its loops as one keeping only its motions' does.
+
+    >>> reach(20, 31, "end", 4), reach(20, 31, "start", 4)
+    ((16, 31), (20, 35))
+    """
+    return (start - limit, end) if at == "end" else (start, end + limit)
+
+
 def phase_pairs(start, end, at, count):
     """The captured steps at the phase of each step a wrap closed by ``count`` frames shows.
 
@@ -267,9 +278,8 @@ def paces(step, start, end, at, count, has):
     """The capture's own step at the phase of each step of a closed wrap's path
     (:func:`phase_pairs`): ``(mean, 99th percentile)`` per step, the larger of the two captured
     steps there whose frames ``has(frame)`` (at least one pair of each step's always is, where
-    ``has`` holds the texton and the frames its window is warped onto; (0, 0) where none is, a
-    texton that is its whole sequence). ``step(f, g)`` measures the step from frame ``f`` to
-    frame ``g``.
+    ``has`` holds the :func:`reach` of a closing; (0, 0) where none is). ``step(f, g)``
+    measures the step from frame ``f`` to frame ``g``.
 
     A fast motion steps more than the library's natural step in every frame, and more at some
     phases than at others: a closing frame pops only where it steps more than the capture does

@@ -99,8 +99,7 @@ def _blend_task(task):
         run = blend(*_meshes(folder, (exit_row, entry_row)), natural, count, tail=tail)
     else:
         _, folder, rows, (start, end, at, limit), natural, tail = task
-        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail,
-                         has=rows.__contains__)
+        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail)
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
