@@ -75,8 +75,11 @@ def _kdtree(points):
     :func:`side` from this module, and the player must start without loading scipy."""
     from scipy.spatial import cKDTree
 
-    # Unbalanced, uncompacted: quicker to build, and the queries give the same answers.
-    return cKDTree(points, balanced_tree=False, compact_nodes=False)
+    # Unbalanced: quicker to build, and the queries give the same answers. Compacted (each
+    # node's box shrunk to its points): a step's field queries a tree some 40,000 times, and
+    # the tighter boxes make a whole step 9 % faster for 0.3 ms more a build (fields identical
+    # on 49 steps of CMU 13_29).
+    return cKDTree(points, balanced_tree=False, compact_nodes=True)
 
 
 def chamfer(a, b, tree_a=None, tree_b=None, stride=1):
