@@ -10,7 +10,7 @@ from .vectors import (CENTRED_VERTICES, FOLLOW_M, SAMPLE_FRAMES, FeatureAccumula
                       distance_matrix, features_of, follow_picks, frame_distance, frame_origin, histogram_distance,
                       moves_across, spread_indices, stacked, stored_rows)
 
-__all__ = ["BinSizes", "Features", "FeatureAccumulator", "frame_histograms", "centred_histograms", "stored_rows", "CENTRED_VERTICES",
-           "stacked", "spherical", "features_of", "frame_origin", "moves_across", "FOLLOW_M", "SAMPLE_FRAMES",
-           "follow_picks", "spread_indices", "frame_distance", "histogram_distance", "distance_matrix",
+__all__ = ["BinSizes", "Features", "FeatureAccumulator", "frame_histograms", "centred_histograms", "stored_rows",
+           "CENTRED_VERTICES", "stacked", "spherical", "features_of", "frame_origin", "moves_across", "FOLLOW_M",
+           "SAMPLE_FRAMES", "follow_picks", "spread_indices", "frame_distance", "histogram_distance", "distance_matrix",
            "MAX_ANGLE_BINS", "MAX_R_BINS"]

@@ -22,8 +22,8 @@ import numpy as np
 from ..errors import InputError
 from .histograms import BinSizes, frame_histograms
 
-__all__ = ["Features", "FeatureAccumulator", "centred_histograms", "stored_rows", "CENTRED_VERTICES", "stacked", "features_of",
-           "frame_origin", "moves_across", "FOLLOW_M", "SAMPLE_FRAMES", "follow_picks", "spread_indices",
+__all__ = ["Features", "FeatureAccumulator", "centred_histograms", "stored_rows", "CENTRED_VERTICES", "stacked",
+           "features_of", "frame_origin", "moves_across", "FOLLOW_M", "SAMPLE_FRAMES", "follow_picks", "spread_indices",
            "frame_distance", "histogram_distance", "distance_matrix"]
 
 

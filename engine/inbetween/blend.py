@@ -76,9 +76,9 @@ def _kdtree(points):
     from scipy.spatial import cKDTree
 
     # Unbalanced: quicker to build, and the queries give the same answers. Compacted (each
-    # node's box shrunk to its points): a step's field queries a tree some 40,000 times, and
-    # the tighter boxes make a whole step 9 % faster for 0.3 ms more a build (fields identical
-    # on 49 steps of CMU 13_29).
+    # node's box shrunk to its points): a display step's field queries a tree some 40,000
+    # times, and the tighter boxes make the whole fit 9 % faster for 0.3 ms more a tree build
+    # (fields identical on 49 display steps of CMU 13_29).
     return cKDTree(points, balanced_tree=False, compact_nodes=True)
 
 

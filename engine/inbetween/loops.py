@@ -21,11 +21,12 @@ What counts as a pop is a step beyond both the library's natural step and the ca
 step at the same phase (:func:`paces`): a fast motion steps more than the natural step between
 every pair of captured frames, and more at some phases than at others, so each step of the
 path through the window is held to what the capture steps at its phase, in the texton and in
-the repetition the window is warped onto (the larger), not to what it steps at the wrap. ``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most
-a third of the texton and as many as the cluster holds beyond it) whose steps around the
-wrap all stay at or below that, else the one with the smallest largest step; 0 where the wrap
-is already no larger, or where no closing makes the largest step smaller than the wrap's, by
-that measure and in metres (:func:`close_loop`).
+the repetition the window is warped onto (the larger), not to what it steps at the wrap.
+``k`` is the fewest (1 to :data:`MAX_CLOSING`, at most a third of the texton and as many as
+the cluster holds beyond it) whose steps around the wrap all stay at or below that, else the
+one with the smallest largest step; 0 where the wrap is already no larger, or where no
+closing makes the largest step smaller than the wrap's, by that measure and in metres
+(:func:`close_loop`).
 
 Every frame stays one captured frame's own mesh, colours and motion, moved; none is left out
 and none added, so a schedule's length, the play length rule, edits of a given length
