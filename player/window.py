@@ -7,6 +7,7 @@ code that touches glfw.
 """
 
 import math
+import os
 import textwrap
 import time
 from pathlib import Path
@@ -52,14 +53,18 @@ class Window:
         self.glfw = glfw
         self.app = app
         self.clock = clock
-        # glfw's own reports become exceptions here, so a user reads one sentence, not a warning.
-        glfw.ERROR_REPORTING = "raise"
-        try:
-            initialised = glfw.init()
-        except glfw.GLFWError:
-            initialised = False
+        # Only a failed init stops the player, with glfw's own words in the sentence: a report
+        # that init survives (an input method, a monitor) is no reason to refuse a display.
+        reports = []
+        glfw.set_error_callback(lambda code, text: reports.append(text.decode(errors="replace")))
+        initialised = glfw.init()
+        glfw.set_error_callback(None)
         if not initialised:
-            raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
+            display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or "(none)"
+            raise TvmError(f"cannot open the display {display} ({'; '.join(reports) or 'glfw could not start'}): "
+                           "set DISPLAY to a running X server or run under xvfb-run; for files use tvmedit render")
+        # glfw's own reports become exceptions from here, so a user reads one sentence, not a warning.
+        glfw.ERROR_REPORTING = "raise"
         # Opened hidden and untitled, so nothing finds a window that is about to be replaced.
         self.window, self.ctx = self._open(size, samples=4, vsync=vsync)
         if is_software(self.ctx):
