@@ -33,9 +33,17 @@ def test_nothing_is_reusable_without_a_library_being_replaced():
 
 
 def test_a_rebuild_needing_no_new_frame_keeps_the_arrays_as_they_are(built, tmp_path):
+    from tvmedit.engine.store import layout
+
     rebuild(built, tmp_path / "again.lib")
+    again = Library.open(tmp_path / "again.lib")
     for name in ("positions.npy", "colours.npy", "normals.npy", "faces.npy", "frames.npy", "frame_keys.npy"):
         assert os.path.samefile(built.path / name, tmp_path / "again.lib" / name), name
+    # The linked files' checksums are taken from the old manifest, not read again: each must
+    # still be the sum of the bytes there, so that `check` passes and later damage is found.
+    sums = again.manifest["checksums"]
+    assert sums["positions.npy"] == built.manifest["checksums"]["positions.npy"]
+    assert {name: layout.checksum(again.path / name) for name in sums} == sums
 
 
 def test_frames_the_replaced_library_stores_are_copied_others_read(built, take_13_30, tmp_path):

@@ -328,7 +328,7 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
                 "stored_frames": meshes.frames, "blend_frames": run.blends["frames"],
                 "display_steps": run.instants["pairs"] if run.instants else 0},
         bounds=_union(meshes.bounds, run.blends["bounds"] if run.blends["frames"] else meshes.bounds),
-        max_counts=np.maximum(meshes.max_counts, run.blends["max_counts"]).tolist()))
+        max_counts=np.maximum(meshes.max_counts, run.blends["max_counts"]).tolist()), old=old)
 
 
 def _union(a, b):
