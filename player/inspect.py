@@ -329,6 +329,8 @@ class InspectorWindow(Window):
     """The player's glfw window, showing an :class:`InspectorApp`: the source frame under
     the playhead at the top, the timeline below, redrawn when something changed."""
 
+    WITHOUT_DISPLAY = "`tvmedit correct` applies a corrections file without one"
+
     def __init__(self, app, size=(1024, 720), title="tvmedit inspect"):
         self.timeline_view = None
         super().__init__(app, size=size, title=title)

@@ -44,6 +44,9 @@ class Window:
     clock : the monotonic clock the app's times come from
     """
 
+    #: What a user can do without a display, said where the window cannot open.
+    WITHOUT_DISPLAY = "for files use tvmedit render"
+
     def __init__(self, app, size=(960, 720), title="tvmedit", clock=time.perf_counter, vsync=True):
         import glfw
 
@@ -57,12 +60,16 @@ class Window:
         # that init survives (an input method, a monitor) is no reason to refuse a display.
         reports = []
         glfw.set_error_callback(lambda code, text: reports.append(text.decode(errors="replace")))
-        initialised = glfw.init()
-        glfw.set_error_callback(None)
+        try:
+            initialised = glfw.init()
+        finally:
+            glfw.set_error_callback(None)
         if not initialised:
-            display = os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY") or "(none)"
-            raise TvmError(f"cannot open the display {display} ({'; '.join(reports) or 'glfw could not start'}): "
-                           "set DISPLAY to a running X server or run under xvfb-run; for files use tvmedit render")
+            reason = "; ".join(reports) or "glfw could not start"
+            wayland = reason.startswith("Wayland") or not os.environ.get("DISPLAY")
+            display = os.environ.get("WAYLAND_DISPLAY" if wayland else "DISPLAY") or "(none)"
+            raise TvmError(f"cannot open the display {display} ({reason}): set DISPLAY to a running X server "
+                           f"or run under xvfb-run; {self.WITHOUT_DISPLAY}")
         # glfw's own reports become exceptions from here, so a user reads one sentence, not a warning.
         glfw.ERROR_REPORTING = "raise"
         # Opened hidden and untitled, so nothing finds a window that is about to be replaced.

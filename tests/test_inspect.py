@@ -157,6 +157,17 @@ def test_a_frame_outside_the_sequence_is_one_sentence(small_library):
     assert f"--frame {frames} is outside sequence" in result.stderr and f"0-{frames - 1}" in result.stderr
 
 
+def test_a_display_no_server_answers_is_one_sentence_with_what_works_without(small_library):
+    from interrupt import tvmedit
+
+    env = {**os.environ, "DISPLAY": ":65000", "PYGLFW_LIBRARY_VARIANT": "x11"}
+    env.pop("WAYLAND_DISPLAY", None)
+    result = tvmedit("inspect", small_library, env=env)
+    assert result.returncode == 2 and result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
+    assert result.stderr.startswith("error: cannot open the display :65000 (X11: Failed to open display :65000)")
+    assert "`tvmedit correct` applies a corrections file without one" in result.stderr
+
+
 def test_a_failed_save_keeps_the_corrections_and_says_why(library, tmp_path):
     app = InspectorApp(library, tmp_path / "fix.json", print_=lambda text: None)
     app.seek(_splittable(library))

@@ -136,3 +136,25 @@ def test_a_grown_library_without_its_marker_is_still_replaced_with_force(built, 
     (out / MARKER).unlink()     # copied without its dotfiles: a library as built before the marker
     again = build(_inputs(take_13_30), out, workers=1, cache=False, keep_frames="all", force=True)
     assert len(again.stored_frames()) == 120
+
+
+def test_building_again_over_a_damaged_library_repairs_it(built, take_13_30, tmp_path):
+    # The build that `check` advises for a damaged library reads the frames from the capture:
+    # it neither links the damaged bytes nor carries their old checksum over.
+    from interrupt import tvmedit
+
+    out = tmp_path / "gym.lib"
+    shutil.copytree(built.path, out)
+    data = bytearray((out / "positions.npy").read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    (out / "positions.npy").write_bytes(bytes(data))
+    damaged = tvmedit("check", out)
+    assert damaged.returncode == 2 and "positions.npy does not hold the bytes written" in damaged.stderr
+    said = []
+    again = build(_inputs(take_13_30), out, workers=1, cache=False, force=True, log=said.append)
+    assert any("damaged (positions.npy" in line and "nothing is reused" in line for line in said), said
+    assert again.report["read_frames"] == len(again.stored_frames())
+    assert tvmedit("check", out).returncode == 0
+    paths = {name: open_sequence(source).paths for name, source in _inputs(take_13_30)}
+    for name, frame in again.stored_frames():
+        np.testing.assert_array_equal(again.frame_mesh((name, frame))[0], read_frame(paths[name][frame]).positions)

@@ -433,7 +433,7 @@ def test_bad_arguments_and_a_missing_display_are_one_sentence(small_library, tmp
     assert headless.returncode != 0 and headless.stderr.strip() == (
         "error: no display: set DISPLAY or run under xvfb-run; for files use tvmedit render.")
     # A display that no server answers: glfw's own reason is in the one sentence.
-    nobody = _play_command(small_library, env={**env, "DISPLAY": ":65000"})
+    nobody = _play_command(small_library, env={**env, "DISPLAY": ":65000", "PYGLFW_LIBRARY_VARIANT": "x11"})
     assert nobody.returncode != 0 and nobody.stderr.count("\n") == 1 and "Traceback" not in nobody.stderr
     assert nobody.stderr.startswith("error: cannot open the display :65000 (X11: Failed to open display :65000)")
 

@@ -405,17 +405,35 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     out.parent.mkdir(parents=True, exist_ok=True)
     safewrite.clean_stale(out)
     check_target(out, force, sequences)
+    reused = _sound(old, run)   # its corrections by hand and its front are kept all the same
     corrections = given if given is not None else kept_corrections(old, sequences, run)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
             computed = run.stage("features", lambda: [
-                _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, old, cache, run)
+                _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, reused, cache, run)
                 for seq in sequences])
             if given is None and corrections:
                 check_kept(corrections, sequences, computed)
-            derived = derive(tmp, old, sequences, computed, settings, corrections, pool=pool, run=run)
+            derived = derive(tmp, reused, sequences, computed, settings, corrections, pool=pool, run=run)
     return report_of(derived)
+
+
+def _sound(old, run):
+    """``old``, the library being replaced, where its files hold the bytes its build wrote;
+    None (and a note) where some do not: a build from the capture then reuses none of its
+    arrays (its corrections by hand and its front, read when it was opened, are still kept).
+
+    A build reuses the old library's features, meshes and in-between frames, and keeps the
+    checksums of the files it links (:func:`tvmedit.engine.store.layout.write_manifest`): from
+    a damaged library it would carry the damage over, and the build that ``check`` advises
+    for a damaged library would not repair it. Reading its files costs a fraction of a second
+    beside a build's reading of every frame file."""
+    bad = layout.verify(old.path, old.manifest) if old is not None else []
+    if bad:
+        run.say(f"note: the library being replaced is damaged ({', '.join(bad)}); nothing is reused from it")
+        return None
+    return old
 
 
 #: What :func:`derive` made, for :func:`report_of` to report.
