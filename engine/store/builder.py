@@ -386,8 +386,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
         never read a frame file, even with the capture folder gone.
     smooth : bool, make the display-rate in-betweens (:mod:`tvmedit.engine.inbetween.instants`)
     open_library : callable or None
-        Opens the library being replaced (``Library.open``), to reuse its features,
-        corrections and meshes; None: nothing is reused from it.
+        Opens the library being replaced (``Library.open``), to reuse its features, corrections
+        and meshes (no array of a damaged one, :func:`_sound`); None: nothing is reused from it.
 
     Returns
     -------
@@ -405,9 +405,8 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     out.parent.mkdir(parents=True, exist_ok=True)
     safewrite.clean_stale(out)
     check_target(out, force, sequences)
-    reused = _sound(old, run)   # its corrections by hand and its front are kept all the same
+    reused, recheck = _sound(old, run), lambda target: check_target(target, force, sequences)  # noqa: E731
     corrections = given if given is not None else kept_corrections(old, sequences, run)
-    recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp:
         with Workers(workers, dask) as pool:
             computed = run.stage("features", lambda: [
