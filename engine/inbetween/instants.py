@@ -309,5 +309,6 @@ def matched_tail(a, b, stride=2):
     (pa, ka), (pb, kb) = points(a), points(b)
     to_b = kdtree(kb).query(ka[::stride])[1]
     to_a = kdtree(ka).query(kb[::stride])[1]
-    d = np.concatenate([np.linalg.norm(pa[::stride] - pb[to_b], axis=1), np.linalg.norm(pb[::stride] - pa[to_a], axis=1)])
+    d = np.concatenate([np.linalg.norm(pa[::stride] - pb[to_b], axis=1),
+                        np.linalg.norm(pb[::stride] - pa[to_a], axis=1)])
     return float(np.percentile(d, 99))
