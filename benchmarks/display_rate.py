@@ -7,8 +7,9 @@ Each take is built at default options (display-rate in-betweens included,
 (build time and library size against the same build without them; limits 1.5x and 1.4x).
 
 Both are first builds: an empty folder, every frame read, no feature cache (a build reuses
-what the library it replaces holds, and a cached one reads nothing). A step is measured as the body sees it: point-to-surface distances, both ways, between two
-consecutive displayed surfaces (``instants.step_measures``, every 8th vertex), their mean and
+what the library it replaces holds, and a cached one reads nothing). A step is measured as
+the body sees it: point-to-surface distances, both ways, between two consecutive displayed
+surfaces (``instants.step_measures``, every 8th vertex), their mean and
 their 99th percentile (the few hundred vertices of a hand or forearm that a mean hides). The
 *natural step* is the median over consecutive texton frames of each figure at the capture's rate.
 
