@@ -27,8 +27,8 @@ their 99th percentile (the few hundred vertices of a hand or forearm that a mean
   in the texton or the repetition its closing is warped onto, as fast as the motion moves
   there, among the frames the build looked at: ``tvmedit.engine.inbetween.loops.paces`` and
   ``reach``). The raw figures over the natural step are
-  printed beside them. Transitions are measured a second way too, each point matched to
-  the nearest point of the other surface that looks alike (``instants.matched_tail``,
+  printed beside them. Transitions and wraps are measured a second way too, each point
+  matched to the nearest point of the other surface that looks alike (``instants.matched_tail``,
   against the same figure for natural steps, same bar): a forearm that jumps from the chest
   to the air still lies near some surface in both frames, and only this figure sees it.
 """

@@ -145,6 +145,8 @@ def test_building_again_over_a_damaged_library_repairs_it(built, take_13_30, tmp
 
     out = tmp_path / "gym.lib"
     shutil.copytree(built.path, out)
+    first = Library.open(out).nodes[0]
+    Library.open(out).rename(first.id, "warm-up")
     data = bytearray((out / "positions.npy").read_bytes())
     data[len(data) // 2] ^= 0xFF
     (out / "positions.npy").write_bytes(bytes(data))
@@ -153,8 +155,24 @@ def test_building_again_over_a_damaged_library_repairs_it(built, take_13_30, tmp
     said = []
     again = build(_inputs(take_13_30), out, workers=1, cache=False, force=True, log=said.append)
     assert any("damaged (positions.npy" in line and "nothing is reused" in line for line in said), said
+    assert again.nodes[0].name == "warm-up"      # what the user gave is kept
     assert again.report["read_frames"] == len(again.stored_frames())
     assert tvmedit("check", out).returncode == 0
     paths = {name: open_sequence(source).paths for name, source in _inputs(take_13_30)}
     for name, frame in again.stored_frames():
         np.testing.assert_array_equal(again.frame_mesh((name, frame))[0], read_frame(paths[name][frame]).positions)
+
+
+def test_a_damaged_library_is_not_corrected_and_nothing_is_written(built, tmp_path):
+    # A rebuild takes its features, meshes and in-betweens from the library itself: with
+    # damaged bytes it stops and says to build from the capture, leaving no new library.
+    from tvmedit.engine.errors import LibraryError
+
+    out = tmp_path / "gym.lib"
+    shutil.copytree(built.path, out)
+    data = bytearray((out / "features.npy").read_bytes())
+    data[-5] ^= 0xFF
+    (out / "features.npy").write_bytes(bytes(data))
+    with pytest.raises(LibraryError, match="features.npy does not hold the bytes written.*force"):
+        rebuild(Library.open(out), tmp_path / "corrected.lib")
+    assert not (tmp_path / "corrected.lib").exists()

@@ -100,6 +100,7 @@ class _Run:
         self.read_frames = 0
         self.started = time.perf_counter()
         self.blends = self.instants = None
+        self.names_from = None      # the library whose names given by hand carry over, if not ``old``
 
     def stage(self, name, fn, *args):
         """Run one stage and record how long it took."""
@@ -302,7 +303,7 @@ def _write_library(tmp, old, sequences, computed, padded, settings, analysis, me
                                     {name: s.to_json() for name, s in analysis.parses.items()})
     layout.write_json(tmp / "database.json", nodes)
     layout.write_json(tmp / "graph.json", layout.graph_to_json(graph))
-    kept = _carry_names(old, nodes, tmp)
+    kept = _carry_names(run.names_from or old, nodes, tmp)
     if kept:
         run.say(f"kept {len(kept)} motion name(s) given in the library being replaced")
         for i, name in kept.items():
@@ -421,16 +422,21 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
 def _sound(old, run):
     """``old``, the library being replaced, where its files hold the bytes its build wrote;
     None (and a note) where some do not: a build from the capture then reuses none of its
-    arrays (its corrections by hand and its front, read when it was opened, are still kept).
+    arrays; its corrections by hand, its front and the names given to its motions are still
+    kept (``run.names_from``).
 
     A build reuses the old library's features, meshes and in-between frames, and keeps the
     checksums of the files it links (:func:`tvmedit.engine.store.layout.write_manifest`): from
     a damaged library it would carry the damage over, and the build that ``check`` advises
-    for a damaged library would not repair it. Reading its files costs a fraction of a second
-    beside a build's reading of every frame file."""
+    for a damaged library would not repair it. Its files are read once more for this: a
+    fraction of a second for a 60 fps take's, where the build reads every frame file (a build
+    that reads none, every feature cached and every frame stored, pays it in full)."""
+    run.names_from = old
     bad = layout.verify(old.path, old.manifest) if old is not None else []
     if bad:
-        run.say(f"note: the library being replaced is damaged ({', '.join(bad)}); nothing is reused from it")
+        run.say(f"note: the library being replaced is damaged ({', '.join(bad)}); nothing is reused from it"
+                + ("; its corrections by hand are kept as they read: look them over (tvmedit correct --help)"
+                   if "corrections.json" in bad else ""))
         return None
     return old
 

@@ -9,7 +9,9 @@ after a boundary was added) are read from their files, and none from a library b
 ``keep_frames="all"``. The library's natural step is kept, so only the transitions the
 correction changed get their in-between frames made anew (:mod:`tvmedit.engine.inbetween.blend`). A library
 built before loops were closed (:mod:`tvmedit.engine.inbetween.loops`) has its loops closed by its first
-rebuild, which reads the few neighbouring frames they are closed onto.
+rebuild, which reads the few neighbouring frames they are closed onto. A library whose files
+no longer hold the bytes written (checksums, verified beside the work) is not derived again:
+what a rebuild takes from it would carry the damage on, so it says to build from the capture.
 """
 
 from pathlib import Path
@@ -19,6 +21,7 @@ from .. import safewrite
 from .builder import derive, library_features, report_of
 from .inputs import check_target
 from ..features import BinSizes
+from ..inbetween.blend import preload
 from ..parallel import Workers
 from ..parse.params import StructureParams
 from .settings import Settings
@@ -94,6 +97,12 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     check_target(out, force, sequences)
     recheck = lambda target: check_target(target, force, sequences)  # noqa: E731
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(workers) as pool:
-        derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
-                         parses=parses, keep_natural=True)
+        preload()
+        pool.start()    # forked before the checksums' threads run
+        # A rebuild takes everything from the library itself: where its files no longer hold
+        # the bytes written, it stops (nothing written) and says to build from the capture,
+        # rather than carry the damage into a library whose checksums would then pass.
+        with library.verifying():
+            derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
+                             parses=parses, keep_natural=True)
     return report_of(derived)
