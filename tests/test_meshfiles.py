@@ -163,7 +163,7 @@ def test_building_again_over_a_damaged_library_repairs_it(built, take_13_30, tmp
         np.testing.assert_array_equal(again.frame_mesh((name, frame))[0], read_frame(paths[name][frame]).positions)
 
 
-def test_a_damaged_library_is_not_corrected_and_nothing_is_written(built, tmp_path):
+def test_a_damaged_library_is_not_corrected_and_nothing_is_written(built, tmp_path, monkeypatch):
     # A rebuild takes its features, meshes and in-betweens from the library itself: with
     # damaged bytes it stops and says to build from the capture, leaving no new library.
     from tvmedit.engine.errors import LibraryError
@@ -176,3 +176,21 @@ def test_a_damaged_library_is_not_corrected_and_nothing_is_written(built, tmp_pa
     with pytest.raises(LibraryError, match="features.npy does not hold the bytes written.*force"):
         rebuild(Library.open(out), tmp_path / "corrected.lib")
     assert not (tmp_path / "corrected.lib").exists()
+    # Damaged stored frames: linked as they are, their checksums kept (the new library is
+    # found damaged too), or verified before they are copied (refused); never blessed.
+    shutil.copy2(built.path / "features.npy", out / "features.npy")
+    data = bytearray((out / "positions.npy").read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    (out / "positions.npy").write_bytes(bytes(data))
+    library = Library.open(out)
+    for k, corrections in enumerate([None, {"sequences": {"gym": {"drop": [library.nodes[0].name]}}}]):
+        # The second keeps no spare frame: the frames it still needs are copied, not linked.
+        monkeypatch.setattr(meshfiles, "SPARE_SHARE", 0.0 if k else meshfiles.SPARE_SHARE)
+        try:
+            rebuild(library, tmp_path / f"corrected-{k}.lib", corrections=corrections)
+        except LibraryError as error:
+            assert "positions.npy does not hold the bytes written" in str(error)
+            assert not (tmp_path / f"corrected-{k}.lib").exists()
+        else:
+            with pytest.raises(LibraryError, match="positions.npy does not hold the bytes written"):
+                Library.open(tmp_path / f"corrected-{k}.lib").verify()

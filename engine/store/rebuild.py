@@ -10,8 +10,9 @@ after a boundary was added) are read from their files, and none from a library b
 correction changed get their in-between frames made anew (:mod:`tvmedit.engine.inbetween.blend`). A library
 built before loops were closed (:mod:`tvmedit.engine.inbetween.loops`) has its loops closed by its first
 rebuild, which reads the few neighbouring frames they are closed onto. A library whose files
-no longer hold the bytes written (checksums, verified beside the work) is not derived again:
-what a rebuild takes from it would carry the damage on, so it says to build from the capture.
+no longer hold the bytes written (checksums, verified beside the work; stored frames where
+they are copied rather than linked) is not derived again: what a rebuild takes from it would
+carry the damage on, so it says to build from the capture.
 """
 
 from pathlib import Path
@@ -20,6 +21,7 @@ from typing import NamedTuple
 from .. import safewrite
 from .builder import derive, library_features, report_of
 from .inputs import check_target
+from .layout import mesh_file
 from ..features import BinSizes
 from ..inbetween.blend import preload
 from ..parallel import Workers
@@ -99,10 +101,12 @@ def rebuild(library, out=None, *, corrections=None, mu=None, force=None, log=Non
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp, Workers(workers) as pool:
         preload()
         pool.start()    # forked before the checksums' threads run
-        # A rebuild takes everything from the library itself: where its files no longer hold
-        # the bytes written, it stops (nothing written) and says to build from the capture,
-        # rather than carry the damage into a library whose checksums would then pass.
-        with library.verifying():
+        # A rebuild takes everything from the library itself: where the files it reads no
+        # longer hold the bytes written, it stops (nothing written) and says to build from the
+        # capture, rather than carry the damage into a library whose checksums would then pass.
+        # Stored frames are linked, keeping their checksums (damage there stays found), or
+        # verified before they are copied (meshfiles.write): not read here for nothing.
+        with library.verifying([name for name in library.manifest.get("checksums", {}) if not mesh_file(name)]):
             derived = derive(tmp, library, sequences, computed, settings, corrections, pool=pool, log=log,
                              parses=parses, keep_natural=True)
     return report_of(derived)
