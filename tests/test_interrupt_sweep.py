@@ -114,12 +114,12 @@ def _before_tvmedit(stderr):
     """Whether ``stderr`` is Python's own word on a signal that landed before tvmedit's first
     line: a fatal error in its start (init_import_site, init_sys_streams...), or Ctrl-C while
     ``python -m`` was still finding the module (a traceback of Python's frozen runpy and
-    importlib frames alone)."""
+    importlib frames alone, none of them running the module's code)."""
     if stderr.startswith("Fatal Python error: init_"):
         return True
     frames = re.findall(r'File "([^"]+)"', stderr)
     return (stderr.startswith("Traceback") and stderr.rstrip().endswith("KeyboardInterrupt") and bool(frames)
-            and all(frame.startswith("<frozen ") for frame in frames))
+            and all(frame.startswith("<frozen ") for frame in frames) and "in _run_code" not in stderr)
 
 
 @pytest.mark.parametrize("command", COMMANDS)

@@ -194,3 +194,13 @@ def test_a_damaged_library_is_not_corrected_and_nothing_is_written(built, tmp_pa
         else:
             with pytest.raises(LibraryError, match="positions.npy does not hold the bytes written"):
                 Library.open(tmp_path / f"corrected-{k}.lib").verify()
+    # Where no hard link can be made (another file system), the frames are copied: refused too.
+    monkeypatch.setattr(meshfiles, "SPARE_SHARE", 1.0)
+
+    def no_link(*args):
+        raise OSError("cross-device link")
+
+    monkeypatch.setattr(os, "link", no_link)
+    with pytest.raises(LibraryError, match="positions.npy does not hold the bytes written"):
+        rebuild(library, tmp_path / "copied.lib")
+    assert not (tmp_path / "copied.lib").exists()

@@ -311,8 +311,8 @@ def matched_tail(a, b, stride=2):
         colours = colours.reshape(len(positions), -1)[:, :3] * (COLOUR_METRES / 255.0)
         return np.hstack([positions.reshape(-1, 3), colours])
 
-    ka, kb = points(a), points(b)
-    if not len(ka) or not len(kb):
+    if not len(a[0]) or not len(b[0]):
         return 0.0
+    ka, kb = points(a), points(b)
     d = np.concatenate([kdtree(kb).query(ka[::stride])[0], kdtree(ka).query(kb[::stride])[0]])
     return float(np.percentile(d, 99))

@@ -138,20 +138,24 @@ def _wanted(name, names):
 
 def link_meshes(library, folder):
     """Give ``folder`` the stored meshes of ``library`` (a :class:`tvmedit.engine.store.library.Library`) as
-    they are: hard links, copies where links cannot be made. Nothing in a library is changed in
-    place, so the two may share them. Returns what :class:`~tvmedit.engine.store.arrays.MeshWriter` would: an object with
+    they are: hard links, copies where links cannot be made (each checked against the checksum
+    ``library`` records: damaged bytes are not copied into a library that would sum them
+    anew). Nothing in a library is changed in place, so the two may share them. Returns what :class:`~tvmedit.engine.store.arrays.MeshWriter` would: an object with
     ``frames``, ``bounds`` and ``max_counts``."""
     import os
     import shutil
     from types import SimpleNamespace
 
+    sums = library.manifest.get("checksums", {})
     for name in library.manifest.get("files", {}):
         source = Path(library.path) / name
         if mesh_file(name):
             try:
                 os.link(source, Path(folder) / name)
-            except OSError:
+            except OSError:     # another file system: a copy, whose checksum is taken anew,
                 shutil.copyfile(source, Path(folder) / name)
+                if name in sums and checksum(Path(folder) / name) != sums[name]:   # so not of damage
+                    raise damaged_files(library.path, [name])
     return SimpleNamespace(frames=int(library.manifest["counts"]["stored_frames"]),
                            bounds=library.manifest["bounds"], max_counts=library.manifest["max_counts"])
 
