@@ -47,6 +47,13 @@ class Window:
     #: What a user can do without a display, said where the window cannot open.
     WITHOUT_DISPLAY = "for files use tvmedit render"
 
+    @classmethod
+    def check_display(cls):
+        """Raise the one-sentence :class:`TvmError` where no display is set (``DISPLAY`` or
+        ``WAYLAND_DISPLAY``), before a command loads what its window needs."""
+        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            raise TvmError(f"no display: set DISPLAY or run under xvfb-run; {cls.WITHOUT_DISPLAY}")
+
     def __init__(self, app, size=(960, 720), title="tvmedit", clock=time.perf_counter, vsync=True):
         import glfw
 

@@ -83,11 +83,9 @@ def run(args):
     if not 0 <= args.frame < shown.frames:
         raise TvmError(f"--frame {args.frame} is outside sequence {shown.name}, whose frames are "
                        f"0-{shown.frames - 1}; give one of those.")
-    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        raise TvmError("no display: set DISPLAY or run under xvfb-run; `tvmedit correct` applies a "
-                       "corrections file without one")
-
     from tvmedit.player.inspect import TIMELINE_SHARE, InspectorApp, InspectorWindow
+
+    InspectorWindow.check_display()
 
     width, height = args.size
     app = InspectorApp(library, args.corrections, out=args.out, force=args.force or None,

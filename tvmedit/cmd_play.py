@@ -97,11 +97,10 @@ def run(args):
                                 start=keys[0] if keys else None).walker()
     start = keys[0] if keys else (walker.first() if walker else allowed[0])
     fps = args.fps or library.sequence(graph.nodes[start]["sequence"]).fps
-    if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
-        raise TvmError("no display: set DISPLAY or run under xvfb-run; for files use tvmedit render")
-
     from tvmedit.player.app import PlayerApp
     from tvmedit.player.window import Window
+
+    Window.check_display()
 
     try:
         log = open(args.log, "w", encoding="utf-8") if args.log else None
