@@ -74,7 +74,8 @@ def test_frames_added_by_a_rebuild_lie_beside_those_kept_and_read_back_as_stored
     out = tmp_path / "grown.lib"
     shutil.copytree(built.path, out)
     kept = {name: os.stat(out / name).st_ino for name in ("positions.npy", "faces.npy", "frames.npy")}
-    grown = build(_inputs(take_13_30), out, workers=1, cache=False, keep_frames="all", force=True)
+    # Two workers: the frames read come back through spool files (meshfiles._spools).
+    grown = build(_inputs(take_13_30), out, workers=2, cache=False, keep_frames="all", force=True)
     assert arrays.parts(grown.path) == ["", "part1_"]
     assert {name: os.stat(out / name).st_ino for name in kept} == kept    # linked, not written again
     paths = {name: open_sequence(source).paths for name, source in _inputs(take_13_30)}
@@ -118,10 +119,17 @@ def test_textured_frames_to_add_are_stored_anew_and_the_kept_files_left_untouche
     shared = tmp_path / "shared_positions.npy"     # the old library's file, as a link keeps it
     os.link(out / "positions.npy", shared)
     before = shared.read_bytes()
-    library = build([*_inputs(take_13_30), ("card", str(frames))], out, workers=1, cache=False, keep_frames="all",
+    library = build([*_inputs(take_13_30), ("card", str(frames))], out, workers=2, cache=False, keep_frames="all",
                     force=True)
     assert library.textured and arrays.parts(library.path) == [""]
     assert library.frame_texture(("card", 0)) is not None and library.frame_texture(("gym", 0)) is None
+    card_paths = open_sequence(str(frames)).paths
+    for frame in (0, 7, 15):    # spooled from the workers with their texture and uv
+        (uv, texture), read = library.frame_texture(("card", frame)), read_frame(card_paths[frame])
+        assert len(library.frame_mesh(("card", frame))[0]) == len(read.positions)
+        np.testing.assert_array_equal(uv, read.uv)
+        np.testing.assert_array_equal(texture, read.texture)
+    assert not (library.path / ".spool").exists()
     assert shared.read_bytes() == before
 
 

@@ -31,20 +31,23 @@ def vertex_normals(positions, faces):
     >>> vertex_normals(p, np.array([[0, 1, 2]])).tolist()
     [[0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]
     """
-    # Edges and cross products in float32 (the stored precision), sums in float64;
-    # np.take on one corner at a time is several times faster than fancy indexing.
-    p = np.asarray(positions, dtype=np.float32)
+    # Coordinates as three rows (x, y, z) and the cross product written out per component,
+    # in float32 (the stored precision); each component's sum over the faces' corners by one
+    # ``np.bincount`` (float64) over the corners column by column. Twice as fast as gathering
+    # (M, 3) corners and ``np.cross``. The sums run in another order, but a float64 sum of a
+    # vertex's few float32 terms is exact in practice: the normals matched the gathered form
+    # to the bit on 23 frames of 13_29.
+    p = np.ascontiguousarray(np.asarray(positions, dtype=np.float32).T)
     f = np.asarray(faces, dtype=np.intp)
-    a = np.take(p, f[:, 0], axis=0)
-    b = np.take(p, f[:, 1], axis=0)
-    c = np.take(p, f[:, 2], axis=0)
-    b -= a
-    c -= a
-    face_n = np.cross(b, c)
-    corners = f.ravel()
-    n = np.empty((len(p), 3))
-    for axis in range(3):
-        n[:, axis] = np.bincount(corners, weights=np.repeat(face_n[:, axis], 3), minlength=len(p))
-    length = np.sqrt(np.einsum("ij,ij->i", n, n))[:, None]
+    corners = np.ascontiguousarray(f.T).ravel()
+    i0, i1, i2 = f[:, 0], f[:, 1], f[:, 2]
+    ax, ay, az = p[0][i0], p[1][i0], p[2][i0]
+    bx, by, bz = p[0][i1] - ax, p[1][i1] - ay, p[2][i1] - az
+    cx, cy, cz = p[0][i2] - ax, p[1][i2] - ay, p[2][i2] - az
+    count = p.shape[1]
+    n = np.empty((3, count))
+    for axis, component in enumerate((by * cz - bz * cy, bz * cx - bx * cz, bx * cy - by * cx)):
+        n[axis] = np.bincount(corners, weights=np.tile(component, 3), minlength=count)
+    length = np.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
     np.divide(n, length, out=n, where=length > 0)
-    return n.astype(np.float32)
+    return np.ascontiguousarray(n.T, dtype=np.float32)
