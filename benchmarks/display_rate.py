@@ -144,7 +144,8 @@ def wraps(library, nat):
         count, at = (w["count"], w["at"]) if w else (0, "end")
         # The capture's steps are those of the frames the build looked at (the texton alone
         # where no closing was tried).
-        first, last = reach(node.start, node.end, at, w.get("limit", 0)) if w else (node.start, node.end)
+        first, last = (w["reach"] if "reach" in w else reach(node.start, node.end, at, w.get("limit", 0))) if w \
+            else (node.start, node.end)
         if count:
             keys = ([(node.sequence, node.end - count)] if at == "end" else [(node.sequence, node.end)])
             keys += [(node.sequence, 0, ((node.id, node.id), k)) for k in range(count)]

@@ -37,7 +37,7 @@ def _reach(library, node):
     w = tried.get((node.sequence, node.start, node.end))
     if w is None:
         return "end", (node.start, node.end)
-    return w["at"], reach(node.start, node.end, w["at"], w.get("limit", 0))
+    return w["at"], tuple(w["reach"]) if "reach" in w else reach(node.start, node.end, w["at"], w.get("limit", 0))
 
 
 def test_every_loop_wraps_within_a_natural_step_where_the_cut_did_not(libraries):
@@ -91,6 +91,22 @@ def _closed_motions(libraries):
              if library.graph.nodes[n.id].get("wrap")]
     assert {library.graph.nodes[n.id]["wrap_at"] for library, n in found} == {"end", "start"}
     return found
+
+
+def test_each_wrap_is_held_to_the_captured_step_it_replaces(libraries):
+    # The wrap from a texton's last frame to its first stands where the capture stepped from
+    # the last frame to the next: where the cluster holds that frame, the build looked at it
+    # and the library stores it, so its pace counts (13_30's motion 01 is a fast wrap that
+    # steps no more than the capture does there, 2.0 natural steps).
+    across = 0
+    for library in libraries.values():
+        stored = set(library.stored_frames())
+        for w in library.blend_data()["wraps"]:
+            seq, start, end = w["texton"]
+            first, last = w["reach"]
+            assert all((seq, f) in stored for f in range(first, last + 1))
+            across += last == end + 1 if w["at"] == "end" else first == start - 1
+    assert across >= 3
 
 
 def test_an_edit_shows_the_closing_frames_only_in_cycles_that_wrap(libraries):

@@ -127,7 +127,7 @@ def closed_at(shown, frame, start, end, count, at, left):
     return index
 
 
-def close_loop(meshes, start, end, at, limit, natural, tail=None):
+def close_loop(meshes, start, end, at, limit, natural, tail=None, room=None):
     """The closing frames of one texton's loop (:func:`plan` gives ``at`` and ``limit``).
 
     Parameters
@@ -136,6 +136,8 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
         ``meshes(frame)``: ``(positions, colours, faces)`` of a frame of the sequence (:func:`window`).
     start, end, at, limit : int, int, {"end", "start"}, int
         The texton, where it is closed, and the most frames to warp.
+    room : (int, int) or None
+        The first and last frames of the texton's cluster (:func:`reach`).
     natural, tail : float, float or None
         The library's natural step and its 99th percentile
         (:func:`tvmedit.engine.inbetween.blend.chamfer_and_tail`), which a closing's steps keep
@@ -157,7 +159,7 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None):
     from ..capture.normals import vertex_normals
 
     cache = {}
-    first, last = reach(start, end, at, limit)
+    first, last = reach(start, end, at, limit, room)
 
     def mesh(frame):  # each frame read once, with its k-d tree built once
         if frame not in cache:
@@ -243,16 +245,29 @@ def _warped_window(mesh, fields, start, end, at, count):
     return frames, run
 
 
-def reach(start, end, at, limit):
-    """The frames a closing of at most ``limit`` frames looks at, ``(first, last)``: the texton
-    and the frames its window may be warped onto (:func:`window`), all of them stored by a
-    build; the capture's own steps it is held to (:func:`paces`) are those within them, so a
+def reach(start, end, at, limit, room=None):
+    """The frames a closing of at most ``limit`` frames looks at, ``(first, last)``: the texton,
+    the frames its window may be warped onto (:func:`window`), and, where the cluster's frames
+    ``room`` ``(first, last)`` hold it, the frame the capture shows after the texton's last
+    (closed at its end) or before its first (at its start), all of them stored by a build. The
+    capture's own steps a closing is held to (:func:`paces`) are those within them, so a
     library keeping every frame closes its loops as one keeping only its motions' does.
 
-    >>> reach(20, 31, "end", 4), reach(20, 31, "start", 4)
-    ((16, 31), (20, 35))
+    Why the frame across the wrap: the wrap replaces the capture's step from ``end`` to
+    ``end + 1`` (and from ``start - 1`` to ``start``); that step is the capture's own pace at the
+    wrap's phase, the first thing a wrap is to be held to. Without it, a fast motion whose
+    other pair at that phase is slower (13_30's motion 01: 2.0 natural steps from its last
+    frame to the next, 1.73 into its first) reads as a pop where it is not one.
+
+    >>> reach(20, 31, "end", 4), reach(20, 31, "start", 4), reach(20, 31, "end", 4, (10, 40))
+    ((16, 31), (20, 35), (16, 32))
     """
-    return (start - limit, end) if at == "end" else (start, end + limit)
+    first, last = (start - limit, end) if at == "end" else (start, end + limit)
+    if room is not None and at == "end" and end + 1 <= room[1]:
+        last = end + 1
+    if room is not None and at == "start" and start - 1 >= room[0]:
+        first = start - 1
+    return first, last
 
 
 def phase_pairs(start, end, at, count):

@@ -11,7 +11,7 @@ the workers, and stores them in flat arrays beside the texton frames (``blend_*.
 import numpy as np
 
 from ..inbetween.blend import blend, frame_count, natural_step, side, texton_steps
-from ..inbetween.loops import close_loop, plan, window
+from ..inbetween.loops import close_loop, plan, reach, window
 
 __all__ = ["blend_library", "instant_library", "NATURAL_PAIRS"]
 
@@ -98,22 +98,25 @@ def _blend_task(task):
         _, folder, exit_row, entry_row, natural, count, tail = task
         run = blend(*_meshes(folder, (exit_row, entry_row)), natural, count, tail=tail)
     else:
-        _, folder, rows, (start, end, at, limit), natural, tail = task
-        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail)
+        _, folder, rows, (start, end, at, limit, room), natural, tail = task
+        run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail,
+                         room)
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
 def _loops(graph, count, rooms):
-    """``(node, (sequence, start, end), (at, limit))`` of every texton whose loop may be closed
-    (:mod:`tvmedit.engine.inbetween.loops`): cycles, not one-shots, with ``rooms[node]`` the frames of its cluster;
-    none where ``count`` is 0 (the paper's cut)."""
+    """``(node, (sequence, start, end), (at, limit, room))`` of every texton whose loop may be
+    closed (:mod:`tvmedit.engine.inbetween.loops`): cycles, not one-shots, with ``room =
+    rooms[node]`` the first and last frames of its cluster; none where ``count`` is 0 (the
+    paper's cut)."""
     if count == 0:
         return []
     loops = []
     for node, data in sorted(graph.nodes(data=True)):
-        at, limit = plan(data["start"], data["end"], rooms.get(node, (data["start"], data["end"])))
+        room = tuple(rooms.get(node, (data["start"], data["end"])))
+        at, limit = plan(data["start"], data["end"], room)
         if data.get("kind") != "once" and limit > 0:
-            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit)))
+            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit, room)))
     return loops
 
 
@@ -121,8 +124,9 @@ def loop_frames(graph, count, rooms):
     """``(sequence, frame)`` of the neighbouring repetitions' frames that closing the loops of
     ``graph``'s textons warps onto (a build stores them with the texton frames)."""
     frames = set()
-    for _, (seq, start, end), (at, limit) in _loops(graph, count, rooms):
-        frames.update((seq, f) for f in window(start, end, at, limit)[1])
+    for _, (seq, start, end), (at, limit, room) in _loops(graph, count, rooms):
+        first, last = reach(start, end, at, limit, room)
+        frames.update((seq, f) for f in range(first, last + 1))
     return frames
 
 
@@ -130,9 +134,10 @@ def _tasks(folder, edges, loops, rows, natural, count, reuse, tail=None):
     """The runs to make (not copied from the library being replaced): edges, then loop closings."""
     fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
     tasks = [("edge", str(folder), rows[a], rows[b], natural, count, tail) for a, b in fresh]
-    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit, end + limit + 1) if (seq, f) in rows},
-               (start, end, at, limit), natural, tail)
-              for _, (seq, start, end), (at, limit) in loops if ("wrap", seq, start, end, at, limit) not in reuse]
+    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit - 1, end + limit + 2) if (seq, f) in rows},
+               (start, end, at, limit, room), natural, tail)
+              for _, (seq, start, end), (at, limit, room) in loops
+              if ("wrap", seq, start, end, at, limit, reach(start, end, at, limit, room)) not in reuse]
     return tasks
 
 
@@ -191,16 +196,16 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
              for u, v, d in sorted(graph.edges(data=True))]
     loops = _loops(graph, count, rooms or {})
     tasks = _tasks(folder, edges, loops, rows, natural, count, reuse, tail)
-    plans = {u: limit for u, _, (_, limit) in loops}
+    plans = {u: (limit, reach(start, end, at, limit, room)) for u, (_, start, end), (at, limit, room) in loops}
     made = pool.map(_blend_task, tasks)
     progress = bar(len(edges) + len(loops), "blends", unit="run") if bar is not None else None
     records, closings, seconds = [], [], 0.0
-    jobs = [(u, v, a, b) for u, v, a, b in edges] + [(u, u, at, texton) for u, texton, (at, _) in loops]
+    jobs = [(u, v, a, b) for u, v, a, b in edges] + [(u, u, at, texton) for u, texton, (at, _, _) in loops]
     try:
         with MeshWriter(folder, prefix="blend_") as writer:
             for u, v, a, b in jobs:
                 wrap = u == v
-                key = ("wrap", *b, a, plans[u]) if wrap else (a, b)
+                key = ("wrap", *b, a, *plans[u]) if wrap else (a, b)
                 frames, steps, jump, cpu = _copied(old, reuse[key], wrap) if key in reuse else next(made)
                 if wrap:  # a loop's closing: the texton frames it warps, in play order
                     seq, at, warped = b[0], a, window(b[1], b[2], a, len(frames))[0]
@@ -211,8 +216,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
                 _store_run(writer, frames, sources, textures, offsets)
                 record = {"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
                           "steps": steps, "exit": list(a), "entry": list(b),
-                          **({"at": at, "limit": plans[u], "texton": [seq, graph.nodes[u]["start"],
-                                                                      graph.nodes[u]["end"]]} if wrap else {})}
+                          **({"at": at, "limit": plans[u][0], "reach": [int(f) for f in plans[u][1]],
+                              "texton": [seq, graph.nodes[u]["start"], graph.nodes[u]["end"]]} if wrap else {})}
                 (records if u != v else closings).append(record)
                 seconds += cpu
                 if progress is not None:
@@ -266,8 +271,10 @@ def _old_runs(data, natural, count, tail=None):
     if data["natural_step"] == natural:  # a loop's closing is kept at the same natural step only
         # The same texton closed at the same end and as far: a correction that moves its
         # cluster's edge may change where it is closed, and then it is closed anew.
-        runs.update({("wrap", *w["texton"], w["at"], w["limit"]): (w["first"], w["count"], w["jump"], w["steps"])
-                     for w in data.get("wraps", []) if "limit" in w})
+        # A closing made before it looked at the frame across the wrap (no "reach") is made anew.
+        runs.update({("wrap", *w["texton"], w["at"], w["limit"], tuple(w["reach"])): (w["first"], w["count"], w["jump"],
+                                                                                      w["steps"])
+                     for w in data.get("wraps", []) if "reach" in w})
     return runs
 
 
