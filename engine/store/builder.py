@@ -43,7 +43,7 @@ from .inbetweens import blend_library, instant_library, loop_frames
 from .inputs import check_kept, check_target, kept_corrections, open_inputs, open_old, pass_on
 from ..errors import InputError, summarise
 from ..features import FeatureAccumulator, Features, follow_picks, moves_across, stored_rows
-from ..capture.load import read_frame
+from ..capture.load import read_frame, resolved
 from ..parallel import Workers
 from .advice import more_motions
 from .settings import Settings
@@ -186,17 +186,18 @@ def _compute_features(sequence, bins, skip_bad_frames, pool, bar, run):
     accumulator.add(frame.positions)
     run.add_times(0.0, time.perf_counter() - t0)
     bar.update()
-    kept = [str(Path(paths[first]).resolve())]
+    real = resolved(paths)
+    kept = [real[first]]
     rest = paths[first + 1:]
     chunks = [rest[i:i + FEATURE_CHUNK] for i in range(0, len(rest), FEATURE_CHUNK)]
     tasks = ((chunk, accumulator.origin, bins, skip_bad_frames, orientation, follow) for chunk in chunks)
-    for chunk, (rows, read_s, compute_s) in zip(chunks, pool.map(_feature_task, tasks)):
-        for path, row in zip(chunk, rows):
+    for k, (chunk, (rows, read_s, compute_s)) in enumerate(zip(chunks, pool.map(_feature_task, tasks))):
+        for index, (path, row) in enumerate(zip(chunk, rows), start=first + 1 + k * FEATURE_CHUNK):
             if isinstance(row, str):
                 skipped.append((str(path), row))
             else:
                 accumulator.add_histograms(*row[0], centred=row[1])
-                kept.append(str(Path(path).resolve()))
+                kept.append(real[index])
         run.add_times(read_s, compute_s)
         bar.update(len(chunk))
     return accumulator.result(), kept, skipped

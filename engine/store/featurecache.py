@@ -43,13 +43,15 @@ def code_version():
 
 def stat_list(paths):
     """``[resolved path, size, mtime_ns]`` of every frame file, as the key and the manifest hold them."""
+    from ..capture.load import resolved
+
     rows = []
-    for path in paths:
+    for path, real in zip(paths, resolved(paths)):
         try:
             stat = os.stat(path)
         except OSError as error:
             raise InputError(f"frame {path} cannot be read ({error.strerror}); check the input.") from None
-        rows.append([str(Path(path).resolve()), stat.st_size, stat.st_mtime_ns])
+        rows.append([real, stat.st_size, stat.st_mtime_ns])
     return rows
 
 
