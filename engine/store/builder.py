@@ -470,12 +470,13 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     analysis = _motion_graph(sequences, padded, settings.params, settings.mu, run, corrections, parses,
                              settings.connect)
     rooms = {node.id: analysis.structures[node.sequence].clusters[node.cluster] for node in analysis.nodes}
-    needed = _needed(sequences, computed, analysis, settings, rooms)
+    across = not keep_natural or _across(old)
+    needed = _needed(sequences, computed, analysis, settings, rooms, across)
     preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshfiles.write, tmp, needed, pool, run, old, meshfiles.reusable(old, computed))
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
-                           pool, run.bar, old, keep_natural, rooms)
+                           pool, run.bar, old, keep_natural, rooms, across)
     if capturecopy.applies(sequences) and run.blends["frames"]:   # in-between frames as an export writes them
         run.stage("draco", capturecopy.encode_blends, tmp, sequences[0].orientation)
     run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
@@ -486,7 +487,19 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 
 
-def _needed(sequences, computed, analysis, settings, rooms):
+def _across(old):
+    """Whether ``old``'s loop closings looked at the frame across each wrap (and it stores those
+    frames): a rebuild of a library made before they did, which reads no frame file, keeps
+    its closings as they were."""
+    from ..errors import TvmError
+
+    try:
+        return bool(old is not None and old.blend_data().get("across"))
+    except TvmError:
+        return False
+
+
+def _needed(sequences, computed, analysis, settings, rooms, across=True):
     """The frames a library stores, ``(sequence index, frame, path, orientation)``: every frame
     (``keep_frames="all"``), else those of the database motions and of the neighbouring
     repetitions their loops are closed onto (:mod:`tvmedit.engine.inbetween.loops`)."""
@@ -495,7 +508,7 @@ def _needed(sequences, computed, analysis, settings, rooms):
         needed = [(s, frame) for s, entry in enumerate(computed) for frame in range(len(entry.features))]
     else:
         frames = {(node.sequence, frame) for node in analysis.nodes for frame in range(node.start, node.end + 1)}
-        frames |= loop_frames(analysis.graph, settings.blend_frames, rooms)
+        frames |= loop_frames(analysis.graph, settings.blend_frames, rooms, across)
         needed = sorted((index[name], frame) for name, frame in frames)
     return [(s, frame, computed[s].paths[frame], sequences[s].orientation) for s, frame in needed]
 

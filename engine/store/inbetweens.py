@@ -104,11 +104,12 @@ def _blend_task(task):
     return run.frames, run.steps, run.jump, time.process_time() - started
 
 
-def _loops(graph, count, rooms):
+def _loops(graph, count, rooms, across=True):
     """``(node, (sequence, start, end), (at, limit, room))`` of every texton whose loop may be
     closed (:mod:`tvmedit.engine.inbetween.loops`): cycles, not one-shots, with ``room =
-    rooms[node]`` the first and last frames of its cluster; none where ``count`` is 0 (the
-    paper's cut)."""
+    rooms[node]`` the first and last frames of its cluster (None without ``across``: the
+    closing does not look at the frame across the wrap, :func:`tvmedit.engine.inbetween.loops.reach`);
+    none where ``count`` is 0 (the paper's cut)."""
     if count == 0:
         return []
     loops = []
@@ -116,15 +117,15 @@ def _loops(graph, count, rooms):
         room = tuple(rooms.get(node, (data["start"], data["end"])))
         at, limit = plan(data["start"], data["end"], room)
         if data.get("kind") != "once" and limit > 0:
-            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit, room)))
+            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit, room if across else None)))
     return loops
 
 
-def loop_frames(graph, count, rooms):
+def loop_frames(graph, count, rooms, across=True):
     """``(sequence, frame)`` of the neighbouring repetitions' frames that closing the loops of
     ``graph``'s textons warps onto (a build stores them with the texton frames)."""
     frames = set()
-    for _, (seq, start, end), (at, limit, room) in _loops(graph, count, rooms):
+    for _, (seq, start, end), (at, limit, room) in _loops(graph, count, rooms, across):
         first, last = reach(start, end, at, limit, room)
         frames.update((seq, f) for f in range(first, last + 1))
     return frames
@@ -150,7 +151,8 @@ def _store_run(writer, frames, sources, textures, offsets):
         writer.add(-1, index, positions, colours, faces, normals, uv=uv, texture_row=texture_row)
 
 
-def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, keep_natural=False, rooms=None):
+def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, keep_natural=False, rooms=None,
+                  across=True):
     """Make and store the in-between frames of every edge of ``graph`` and the closing frames
     of every texton's loop (:mod:`tvmedit.engine.inbetween.loops`; a build's stage after the meshes):
     ``blend_*.npy`` in ``folder`` (see :mod:`tvmedit.engine.store.layout`).
@@ -170,6 +172,10 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
         same natural step and count, is copied instead of made again.
     rooms : dict, ``node -> (first, last)`` frame of its cluster: how far beyond its texton the
         capture repeats it, for closing its loop (:mod:`tvmedit.engine.inbetween.loops`)
+    across : bool
+        Closings look at the frame across the wrap (:func:`tvmedit.engine.inbetween.loops.reach`),
+        which the library stores; a rebuild of a library made before they did keeps them as
+        they were (it reads no frame file for them), as ``blends.json``'s ``across`` says.
     keep_natural : bool
         Keep ``old``'s natural step (a rebuild from corrections by hand: the capture's pace is
         what it was, and only the runs of the transitions it changed are made anew).
@@ -194,7 +200,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     reuse = _old_runs(data, natural, count, tail)
     edges = [(u, v, (graph.nodes[u]["sequence"], d["exit_frame"]), (graph.nodes[v]["sequence"], d["entry_frame"]))
              for u, v, d in sorted(graph.edges(data=True))]
-    loops = _loops(graph, count, rooms or {})
+    loops = _loops(graph, count, rooms or {}, across)
     tasks = _tasks(folder, edges, loops, rows, natural, count, reuse, tail)
     plans = {u: (limit, reach(start, end, at, limit, room)) for u, (_, start, end), (at, limit, room) in loops}
     made = pool.map(_blend_task, tasks)
@@ -225,7 +231,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     finally:
         if progress is not None:
             progress.close()
-    data = {"natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys,
+    data = {"natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys, "across": across,
             "edges": records, "wraps": closings,
             "pair_steps": [[name, frame, *step] for (name, frame), step in measured.items()]}
     return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(tasks),
@@ -271,10 +277,10 @@ def _old_runs(data, natural, count, tail=None):
     if data["natural_step"] == natural:  # a loop's closing is kept at the same natural step only
         # The same texton closed at the same end and as far: a correction that moves its
         # cluster's edge may change where it is closed, and then it is closed anew.
-        # A closing made before it looked at the frame across the wrap (no "reach") is made anew.
-        runs.update({("wrap", *w["texton"], w["at"], w["limit"], tuple(w["reach"])): (w["first"], w["count"], w["jump"],
-                                                                                      w["steps"])
-                     for w in data.get("wraps", []) if "reach" in w})
+        # A closing recorded before closings looked across the wrap has the reach without it.
+        runs.update({("wrap", *w["texton"], w["at"], w["limit"],
+                      tuple(w["reach"]) if "reach" in w else reach(*w["texton"][1:], w["at"], w["limit"])):
+                     (w["first"], w["count"], w["jump"], w["steps"]) for w in data.get("wraps", []) if "limit" in w})
     return runs
 
 

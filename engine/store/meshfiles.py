@@ -78,24 +78,32 @@ def _read_tasks(items, spools=None):
 
 @contextlib.contextmanager
 def _spools(tmp, pool):
-    """The folder in ``tmp`` that worker processes spool the meshes they read to (None where
-    the tasks run in this process, on threads or on a cluster, which may not see ``tmp``);
-    removed with what is left in it on the way out.
+    """A folder of its own in ``tmp`` that worker processes spool the meshes they read to (None
+    where the tasks run in this process, on threads or on a cluster, which may not see
+    ``tmp``); on the way out it is removed with every spool folder left in ``tmp``.
 
     A frame handed back from a worker process is pickled there and unpickled here, about
     1 ms for 17,000 vertices, a third of storing it; a spooled frame's arrays go from the
     worker's file to the library's by ``os.copy_file_range``, in the kernel. With the faster
     normals of the same change, the meshes stage of the 60 fps 13_29 (967 frames stored, two
-    workers) fell from 3.0 s to 1.5-1.6 s, the library byte for byte the same."""
+    workers) fell from 3.0 s to 1.5-1.6 s, the library byte for byte the same.
+
+    Each use has a folder of its own: where growing a library stops at a textured frame
+    (:class:`_Textured`), the tasks it had sent still run and write into theirs, not into the
+    files the rewrite that follows copies from; the rewrite's own removal, after the workers
+    ran everything sent before its tasks, takes their folder too."""
+    import tempfile
+
     if pool.kind != "processes":
         yield None
         return
-    folder = os.path.join(tmp, ".spool")
-    os.makedirs(folder, exist_ok=True)
+    folder = tempfile.mkdtemp(prefix=".spool-", dir=tmp)
     try:
         yield folder
     finally:
-        shutil.rmtree(folder, ignore_errors=True)
+        for name in os.listdir(tmp):
+            if name.startswith(".spool-"):
+                shutil.rmtree(os.path.join(tmp, name), ignore_errors=True)
 
 
 def _store(writer, seq_index, frame, mesh):
