@@ -119,16 +119,9 @@ class Sequence:
 
 
 def resolved(paths):
-    """``str(Path(path).resolve())`` of every one of ``paths``, for a fraction of the cost.
-
-    Resolving a path looks at each of its folders in turn (an ``lstat`` each); thousands of
-    frames lie in a handful of folders, so each folder is resolved once and each file is only
-    asked whether it is a link itself (one ``lstat``), and resolved in full where it is: 2,296
-    frames in 7 ms rather than 44 ms, the same strings.
-
-    >>> resolved(["/"]) == [str(Path("/").resolve())]
-    True
-    """
+    """``str(Path(path).resolve())`` of every one of ``paths``: each folder resolved once (an
+    ``lstat`` per folder of its path), each file only asked whether it is a link itself, and
+    resolved in full where it is (2,296 frames in 7 ms rather than 44 ms, the same strings)."""
     folders, out = {}, []
     for path in paths:
         text = os.fspath(path)

@@ -164,26 +164,21 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     graph : networkx.DiGraph, the final motion graph (nodes with ``sequence``, ``start``,
         ``end``; edges with ``exit_frame`` and ``entry_frame``)
     count : int or None, in-between frames per transition (None: as many as each needs)
-    keys : dict, ``sequence -> feature key`` (which frame files it was read from)
+    keys : dict, ``sequence -> feature key`` (the frame files it was read from)
     pool : tvmedit.engine.parallel.Workers: tasks of 16 pairs of texton frames, then one per edge
     bar : callable or None, ``bar(total, desc, unit=...)`` makes a progress bar, advanced once per edge
-    old : tvmedit.engine.store.library.Library or None
-        The library being replaced: a run it holds for the same frames of the same files, the
-        same natural step and count, is copied instead of made again.
-    rooms : dict, ``node -> (first, last)`` frame of its cluster: how far beyond its texton the
-        capture repeats it, for closing its loop (:mod:`tvmedit.engine.inbetween.loops`)
-    across : bool
-        Closings look at the frame across the wrap (:func:`tvmedit.engine.inbetween.loops.reach`),
-        which the library stores; a rebuild of a library made before they did keeps them as
-        they were (it reads no frame file for them), as ``blends.json``'s ``across`` says.
-    keep_natural : bool
-        Keep ``old``'s natural step (a rebuild from corrections by hand: the capture's pace is
-        what it was, and only the runs of the transitions it changed are made anew).
+    old : tvmedit.engine.store.library.Library or None, the library being replaced: a run it holds
+        for the same frames of the same files, natural step and count is copied, not made again.
+    rooms : dict, ``node -> (first, last)`` frame of its cluster, where closing its loop may look
+    across : bool, closings look at the frame across the wrap (:func:`tvmedit.engine.inbetween.loops.reach`);
+        False in a rebuild of a library whose closings did not (``blends.json``'s ``across``)
+    keep_natural : bool, keep ``old``'s natural step (a rebuild from corrections by hand: the
+        capture's pace is what it was; only the runs of the transitions it changed are made anew)
 
     Returns
     -------
-    dict: ``data`` (what ``blends.json`` holds), ``frames`` (in-between frames stored), ``seconds``
-    (CPU seconds of the runs), ``made`` (runs made, not copied), ``bounds`` and ``max_counts``.
+    dict: ``data`` (``blends.json``), ``frames`` (in-between frames stored), ``seconds`` (CPU seconds
+    of the runs), ``made`` (runs made, not copied), ``bounds`` and ``max_counts``.
     """
     from .arrays import MeshWriter, frame_keys, frame_offsets, mesh_arrays
 
