@@ -39,7 +39,7 @@ from . import layout
 from . import meshfiles
 from ..inbetween.blend import preload
 from . import capturecopy
-from .inbetweens import blend_library, instant_library, loop_frames
+from .inbetweens import blend_library, instant_library, join_library, loop_frames
 from .inputs import check_kept, check_target, kept_corrections, open_inputs, open_old, pass_on
 from ..errors import InputError, summarise
 from ..features import FeatureAccumulator, Features, follow_picks, moves_across, stored_rows
@@ -474,6 +474,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     needed = _needed(sequences, computed, analysis, settings, rooms, across)
     preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshfiles.write, tmp, needed, pool, run, old, meshfiles.reusable(old, computed))
+    run.stage("joins", join_library, tmp, [s.name for s in sequences], analysis.graph, analysis.nodes,
+              {s.name: f.vectors for s, f in zip(sequences, padded)}, settings.blend_frames)
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
                            pool, run.bar, old, keep_natural, rooms, across)

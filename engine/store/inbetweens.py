@@ -13,7 +13,7 @@ import numpy as np
 from ..inbetween.blend import blend, frame_count, natural_step, side, texton_steps
 from ..inbetween.loops import close_loop, plan, reach, window
 
-__all__ = ["blend_library", "instant_library", "NATURAL_PAIRS"]
+__all__ = ["blend_library", "instant_library", "join", "join_library", "NATURAL_PAIRS"]
 
 #: Consecutive texton frame pairs a build measures the natural step on, at most (spread
 #: evenly over the textons): the median of 240 is as good as of all, and a 60 fps take
@@ -84,6 +84,50 @@ def _natural(folder, rows, graph, pool, known):
     steps = {p: tuple(known[p]) if p in known else tuple(measured[p]) for p in pairs}
     return (natural_step([[mean for mean, _ in steps.values()]]), natural_step([[tail for _, tail in steps.values()]]),
             steps)
+
+
+def join(graph, nodes, vectors, meshes):
+    """Make each transition of ``graph`` at the pair of frames whose poses are nearest among
+    those eq. (10) all but ties (:mod:`tvmedit.engine.inbetween.pairs`): its edge's
+    ``exit_frame`` and ``entry_frame`` move there (and the complete graph's ``transitions``, which
+    a library stores); its weight stays. ``vectors`` are each sequence's feature vectors, as the
+    graph was built on; ``meshes(keys)`` gives ``(positions, colours)`` of frames ``(sequence,
+    frame)``. Returns how many moved."""
+    from ..features.vectors import distance_matrix
+    from ..graph.motiongraph import entry_range, exit_range
+    from ..inbetween.pairs import best_join, candidates, pose_distance, pose_points
+
+    poses, moved = {}, 0
+    for u, v, data in sorted(graph.edges(data=True)):
+        a, b = nodes[u], nodes[v]
+        (x0, x1), (e0, e1) = exit_range(a), entry_range(b)
+        va, vb = vectors[a.sequence][x0:x1 + 1], vectors[b.sequence][e0:e1 + 1]
+        pairs = candidates(distance_matrix(np.concatenate([va, vb]))[:len(va), len(va):],
+                           (data["exit_frame"] - x0, data["entry_frame"] - e0))
+        keys = [key for i, j in pairs for key in ((a.sequence, x0 + i), (b.sequence, e0 + j)) if key not in poses]
+        keys = list(dict.fromkeys(keys))
+        for key, (positions, colours) in zip(keys, meshes(keys)):
+            poses[key] = pose_points(positions, colours)
+        best = best_join(pairs, lambda i, j: pose_distance(poses[a.sequence, x0 + i], poses[b.sequence, e0 + j]))
+        if best != pairs[0]:
+            data["exit_frame"], data["entry_frame"] = x0 + best[0], e0 + best[1]
+            graph.graph["transitions"][u, v] = (x0 + best[0], e0 + best[1])
+            moved += 1
+    return moved
+
+
+def join_library(folder, names, graph, nodes, vectors, count):
+    """:func:`join` on the library being written in ``folder`` (every frame of a texton is stored
+    there), a build's stage before the in-between frames; none moves where ``count`` is 0 (the
+    paper's cut, where eq. (10) makes it). Returns how many moved."""
+    from .arrays import frame_keys, frame_offsets, mesh_arrays
+
+    if count == 0:
+        return 0
+    offsets = frame_offsets(folder, mesh_arrays(folder))
+    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    return join(graph, nodes, vectors,
+                lambda keys: _meshes(folder, [rows[key] for key in keys], ("positions", "colours")))
 
 
 def _blend_task(task):
