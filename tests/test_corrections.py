@@ -80,7 +80,7 @@ def _joined(graph, nodes, library):
     from tvmedit.engine.store.inbetweens import join
 
     join(graph, nodes, {NAME: library.features(NAME).vectors},
-         lambda keys: [library.frame_mesh(key)[:2] for key in keys])
+         lambda keys: [library.frame_mesh(key)[:2] for key in keys], {NAME: library.sequence(NAME).fps})
     return graph
 
 

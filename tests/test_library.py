@@ -87,7 +87,8 @@ def test_reopened_library_matches_the_analysis_in_memory(built, take_13_30):
     # frames' poses: tvmedit.engine.inbetween.pairs); the weights are eq. (12)'s as they were.
     from tvmedit.engine.store.inbetweens import join
 
-    join(graph, nodes_of(graph), vectors, lambda keys: [library.frame_mesh(key)[:2] for key in keys])
+    join(graph, nodes_of(graph), vectors, lambda keys: [library.frame_mesh(key)[:2] for key in keys],
+         {s.name: s.fps for s in sequences})
     # The stored graph adds only how many in-between frames each transition has (tvmedit.engine.inbetween.blend).
     plain = [(i, j, {k: v for k, v in d.items() if k != "blend"}) for i, j, d in library.graph.edges(data=True)]
     assert sorted(plain) == sorted(graph.edges(data=True))

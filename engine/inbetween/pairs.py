@@ -31,8 +31,10 @@ surface and at 60 fps every figure stays within its bar. Looked at in 1280x960 f
 before the body to the face there (its two textons share no pose with the arms alike), a
 shorter jump than before, and its first frame warped back from the entry smears a foot.
 Pairs within 10 % of the minimum held no better pose on 13_30's 02->03; within 25 % they did.
-Choosing costs a build 0.25-0.27 s on those takes (:data:`SAMPLE` points a frame, at most
-:data:`MOST` pairs a transition).
+Choosing costs a build 0.25-0.27 s on those takes and 0.23 s on 13_29 at 60 fps, whose
+candidates are a tenth of a second apart (:func:`stride`; 4 of its 16 transitions move, by a
+tenth of a second to a fifth); :data:`SAMPLE` points a frame, at most :data:`MOST` pairs a
+transition.
 """
 
 import numpy as np
@@ -40,7 +42,7 @@ import numpy as np
 from .blend import kdtree
 from .instants import COLOUR_METRES
 
-__all__ = ["TIE", "MOST", "SAMPLE", "KEEP", "candidates", "pose_points", "pose_distance", "best_join"]
+__all__ = ["TIE", "MOST", "SAMPLE", "KEEP", "candidates", "stride", "pose_points", "pose_distance", "best_join"]
 
 #: Pairs whose feature distance is within this share of eq. (10)'s minimum are candidates.
 TIE = 0.25
@@ -52,21 +54,38 @@ SAMPLE = 400
 KEEP = 0.8
 
 
-def candidates(distances, chosen, most=MOST, tie=TIE):
+def candidates(distances, chosen, most=MOST, tie=TIE, strides=(1, 1)):
     """Candidate pairs ``(row, column)`` of the feature ``distances`` between the exit range's
     frames (rows) and the entry range's (columns): those within ``tie`` of the distance at
-    ``chosen`` (eq. (10)'s pair, always first), nearest first, at most ``most``.
+    ``chosen`` (eq. (10)'s pair, always first), nearest first, at most ``most``; with
+    ``strides``, only rows and columns a whole number of strides from ``chosen``'s.
+
+    Neighbouring frames of a 60 fps capture have all but equal features, so the pairs nearest
+    by them lie within a few frames of eq. (10)'s: a stride of :func:`stride` frames looks at
+    the capture as at 10 fps, the same span of time for the same number of pairs.
 
     >>> d = np.array([[1.0, 1.2], [3.0, 1.1]])
-    >>> candidates(d, (0, 0))
-    [(0, 0), (1, 1), (0, 1)]
+    >>> candidates(d, (0, 0)), candidates(d, (0, 0), strides=(2, 1))
+    ([(0, 0), (1, 1), (0, 1)], [(0, 0), (0, 1)])
     """
     distances = np.asarray(distances, dtype=np.float64)
     limit = (1.0 + tie) * distances[chosen]
-    rows, columns = np.nonzero(distances <= limit)
+    near = distances <= limit
+    near[(np.arange(near.shape[0]) - chosen[0]) % strides[0] != 0, :] = False
+    near[:, (np.arange(near.shape[1]) - chosen[1]) % strides[1] != 0] = False
+    rows, columns = np.nonzero(near)
     order = np.argsort(distances[rows, columns], kind="stable")
     pairs = [(int(rows[k]), int(columns[k])) for k in order if (rows[k], columns[k]) != tuple(chosen)]
     return [tuple(int(x) for x in chosen)] + pairs[:most - 1]
+
+
+def stride(fps):
+    """Frames between candidate frames of a capture at ``fps``: about a tenth of a second.
+
+    >>> stride(10), stride(29.97), stride(60)
+    (1, 3, 6)
+    """
+    return max(1, int(round(fps / 10.0)))
 
 
 def pose_points(positions, colours, sample=SAMPLE):

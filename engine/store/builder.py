@@ -475,7 +475,8 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshfiles.write, tmp, needed, pool, run, old, meshfiles.reusable(old, computed))
     run.stage("joins", join_library, tmp, [s.name for s in sequences], analysis.graph, analysis.nodes,
-              {s.name: f.vectors for s, f in zip(sequences, padded)}, settings.blend_frames)
+              {s.name: f.vectors for s, f in zip(sequences, padded)}, settings.blend_frames,
+              {s.name: s.fps for s in sequences})
     run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
                            settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
                            pool, run.bar, old, keep_natural, rooms, across)

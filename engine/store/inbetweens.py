@@ -86,24 +86,26 @@ def _natural(folder, rows, graph, pool, known):
             steps)
 
 
-def join(graph, nodes, vectors, meshes):
+def join(graph, nodes, vectors, meshes, rates=None):
     """Make each transition of ``graph`` at the pair of frames whose poses are nearest among
     those eq. (10) all but ties (:mod:`tvmedit.engine.inbetween.pairs`): its edge's
     ``exit_frame`` and ``entry_frame`` move there (and the complete graph's ``transitions``, which
     a library stores); its weight stays. ``vectors`` are each sequence's feature vectors, as the
     graph was built on; ``meshes(keys)`` gives ``(positions, colours)`` of frames ``(sequence,
-    frame)``. Returns how many moved."""
+    frame)``; ``rates`` each sequence's frame rate (candidates a tenth of a second apart,
+    :func:`tvmedit.engine.inbetween.pairs.stride`; every frame where not given). Returns how many moved."""
     from ..features.vectors import distance_matrix
     from ..graph.motiongraph import entry_range, exit_range
-    from ..inbetween.pairs import best_join, candidates, pose_distance, pose_points
+    from ..inbetween.pairs import best_join, candidates, pose_distance, pose_points, stride
 
     poses, moved = {}, 0
     for u, v, data in sorted(graph.edges(data=True)):
         a, b = nodes[u], nodes[v]
         (x0, x1), (e0, e1) = exit_range(a), entry_range(b)
         va, vb = vectors[a.sequence][x0:x1 + 1], vectors[b.sequence][e0:e1 + 1]
+        strides = tuple(stride((rates or {}).get(n.sequence, 10.0)) for n in (a, b))
         pairs = candidates(distance_matrix(np.concatenate([va, vb]))[:len(va), len(va):],
-                           (data["exit_frame"] - x0, data["entry_frame"] - e0))
+                           (data["exit_frame"] - x0, data["entry_frame"] - e0), strides=strides)
         keys = [key for i, j in pairs for key in ((a.sequence, x0 + i), (b.sequence, e0 + j)) if key not in poses]
         keys = list(dict.fromkeys(keys))
         for key, (positions, colours) in zip(keys, meshes(keys)):
@@ -116,7 +118,7 @@ def join(graph, nodes, vectors, meshes):
     return moved
 
 
-def join_library(folder, names, graph, nodes, vectors, count):
+def join_library(folder, names, graph, nodes, vectors, count, rates=None):
     """:func:`join` on the library being written in ``folder`` (every frame of a texton is stored
     there), a build's stage before the in-between frames; none moves where ``count`` is 0 (the
     paper's cut, where eq. (10) makes it). Returns how many moved."""
@@ -127,7 +129,7 @@ def join_library(folder, names, graph, nodes, vectors, count):
     offsets = frame_offsets(folder, mesh_arrays(folder))
     rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
     return join(graph, nodes, vectors,
-                lambda keys: _meshes(folder, [rows[key] for key in keys], ("positions", "colours")))
+                lambda keys: _meshes(folder, [rows[key] for key in keys], ("positions", "colours")), rates)
 
 
 def _blend_task(task):

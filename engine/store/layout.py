@@ -19,7 +19,8 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     with id, default name, sequence, inclusive frame range, cluster, texton distance, intensity.
 ``graph.json``, ``graph.graphml``
     the complete graph's weights ``[[i, j, w], ...]`` (eq. (12)), transition frames
-    ``[[i, j, exit, entry], ...]`` (eq. (10)) and mu, from which the pruned graph (eq. (14)) is
+    ``[[i, j, exit, entry], ...]`` (eq. (10); the built graph's edges where the poses meet,
+    :mod:`tvmedit.engine.inbetween.pairs`) and mu, from which the pruned graph (eq. (14)) is
     rebuilt on open; the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
 ``positions.npy`` ... ``frame_keys.npy``, ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     the stored frames' flat mesh arrays and their ranges (:mod:`tvmedit.engine.store.arrays`); only
