@@ -215,10 +215,16 @@ class Workers:
         window = window or 4 * self.workers
         submit = (self._client.submit if self._client is not None else self._executor.submit)
         pending = deque()
+        # A local pool forks a worker inside a submit where none is idle (Python 3.9 and
+        # later start them as tasks come): a Ctrl-C that lands between the fork and the pool
+        # noting the worker would leave it unknown to close(), napping out its task. Submits
+        # run with Ctrl-C and SIGTERM held back, delivered right after (microseconds).
+        hold = signals_held if self.kind == "processes" else contextlib.nullcontext
         try:
             for task in tasks:
-                pending.append(submit(fn, task, pure=False) if self._client is not None
-                               else submit(fn, task))
+                with hold():
+                    pending.append(submit(fn, task, pure=False) if self._client is not None
+                                   else submit(fn, task))
                 if len(pending) >= window:
                     yield _result(pending.popleft())
             while pending:
