@@ -40,6 +40,14 @@ def _meshes(folder, ids, names=("positions", "colours", "faces")):
     return meshes
 
 
+def _rows(folder, names, count):
+    """``{(sequence, frame): row}`` of the ``count`` frames stored in the library being written
+    in ``folder`` (``names``: the sequences in manifest order, as ``frame_keys.npy`` indexes them)."""
+    from .arrays import frame_keys
+
+    return {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, count, len(names)).tolist())}
+
+
 def _steps_task(task):
     """Steps between consecutive texton frames of the library being written:
     ``(folder, [[row, next row, ...], ...])`` -> list of ``(step, tail)``, the steps of each run
@@ -122,12 +130,12 @@ def join_library(folder, names, graph, nodes, vectors, count, rates=None):
     """:func:`join` on the library being written in ``folder`` (every frame of a texton is stored
     there), a build's stage before the in-between frames; none moves where ``count`` is 0 (the
     paper's cut, where eq. (10) makes it). Returns how many moved."""
-    from .arrays import frame_keys, frame_offsets, mesh_arrays
+    from .arrays import frame_offsets, mesh_arrays
 
     if count == 0:
         return 0
     offsets = frame_offsets(folder, mesh_arrays(folder))
-    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    rows = _rows(folder, names, len(offsets))
     return join(graph, nodes, vectors,
                 lambda keys: _meshes(folder, [rows[key] for key in keys], ("positions", "colours")), rates)
 
@@ -226,11 +234,11 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     dict: ``data`` (``blends.json``), ``frames`` (in-between frames stored), ``seconds`` (CPU seconds
     of the runs), ``made`` (runs made, not copied), ``bounds`` and ``max_counts``.
     """
-    from .arrays import MeshWriter, frame_keys, frame_offsets, mesh_arrays
+    from .arrays import MeshWriter, frame_offsets, mesh_arrays
 
     arrays = mesh_arrays(folder)
     offsets = frame_offsets(folder, arrays).tolist()
-    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    rows = _rows(folder, names, len(offsets))
     data = _old_data(old, keys)
     known = {(row[0], row[1]): (row[2], row[3]) for row in data.get("pair_steps", []) if len(row) == 4}
     if keep_natural and data.get("natural_step", 0) > 0:
@@ -395,12 +403,12 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     """
     import time
 
-    from .arrays import NpyStream, frame_keys, frame_offsets, mesh_arrays
+    from .arrays import NpyStream, frame_offsets, mesh_arrays
     from ..inbetween.instants import FIELDS_BELOW_FPS, display_pairs
 
     started = time.perf_counter()
     offsets = frame_offsets(folder, mesh_arrays(folder))
-    rows = {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, len(offsets), len(names)).tolist())}
+    rows = _rows(folder, names, len(offsets))
     frames = {row: key for key, row in rows.items()}
     nodes = [(d["sequence"], d["start"], d["end"]) for _, d in sorted(graph.nodes(data=True))]
     edges = [e for e in blends["edges"] if count != 0 or e["count"]]
