@@ -142,8 +142,8 @@ def join_library(folder, names, graph, nodes, vectors, count, rates=None):
 
 def _blend_task(task):
     """One edge's run, ``("edge", folder, exit row, entry row, natural, count, tail)``, or one
-    texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit), natural, tail)``
-    (the rows of the texton's frames and of its neighbours' that it may be closed onto) ->
+    texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit, room), natural,
+    tail)`` (the rows of the frames its closing looks at, :func:`_loops`) ->
     ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
     import time
 
@@ -159,11 +159,11 @@ def _blend_task(task):
 
 
 def _loops(graph, count, rooms, across=True):
-    """``(node, (sequence, start, end), (at, limit, room))`` of every texton whose loop may be
-    closed (:mod:`tvmedit.engine.inbetween.loops`): cycles, not one-shots, with ``room =
-    rooms[node]`` the first and last frames of its cluster (None without ``across``: the
-    closing does not look at the frame across the wrap, :func:`tvmedit.engine.inbetween.loops.reach`);
-    none where ``count`` is 0 (the paper's cut)."""
+    """``(node, (sequence, start, end), (at, limit, room), (first, last))`` of every texton whose
+    loop may be closed (:mod:`tvmedit.engine.inbetween.loops`): cycles, not one-shots, with
+    ``room = rooms[node]`` the first and last frames of its cluster (None without ``across``:
+    the closing does not look at the frame across the wrap), and the frames its closing looks
+    at (:func:`tvmedit.engine.inbetween.loops.reach`); none where ``count`` is 0 (the paper's cut)."""
     if count == 0:
         return []
     loops = []
@@ -171,7 +171,9 @@ def _loops(graph, count, rooms, across=True):
         room = tuple(rooms.get(node, (data["start"], data["end"])))
         at, limit = plan(data["start"], data["end"], room)
         if data.get("kind") != "once" and limit > 0:
-            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit, room if across else None)))
+            room = room if across else None
+            loops.append((node, (data["sequence"], data["start"], data["end"]), (at, limit, room),
+                          reach(data["start"], data["end"], at, limit, room)))
     return loops
 
 
@@ -179,8 +181,7 @@ def loop_frames(graph, count, rooms, across=True):
     """``(sequence, frame)`` of the neighbouring repetitions' frames that closing the loops of
     ``graph``'s textons warps onto (a build stores them with the texton frames)."""
     frames = set()
-    for _, (seq, start, end), (at, limit, room) in _loops(graph, count, rooms, across):
-        first, last = reach(start, end, at, limit, room)
+    for _, (seq, _, _), _, (first, last) in _loops(graph, count, rooms, across):
         frames.update((seq, f) for f in range(first, last + 1))
     return frames
 
@@ -189,10 +190,10 @@ def _tasks(folder, edges, loops, rows, natural, count, reuse, tail=None):
     """The runs to make (not copied from the library being replaced): edges, then loop closings."""
     fresh = [(a, b) for _, _, a, b in edges if (a, b) not in reuse]
     tasks = [("edge", str(folder), rows[a], rows[b], natural, count, tail) for a, b in fresh]
-    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(start - limit - 1, end + limit + 2) if (seq, f) in rows},
+    tasks += [("wrap", str(folder), {f: rows[seq, f] for f in range(first, last + 1) if (seq, f) in rows},
                (start, end, at, limit, room), natural, tail)
-              for _, (seq, start, end), (at, limit, room) in loops
-              if ("wrap", seq, start, end, at, limit, reach(start, end, at, limit, room)) not in reuse]
+              for _, (seq, start, end), (at, limit, room), (first, last) in loops
+              if ("wrap", seq, start, end, at, limit, (first, last)) not in reuse]
     return tasks
 
 
@@ -251,11 +252,11 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
              for u, v, d in sorted(graph.edges(data=True))]
     loops = _loops(graph, count, rooms or {}, across)
     tasks = _tasks(folder, edges, loops, rows, natural, count, reuse, tail)
-    plans = {u: (limit, reach(start, end, at, limit, room)) for u, (_, start, end), (at, limit, room) in loops}
+    plans = {u: (limit, span) for u, _, (_, limit, _), span in loops}
     made = pool.map(_blend_task, tasks)
     progress = bar(len(edges) + len(loops), "blends", unit="run") if bar is not None else None
     records, closings, seconds = [], [], 0.0
-    jobs = [(u, v, a, b) for u, v, a, b in edges] + [(u, u, at, texton) for u, texton, (at, _, _) in loops]
+    jobs = [(u, v, a, b) for u, v, a, b in edges] + [(u, u, at, texton) for u, texton, (at, _, _), _ in loops]
     try:
         with MeshWriter(folder, prefix="blend_") as writer:
             for u, v, a, b in jobs:
@@ -280,8 +281,8 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     finally:
         if progress is not None:
             progress.close()
-    data = {"natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys, "across": across,
-            "edges": records, "wraps": closings,
+    data = {"natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys,
+            "across": across, "edges": records, "wraps": closings,
             "pair_steps": [[name, frame, *step] for (name, frame), step in measured.items()]}
     return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(tasks),
             "bounds": writer.bounds, "max_counts": writer.max_counts}
