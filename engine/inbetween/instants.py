@@ -43,7 +43,7 @@ import numpy as np
 from .blend import align, kdtree
 
 __all__ = ["SIGMAS", "STEPS", "KEEP", "FIELDS_BELOW_FPS", "step_field", "helps", "display_pairs", "instants",
-           "shown", "moved", "surface_distances", "step_measures", "matched_tail", "COLOUR_METRES"]
+           "shown", "moved", "surface_distances", "step_measures", "matched_tail", "coloured_points", "COLOUR_METRES"]
 
 #: Capture rates from which a sequence's steps get no field: each lasts about a redraw.
 FIELDS_BELOW_FPS = 48.0
@@ -306,13 +306,21 @@ def matched_tail(a, b, stride=2):
     >>> round(matched_tail((p, a), (p, b)), 1), round(matched_tail((p, a), (p, c)), 1)
     (0.3, 0.4)
     """
-    def points(mesh):
-        positions, colours = np.asarray(mesh[0], np.float64), np.asarray(mesh[1], np.float64)
-        colours = colours.reshape(len(positions), -1)[:, :3] * (COLOUR_METRES / 255.0)
-        return np.hstack([positions.reshape(-1, 3), colours])
-
     if not len(a[0]) or not len(b[0]):
         return 0.0
-    ka, kb = points(a), points(b)
+    ka, kb = coloured_points(*a[:2]), coloured_points(*b[:2])
     d = np.concatenate([kdtree(kb).query(ka[::stride])[0], kdtree(ka).query(kb[::stride])[0]])
     return float(np.percentile(d, 99))
+
+
+def coloured_points(positions, colours):
+    """Points ``(N, 6)`` float64 of a mesh's ``positions`` (N, 3) and ``colours`` (N, 3 or 4,
+    uint8): position, then colour at :data:`COLOUR_METRES` metres a unit, the space
+    :func:`matched_tail` matches points in.
+
+    >>> coloured_points(np.zeros((1, 3)), np.array([[255, 0, 0]], np.uint8)).tolist()
+    [[0.0, 0.0, 0.0, 0.5, 0.0, 0.0]]
+    """
+    positions, colours = np.asarray(positions, np.float64), np.asarray(colours, np.float64)
+    colours = colours.reshape(len(positions), -1)[:, :3] * (COLOUR_METRES / 255.0)
+    return np.hstack([positions.reshape(-1, 3), colours])

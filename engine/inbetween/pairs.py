@@ -40,7 +40,7 @@ transition.
 import numpy as np
 
 from .blend import kdtree
-from .instants import COLOUR_METRES
+from .instants import coloured_points
 
 __all__ = ["TIE", "MOST", "SAMPLE", "KEEP", "candidates", "stride", "pose_points", "pose_distance", "best_join"]
 
@@ -91,11 +91,10 @@ def stride(fps):
 def pose_points(positions, colours, sample=SAMPLE):
     """``(points, tree)`` of a frame's pose: ``sample`` of its vertices spread over its index
     order (a reconstruction lists them surface patch by surface patch), each as position and
-    colour (:data:`tvmedit.engine.inbetween.instants.COLOUR_METRES` a unit of colour), and their k-d tree."""
+    colour (:func:`tvmedit.engine.inbetween.instants.coloured_points`), and their k-d tree."""
     positions = np.asarray(positions)
     index = np.linspace(0, len(positions) - 1, min(sample, len(positions))).astype(np.intp)
-    colours = np.asarray(colours).reshape(len(positions), -1)[index, :3].astype(np.float64)
-    points = np.hstack([positions[index].astype(np.float64), colours * (COLOUR_METRES / 255.0)])
+    points = coloured_points(positions[index], np.asarray(colours).reshape(len(positions), -1)[index])
     return points, kdtree(points)
 
 
