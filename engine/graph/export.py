@@ -263,11 +263,13 @@ def _written(library, shown, copies, fmt, folder, pool, frame):
                   for index, source in enumerate(copies) if source is not None}
         try:
             made = [index for index in range(len(shown)) if index not in copied]
-            task = lambda index: (fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt, frame))  # noqa: E731
-            if pool.kind == "threads":  # each thread reads its frame too: no pickling, all cores
+            if pool.kind == "processes":    # each reads its frames from the library: no frame pickled
+                opening = (type(library), str(library.path))
+                done = pool.map(_read_and_encode, ((opening, shown[index], fmt, frame, str(folder), stems[index])
+                                                   for index in made))
+            else:   # on threads each reads its frame too: all cores
+                task = lambda index: (fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt, frame))  # noqa: E731
                 done = pool.map(lambda index: _encode(task(index)), made)
-            else:
-                done = pool.map(_encode, map(task, made))
             yield from zip(made, done)
             for index, done in copied.items():
                 yield index, done.result()
@@ -277,8 +279,26 @@ def _written(library, shown, copies, fmt, folder, pool, frame):
 
 
 def _encode(task):
-    """Worker task: one frame written by :func:`tvmedit.engine.capture.writers.write_frame`."""
+    """One frame written by :func:`tvmedit.engine.capture.writers.write_frame`."""
     return write_frame(*task)
+
+
+#: Worker process: the libraries it has opened, by path (a pool lives for one export).
+_OPENED = {}
+
+
+def _read_and_encode(task):
+    """Worker task: one output frame read from the library and written by :func:`_encode`.
+
+    The worker opens the library itself (a few milliseconds, once a process) and reads the
+    frame from its memory-mapped files, so nothing but the frame's place crosses to it: sent
+    from this process, each frame's arrays were pickled there and unpickled here, and that
+    made this process, not the encoders, what an export waited on."""
+    (kind, path), item, fmt, frame, folder, stem = task
+    library = _OPENED.get(path)
+    if library is None:
+        library = _OPENED[path] = kind.open(path)
+    return _encode((fmt, folder, stem, *_encoding(library, item, fmt, frame)))
 
 
 def _frame(library, schedule):
@@ -305,7 +325,7 @@ def _encoding(library, item, fmt, orientation):
     if uv is not None:
         image = _texture_file(library, entry) or np.ascontiguousarray(image)
         uv = np.ascontiguousarray(uv)
-    return (positions.astype(np.float32), np.ascontiguousarray(faces),
+    return (positions.astype(np.float32, copy=False), np.ascontiguousarray(faces),
             None if uv is not None else np.ascontiguousarray(colours), uv, image)
 
 
