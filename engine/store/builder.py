@@ -410,7 +410,10 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     reused, recheck = _sound(old, run), lambda target: check_target(target, force, sequences)  # noqa: E731
     corrections = given if given is not None else kept_corrections(old, sequences, run)
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp:
+        preload()   # scipy, in the workers forked next: each would import it for its first run
         with Workers(workers, dask) as pool:
+            pool.start()
+            _import_behind()
             computed = run.stage("features", lambda: [
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, reused, cache, run)
                 for seq in sequences])
@@ -418,6 +421,24 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
                 check_kept(corrections, sequences, computed)
             derived = derive(tmp, reused, sequences, computed, settings, corrections, pool=pool, run=run)
     return report_of(derived)
+
+
+def _import_behind():
+    """Import networkx (the motion graph's) on a thread while the workers compute the
+    features: this process waits for them then, and imported it after them, serially.
+
+    Started once the workers are forked (a fork must never see a thread that holds an
+    import's lock; a local pool forks all its workers at once). Only a library outside
+    tvmedit is imported there: no import of ours can wait on it in a cycle."""
+    import threading
+
+    def imports():
+        try:
+            import networkx  # noqa: F401
+        except ImportError:
+            pass    # said where it is needed
+
+    threading.Thread(target=imports, name="tvmedit-imports", daemon=True).start()
 
 
 def _sound(old, run):
