@@ -65,12 +65,7 @@ class Window:
         self.clock = clock
         # Only a failed init stops the player, with glfw's own words in the sentence: a report
         # that init survives (an input method, a monitor) is no reason to refuse a display.
-        reports = []
-        glfw.set_error_callback(lambda code, text: reports.append(text.decode(errors="replace")))
-        try:
-            initialised = glfw.init()
-        finally:
-            glfw.set_error_callback(None)
+        initialised, reports = self._init_glfw(glfw)
         if not initialised:
             reason = "; ".join(reports) or "glfw could not start"
             wayland = reason.startswith("Wayland") or not os.environ.get("DISPLAY")
@@ -115,6 +110,31 @@ class Window:
         glfw.set_cursor_pos_callback(self.window, self._on_cursor)
         glfw.set_scroll_callback(self.window, self._on_scroll)
         glfw.set_framebuffer_size_callback(self.window, lambda _w, width, height: self._resize(width, height))
+
+    #: Tries to open an X display that refuses the connection, a quarter of a second apart.
+    DISPLAY_TRIES = 5
+
+    @classmethod
+    def _init_glfw(cls, glfw):
+        """``(glfw.init() succeeded, glfw's reports of the last try)``.
+
+        An X server resets when its last client leaves and refuses connections meanwhile: on
+        an Xvfb, two clients started together over and over were refused 3 times in 1,800
+        here (the player tests' rare "Failed to open display" on a running server). A refused
+        display is tried again for a second before the player gives up; one that no server
+        answers costs that second before its sentence."""
+        for attempt in range(cls.DISPLAY_TRIES):
+            reports = []
+            glfw.set_error_callback(lambda code, text: reports.append(text.decode(errors="replace")))
+            try:
+                if glfw.init():
+                    return True, reports
+            finally:
+                glfw.set_error_callback(None)
+            if not any("Failed to open display" in report for report in reports):
+                break
+            time.sleep(0.25)
+        return False, reports
 
     def _open(self, size, samples, vsync):
         from .context import window_context

@@ -198,12 +198,11 @@ def xdisplay():
         pytest.skip(f"{' and '.join(missing)} not installed (apt-get install xvfb xdotool)")
     # Xvfb chooses a free display number itself and writes it to -displayfd once it is ready,
     # so that test processes starting servers at the same moment never pick the same one.
-    # -noreset: an X server resets when its last client leaves (a test's window and xdotool
-    # closing), and a client connecting during the reset may be refused ("Failed to open
-    # display"): the next test's player, started the moment the last one ended.
+    # It resets whenever its last client leaves and refuses connections meanwhile: the player
+    # tries a refused display again (player.window.Window._init_glfw). -noreset would keep
+    # one test's leftovers for the next: the inspector's sweep then quit at once.
     read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1024x768x24", "-nolisten", "tcp",
-                               "-noreset"],
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1024x768x24", "-nolisten", "tcp"],
                               pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     os.close(write)
     number = b""

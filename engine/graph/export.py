@@ -268,8 +268,8 @@ def _written(library, shown, copies, fmt, folder, pool, frame):
                 done = pool.map(_read_and_encode, ((opening, shown[index], fmt, frame, str(folder), stems[index])
                                                    for index in made))
             else:   # on threads each reads its frame too: all cores
-                task = lambda index: (fmt, str(folder), stems[index], *_encoding(library, shown[index], fmt, frame))  # noqa: E731
-                done = pool.map(lambda index: _encode(task(index)), made)
+                done = pool.map(lambda index: _encode((fmt, str(folder), stems[index],
+                                                       *_encoding(library, shown[index], fmt, frame))), made)
             yield from zip(made, done)
             for index, done in copied.items():
                 yield index, done.result()

@@ -24,6 +24,7 @@ the end (:mod:`tvmedit.engine.safewrite`): an interrupted build leaves the previ
 never half of one.
 """
 
+import contextlib
 import dataclasses
 import sys
 import time
@@ -410,10 +411,7 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     reused, recheck = _sound(old, run), lambda target: check_target(target, force, sequences)  # noqa: E731
     corrections = given if given is not None else kept_corrections(old, sequences, run)
     with safewrite.replacing_folder(out, recheck=recheck, kind="library") as tmp:
-        preload()   # scipy, in the workers forked next: each would import it for its first run
-        with Workers(workers, dask) as pool:
-            pool.start()
-            _import_behind()
+        with Workers(workers, dask) as pool, _started(pool):
             computed = run.stage("features", lambda: [
                 _sequence_features(seq, settings.bins, settings.skip_bad_frames, pool, reused, cache, run)
                 for seq in sequences])
@@ -423,14 +421,19 @@ def build(inputs, out, *, fps=None, bins=None, structure=None, mu=None, skip_bad
     return report_of(derived)
 
 
-def _import_behind():
-    """Import networkx (the motion graph's) on a thread while the workers compute the
-    features: this process waits for them then, and imported it after them, serially.
+@contextlib.contextmanager
+def _started(pool):
+    """Start the build's worker processes with scipy imported (each would import it for its
+    first in-between run), then import networkx (the motion graph's) on a thread while they
+    compute the features: this process only waits for them then, and imported it after them.
 
-    Started once the workers are forked (a fork must never see a thread that holds an
-    import's lock; a local pool forks all its workers at once). Only a library outside
-    tvmedit is imported there: no import of ours can wait on it in a cycle."""
+    The thread starts once the workers are forked: a fork must never see a thread that holds
+    an import's lock (a local pool forks all its workers at once). Only a library outside
+    tvmedit is imported there, so no import of ours can wait on it in a cycle."""
     import threading
+
+    preload()
+    pool.start()
 
     def imports():
         try:
@@ -439,6 +442,7 @@ def _import_behind():
             pass    # said where it is needed
 
     threading.Thread(target=imports, name="tvmedit-imports", daemon=True).start()
+    yield pool
 
 
 def _sound(old, run):
