@@ -85,3 +85,38 @@ def test_a_frame_without_triangles_is_refused_as_glb_not_written_invalid(tmp_pat
     with pytest.raises(ValueError, match="a frame without triangles cannot be written as GLB"):
         write_frame("glb", tmp_path, "f", positions, np.zeros((0, 3), np.int64))
     assert not (tmp_path / "f.glb").exists()
+
+
+def _as_percent(head, rows, decimals, twice=None):
+    """The lines :func:`tvmedit.engine.capture.writers._text` must write, by Python's ``%``."""
+    spec = "%d" if decimals == 0 and rows.dtype.kind in "iu" else f"%.{decimals}f"
+    values = rows.tolist() if spec == "%d" else rows.astype(np.float64).tolist()
+    field = spec + (f"{twice}{spec}" if twice else "")
+    return b"".join((head.decode() + " ".join(field % ((v, v) if twice else v) for v in row) + "\n").encode()
+                    for row in values)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_obj_numbers_are_written_as_python_writes_them(seed):
+    # The OBJ writer looks digits up in tables rather than formatting each number: any digit
+    # it got wrong would move a vertex in every mesh tool that reads the export.
+    from tvmedit.engine.capture.writers import _LARGEST, _text
+
+    rng = np.random.default_rng(seed)
+    scales = rng.choice([1e-9, 1e-4, 0.5, 1.0, 3.0, 1e3], size=(400, 3))
+    floats = (rng.normal(size=(400, 3)) * scales).astype(np.float32)
+    floats[:7, 0] = [-0.0, 0.0, 0.999999999, -0.0000000049, 9.99999e6, 0.99999999, 1e-8]
+    large = floats * 20                          # whole parts past the digit tables: written by %
+    inexact = floats.astype(np.float64) + 1e-13  # not float32 values: written by % too
+    for rows in (floats, floats.astype(np.float64), floats[:, :1], floats[:0], large, inexact):
+        for decimals in (0, 3, 6, 8):
+            assert _text(b"v ", rows, decimals) == _as_percent(b"v ", rows, decimals), (rows.dtype, decimals)
+    assert np.abs(floats).max() < _LARGEST <= np.abs(large).max()
+    for dtype in (np.int32, np.int64, np.uint32):
+        faces = rng.integers(1, 40000, size=(300, 3)).astype(dtype)
+        faces[:5, 0] = [0, 1, 9, 10, _LARGEST - 1]
+        for rows in (faces, faces * 300):   # the second past the tables
+            assert _text(b"f ", rows, 0, "/") == _as_percent(b"f ", rows, 0, "/")
+            assert _text(b"f ", rows, 0) == _as_percent(b"f ", rows, 0)
+    negative = rng.integers(-10 ** 6, 10 ** 6, size=(50, 2))
+    assert _text(b"l ", negative, 0) == _as_percent(b"l ", negative, 0)
