@@ -113,6 +113,9 @@ class Window:
 
     #: Tries to open an X display that refuses the connection, a quarter of a second apart.
     DISPLAY_TRIES = 5
+    #: What glfw says of a display that refused it: an X11 build's words, and those of a build
+    #: for X11 and Wayland, which tries both and finds neither.
+    REFUSED = ("Failed to open display", "Failed to detect any supported platform")
 
     @classmethod
     def _init_glfw(cls, glfw):
@@ -131,7 +134,8 @@ class Window:
                     return True, reports
             finally:
                 glfw.set_error_callback(None)
-            if not any("Failed to open display" in report for report in reports):
+            refused = any(text in report for report in reports for text in cls.REFUSED)
+            if not refused or attempt == cls.DISPLAY_TRIES - 1:
                 break
             time.sleep(0.25)
         return False, reports

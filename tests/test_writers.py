@@ -105,8 +105,8 @@ def test_obj_numbers_are_written_as_python_writes_them(seed):
     rng = np.random.default_rng(seed)
     scales = rng.choice([1e-9, 1e-4, 0.5, 1.0, 3.0, 1e3], size=(400, 3))
     floats = (rng.normal(size=(400, 3)) * scales).astype(np.float32)
-    floats[:7, 0] = [-0.0, 0.0, 0.999999999, -0.0000000049, 9.99999e6, 0.99999999, 1e-8]
-    large = floats * 20                          # whole parts past the digit tables: written by %
+    floats[:7, 0] = [-0.0, 0.0, 0.999999999, -0.0000000049, _LARGEST - 0.5, 0.99999999, 1e-8]
+    large = floats * 1000                        # whole parts past the digit tables: written by %
     inexact = floats.astype(np.float64) + 1e-13  # not float32 values: written by % too
     for rows in (floats, floats.astype(np.float64), floats[:, :1], floats[:0], large, inexact):
         for decimals in (0, 3, 6, 8):
@@ -120,3 +120,18 @@ def test_obj_numbers_are_written_as_python_writes_them(seed):
             assert _text(b"f ", rows, 0) == _as_percent(b"f ", rows, 0)
     negative = rng.integers(-10 ** 6, 10 ** 6, size=(50, 2))
     assert _text(b"l ", negative, 0) == _as_percent(b"l ", negative, 0)
+    extremes = [np.array([[-128, 127]], np.int8), np.array([[0, 2 ** 64 - 1]], np.uint64),
+                np.array([[-2 ** 63, 5]], np.int64), np.array([[3, -7]], np.int16)]
+    for rows in extremes:
+        assert _text(b"l ", rows, 0) == _as_percent(b"l ", rows, 0), rows.dtype
+        assert _text(b"v ", rows, 2) == _as_percent(b"v ", rows.astype(np.float64), 2), rows.dtype
+
+
+def test_integer_positions_are_written_as_numbers(tmp_path):
+    import trimesh
+
+    from tvmedit.engine.capture.writers import write_obj
+
+    path = write_obj(tmp_path / "f.obj", np.eye(3, dtype=np.int32), [[0, 1, 2]])
+    assert path.read_text().startswith("v 1.00000000 0.00000000 0.00000000\n")
+    assert np.array_equal(trimesh.load(path, process=False).vertices, np.eye(3))

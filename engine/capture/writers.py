@@ -137,16 +137,19 @@ def _text(head, rows, decimals, twice=None):
     shorter number leaves room, and the NULs are dropped at once by ``bytearray.translate``
     (one pass in C; a boolean mask took three times as long). The digits are those of
     ``rint(|v| * 10**decimals)``, which is the decimal rounding itself when that product is
-    exact: for every float32 value and every integer below 2**53 (what a frame holds). Other
-    values, and whole parts from :data:`_LARGEST` up, are formatted by ``%``.
+    exact: for every float32 value at up to 12 decimals and every integer below 2**53 (what a
+    frame holds). Other values, and whole parts from :data:`_LARGEST` up, are formatted by ``%``.
 
     >>> _text(b"v ", np.array([[1.5, -0.0, 12.25]]), 2), _text(b"f ", np.array([[1, 20, 300]]), 0, "/")
     (b'v 1.50 -0.00 12.25\\n', b'f 1/1 20/20 300/300\\n')
     """
     given = np.asarray(rows)
+    if given.dtype.kind in "iu" and decimals:
+        given = given.astype(np.float64)    # integers with decimals: written as the floats they are
     if given.dtype.kind not in "iu":
         given = given if given.dtype == np.float32 else given.astype(np.float64)
-        exact = given.size and float(np.abs(given).max()) * 10.0 ** decimals < 2.0 ** 53 and (
+        # 10**d times a float32 is exact in a float64 up to d = 12 (24 + 28 bits of 5**12).
+        exact = given.size and decimals <= 12 and float(np.abs(given).max()) * 10.0 ** decimals < 2.0 ** 53 and (
             given.dtype == np.float32 or decimals == 0 and np.array_equal(given, np.rint(given))
             or np.array_equal(given, given.astype(np.float32)))
         if not exact:
@@ -173,8 +176,8 @@ def _text(head, rows, decimals, twice=None):
     return bytes(buffer.translate(None, b"\0"))
 
 
-#: Whole parts from here up are written by ``%`` (the digit table stops below it).
-_LARGEST = 10 ** 7
+#: Whole parts from here up are written by ``%``: the digit table stops below it (8 MB).
+_LARGEST = 1 << 20
 _DIGITS = {}
 
 
@@ -207,7 +210,10 @@ def _tokens(given, decimals):
     Looked up, not computed digit by digit: a whole part in one 8-byte gather, the decimals
     four digits a gather."""
     if given.dtype.kind in "iu":
-        negative, whole, fraction = given < 0, np.abs(given).astype(np.int64), None
+        if int(given.max()) >= _LARGEST or int(given.min()) <= -_LARGEST:
+            return None     # compared before any cast: no int8 -128 or uint64 wraps round
+        values = given.astype(np.int64)
+        negative, whole, fraction = values < 0, np.abs(values), None
     else:
         negative = np.signbit(given)   # "-0.00" for -0.0, as % writes it
         scaled = np.rint(np.abs(given.astype(np.float64)) * 10.0 ** decimals).astype(np.int64)

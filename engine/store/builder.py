@@ -40,7 +40,7 @@ from . import layout
 from . import meshfiles
 from ..inbetween.blend import preload
 from . import capturecopy
-from .inbetweens import blend_library, instant_library, join_library, loop_frames
+from .inbetweens import blend_library, instant_library, join_library, loop_frames, mapping
 from .inputs import check_kept, check_target, kept_corrections, open_inputs, open_old, pass_on
 from ..errors import InputError, summarise
 from ..features import FeatureAccumulator, Features, follow_picks, moves_across, stored_rows
@@ -499,18 +499,19 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     needed = _needed(sequences, computed, analysis, settings, rooms, across)
     preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshfiles.write, tmp, needed, pool, run, old, meshfiles.reusable(old, computed))
-    run.stage("joins", join_library, tmp, [s.name for s in sequences], analysis.graph, analysis.nodes,
-              {s.name: f.vectors for s, f in zip(sequences, padded)}, settings.blend_frames,
-              {s.name: s.fps for s in sequences})
-    run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
-                           settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
-                           pool, run.bar, old, keep_natural, rooms, across)
-    if capturecopy.applies(sequences) and run.blends["frames"]:   # in-between frames as an export writes them
-        run.stage("draco", capturecopy.encode_blends, tmp, sequences[0].orientation)
-    run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
-                             run.blends["data"], settings.blend_frames, pool, run.bar, old,
-                             {s.name: e.key for s, e in zip(sequences, computed)},
-                             {s.name: s.fps for s in sequences}) if settings.smooth else None
+    with mapping():     # the library's meshes, mapped in this process until the in-betweens are made
+        run.stage("joins", join_library, tmp, [s.name for s in sequences], analysis.graph, analysis.nodes,
+                  {s.name: f.vectors for s, f in zip(sequences, padded)}, settings.blend_frames,
+                  {s.name: s.fps for s in sequences})
+        run.blends = run.stage("blends", blend_library, tmp, [s.name for s in sequences], analysis.graph,
+                               settings.blend_frames, {s.name: e.key for s, e in zip(sequences, computed)},
+                               pool, run.bar, old, keep_natural, rooms, across)
+        if capturecopy.applies(sequences) and run.blends["frames"]:   # in-between frames as an export writes them
+            run.stage("draco", capturecopy.encode_blends, tmp, sequences[0].orientation)
+        run.instants = run.stage("in-betweens", instant_library, tmp, [s.name for s in sequences], analysis.graph,
+                                 run.blends["data"], settings.blend_frames, pool, run.bar, old,
+                                 {s.name: e.key for s, e in zip(sequences, computed)},
+                                 {s.name: s.fps for s in sequences}) if settings.smooth else None
     run.stage("write", _write_library, tmp, old, sequences, computed, padded, settings, analysis, meshes, run)
     return Derived(run, sequences, computed, padded, analysis, meshes, pool)
 

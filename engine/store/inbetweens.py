@@ -8,6 +8,7 @@ the workers, and stores them in flat arrays beside the texton frames (``blend_*.
 ``blends.json``, written through :class:`tvmedit.engine.store.arrays.MeshWriter`).
 """
 
+import contextlib
 import os
 
 import numpy as np
@@ -15,7 +16,7 @@ import numpy as np
 from ..inbetween.blend import blend, frame_count, natural_step, side, texton_steps
 from ..inbetween.loops import close_loop, plan, reach, window
 
-__all__ = ["blend_library", "instant_library", "join", "join_library", "NATURAL_PAIRS"]
+__all__ = ["blend_library", "instant_library", "join", "join_library", "mapping", "NATURAL_PAIRS"]
 
 #: Consecutive texton frame pairs a build measures the natural step on, at most (spread
 #: evenly over the textons): the median of 240 is as good as of all, and a 60 fps take
@@ -42,6 +43,17 @@ def _meshes(folder, ids, names=("positions", "colours", "faces")):
 _OPENED = {}
 
 
+@contextlib.contextmanager
+def mapping():
+    """The stages in which this process keeps the library being written mapped
+    (:func:`_opened`): its maps are let go at the end, so that no file of a library built,
+    or of one left half-written, stays mapped (and its disk space held) after the build."""
+    try:
+        yield
+    finally:
+        _OPENED.clear()
+
+
 def _opened(folder, prefix):
     """``(arrays, offsets)`` of the meshes stored in ``folder`` (``prefix="blend_"``: its
     in-between frames), mapped once a process and again only where a ``frames.npy`` changed.
@@ -56,7 +68,7 @@ def _opened(folder, prefix):
     known = _OPENED.get((str(folder), prefix))
     if known is None or known[0] != signature:
         if any(key[0] != str(folder) for key in _OPENED):
-            _OPENED.clear()     # one library at a time: no map outlives the build long
+            _OPENED.clear()     # one library at a time
         arrays = mesh_arrays(folder, prefix)
         known = _OPENED[str(folder), prefix] = (signature, (arrays, frame_offsets(folder, arrays, prefix)))
     return known[1]
