@@ -78,14 +78,21 @@ def natural(library, pairs=30, matched=False):
     return float(np.median([m for m, _ in figures])), float(np.median([p for _, p in figures]))
 
 
+#: Which of a mesh's arrays goes with its positions: colours to match points by, faces for surfaces.
+COLOURS, FACES = 1, 2
+
+
+def _pair(mesh, which):
+    """``(positions, mesh[which])`` of ``(positions, colours, faces, ...)`` as arrays."""
+    return np.asarray(mesh[0]), np.asarray(mesh[which])
+
+
 def _coloured(library, key):
-    positions, colours, _, _ = library.frame_mesh(key)
-    return np.asarray(positions), np.asarray(colours)
+    return _pair(library.frame_mesh(key), COLOURS)
 
 
 def _mesh(library, key):
-    positions, _, faces, _ = library.frame_mesh(key)
-    return np.asarray(positions), np.asarray(faces)
+    return _pair(library.frame_mesh(key), FACES)
 
 
 def kind(a, b):
@@ -156,17 +163,10 @@ def wraps(library, nat):
         matched = [matched_tail(_coloured(library, a), _coloured(library, b), stride=STRIDE)
                    for a, b in zip(keys, keys[1:])]
 
-        def source(frame):
-            mesh = library.source_mesh((node.sequence, frame))
-            return np.asarray(mesh[0]), np.asarray(mesh[2])
-
-        def coloured(frame):
-            mesh = library.source_mesh((node.sequence, frame))
-            return np.asarray(mesh[0]), np.asarray(mesh[1])
-
+        source = lambda frame, which=FACES: _pair(library.source_mesh((node.sequence, frame)), which)  # noqa: E731
         within = lambda f: first <= f <= last  # noqa: E731
         own = paces(lambda f, g: measure(source(f), source(g)), node.start, node.end, at, count, within)
-        pair = lambda f, g: (matched_tail(coloured(f), coloured(g), stride=STRIDE),) * 2  # noqa: E731
+        pair = lambda f, g: (matched_tail(source(f, COLOURS), source(g, COLOURS), stride=STRIDE),) * 2  # noqa: E731
         own_matched = [tail for tail, _ in paces(pair, node.start, node.end, at, count, within)]
         ratios = [(m / max(nat[0], om), p / max(nat[1], op)) for (m, p), (om, op) in zip(figures, own)]
         out[node.name] = ((max(m for m, _ in figures), max(p for _, p in figures)),
