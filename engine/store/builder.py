@@ -102,6 +102,7 @@ class _Run:
         self.started = time.perf_counter()
         self.blends = self.instants = None
         self.names_from = None      # the library whose names given by hand carry over, if not ``old``
+        self.old_whole = False      # every file of the library being replaced was found as written
 
     def stage(self, name, fn, *args):
         """Run one stage and record how long it took."""
@@ -459,6 +460,7 @@ def _sound(old, run):
     that reads none, every feature cached and every frame stored, pays it in full)."""
     run.names_from = old
     bad = layout.verify(old.path, old.manifest) if old is not None else []
+    run.old_whole = old is not None and not bad
     if bad:
         run.say(f"note: the library being replaced is damaged ({', '.join(bad)}); nothing is reused from it"
                 + ("; its corrections by hand are kept as they read: look them over (tvmedit correct --help)"

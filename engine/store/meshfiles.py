@@ -242,8 +242,8 @@ def write(tmp, needed, pool, run, old=None, stored=None):
         return grown
     bar = run.bar(len(needed), "meshes")
     read = iter(())
-    if stored:  # frames taken from old's arrays: their bytes as written, or nothing
-        old.verify(layout.MESH_FILES)
+    if stored and not run.old_whole:  # frames taken from old's arrays: their bytes as written, or nothing
+        old.verify(layout.MESH_FILES)   # (a build has verified the whole of it already: not read twice)
     # Untextured stored frames are copied in runs of consecutive rows, byte for byte.
     rows = {key: r for r, key in enumerate(old.stored_frames())} if old is not None and not old.textured else {}
     firsts = {first for _, first, _ in arrays.part_rows(old.path)} if rows else set()   # a copied run lies in one part
