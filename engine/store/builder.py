@@ -499,7 +499,6 @@ def derive(tmp, old, sequences, computed, settings, corrections, *, pool, run=No
     rooms = {node.id: analysis.structures[node.sequence].clusters[node.cluster] for node in analysis.nodes}
     across = not keep_natural or _across(old)
     needed = _needed(sequences, computed, analysis, settings, rooms, across)
-    preload()  # scipy, before the pool's workers fork, if they have not yet
     meshes = run.stage("meshes", meshfiles.write, tmp, needed, pool, run, old, meshfiles.reusable(old, computed))
     with mapping():     # the library's meshes, mapped in this process until the in-betweens are made
         run.stage("joins", join_library, tmp, [s.name for s in sequences], analysis.graph, analysis.nodes,

@@ -31,7 +31,9 @@ def _meshes(folder, ids, names=("positions", "colours", "faces")):
     meshes, tables = [], {}
     for mesh_id in ids:
         prefix = "blend_" if mesh_id < 0 else ""
-        arrays, offsets = tables[prefix] if prefix in tables else tables.setdefault(prefix, _opened(folder, prefix))
+        if prefix not in tables:
+            tables[prefix] = _opened(folder, prefix)
+        arrays, offsets = tables[prefix]
         v0, nv, f0, nf = offsets[-1 - mesh_id if mesh_id < 0 else mesh_id].tolist()
         meshes.append(tuple(np.asarray(arrays[name][f0:f0 + nf] if name == "faces" else arrays[name][v0:v0 + nv])
                             for name in names))
@@ -74,11 +76,12 @@ def _opened(folder, prefix):
     return known[1]
 
 
-def _rows(folder, names, count):
-    """``{(sequence, frame): row}`` of the ``count`` frames stored in the library being written
-    in ``folder`` (``names``: the sequences in manifest order, as ``frame_keys.npy`` indexes them)."""
+def _rows(folder, names):
+    """``{(sequence, frame): row}`` of the frames stored in the library being written in
+    ``folder`` (``names``: the sequences in manifest order, as ``frame_keys.npy`` indexes them)."""
     from .arrays import frame_keys
 
+    count = len(_opened(folder, "")[1])
     return {(names[s], f): row for row, (s, f) in enumerate(frame_keys(folder, count, len(names)).tolist())}
 
 
@@ -164,12 +167,9 @@ def join_library(folder, names, graph, nodes, vectors, count, rates=None):
     """:func:`join` on the library being written in ``folder`` (every frame of a texton is stored
     there), a build's stage before the in-between frames; none moves where ``count`` is 0 (the
     paper's cut, where eq. (10) makes it). Returns how many moved."""
-    from .arrays import frame_offsets, mesh_arrays
-
     if count == 0:
         return 0
-    offsets = frame_offsets(folder, mesh_arrays(folder))
-    rows = _rows(folder, names, len(offsets))
+    rows = _rows(folder, names)
     return join(graph, nodes, vectors,
                 lambda keys: _meshes(folder, [rows[key] for key in keys], ("positions", "colours")), rates)
 
@@ -269,11 +269,11 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     dict: ``data`` (``blends.json``), ``frames`` (in-between frames stored), ``seconds`` (CPU seconds
     of the runs), ``made`` (runs made, not copied), ``bounds`` and ``max_counts``.
     """
-    from .arrays import MeshWriter, frame_offsets, mesh_arrays
+    from .arrays import MeshWriter
 
-    arrays = mesh_arrays(folder)
-    offsets = frame_offsets(folder, arrays).tolist()
-    rows = _rows(folder, names, len(offsets))
+    arrays, offsets = _opened(folder, "")
+    offsets = offsets.tolist()
+    rows = _rows(folder, names)
     data = _old_data(old, keys)
     known = {(row[0], row[1]): (row[2], row[3]) for row in data.get("pair_steps", []) if len(row) == 4}
     if keep_natural and data.get("natural_step", 0) > 0:
@@ -438,12 +438,11 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
     """
     import time
 
-    from .arrays import NpyStream, frame_offsets, mesh_arrays
+    from .arrays import NpyStream
     from ..inbetween.instants import FIELDS_BELOW_FPS, display_pairs
 
     started = time.perf_counter()
-    offsets = frame_offsets(folder, mesh_arrays(folder))
-    rows = _rows(folder, names, len(offsets))
+    rows = _rows(folder, names)
     frames = {row: key for key, row in rows.items()}
     nodes = [(d["sequence"], d["start"], d["end"]) for _, d in sorted(graph.nodes(data=True))]
     edges = [e for e in blends["edges"] if count != 0 or e["count"]]
