@@ -40,7 +40,7 @@ transition.
 import numpy as np
 
 from .blend import kdtree
-from .instants import coloured_points
+from .instants import coloured_points, matched_both_ways
 
 __all__ = ["TIE", "MOST", "SAMPLE", "KEEP", "candidates", "stride", "pose_points", "pose_distance", "best_join"]
 
@@ -100,15 +100,14 @@ def pose_points(positions, colours, sample=SAMPLE):
 
 def pose_distance(a, b):
     """How far apart two poses (:func:`pose_points`) are: the 99th percentile of each point's
-    distance to the nearest point of the other that looks alike, both ways (metres).
+    distance to the nearest point of the other that looks alike, both ways (metres), as
+    :func:`tvmedit.engine.inbetween.instants.matched_tail` measures a step.
 
     >>> p = np.random.default_rng(0).random((50, 3)); c = np.full((50, 3), 128)
     >>> pose_distance(pose_points(p, c), pose_points(p, c)), pose_distance(pose_points(p, c), pose_points(p + 1, c)) > 0.5
     (0.0, True)
     """
-    ab = b[1].query(a[0])[0]
-    ba = a[1].query(b[0])[0]
-    return float(np.percentile(np.concatenate([ab, ba]), 99))
+    return matched_both_ways(a, b)
 
 
 def best_join(pairs, pose, keep=KEEP):
