@@ -24,7 +24,21 @@ In each iteration every node is pulled toward its nearest point of the other sur
 every one of :data:`TARGET_POINTS` points of the other surface pulls its nearest node toward
 itself; the pulls are summed over the nodes with a Gaussian of the radius and divided by the
 summed weights (normalised convolution), so the many points of a limb that moved drag its few
-nearest nodes, and the limb, along. Vertices follow their :data:`FOLLOW` nearest nodes,
+nearest nodes, and the limb, along. "Nearest" is measured by position, and in a second fit
+by position and colour together (:func:`coloured_points`, a colour difference of 1 weighing
+:data:`COLOUR_METRES`), as coloured ICP does (Park, Zhou and Koltun, ICCV 2017). By position
+alone, a forearm that leaves the chest for the face finds the chest it lies on, is laid flat
+onto the shirt, and the run switches to the incoming frame's forearm in one step (CMU 13_30's
+transitions stepped up to 2.35x the natural step measured by colour, the forearms smeared into
+the shirt at 1280x960); matched by colour, its skin finds the other frame's skin and the
+forearm travels (0.86x, looked at). But colours repeat (a face and a hand are both skin, a
+printed card is white all over) and change with the light from frame to frame: on the scvv
+card the fit by colour shears the print. :func:`blend` therefore makes each run both ways
+and keeps the one whose largest steps are the smaller (:func:`_largest`): the first on the
+card, the second on every transition of 13_30. What the rule does not see: on an HDM05 take
+(actor bk) the fit by colour draws the face down toward hands held before the chin for three
+frames, where the fit by position squashes the arms into the chest and pops; both measures
+prefer the first, the eye neither. Vertices follow their :data:`FOLLOW` nearest nodes,
 Gaussian-weighted. A warp is a multiply-add, so in-between frames cost little once the
 alignment is made; k-d trees are built once per frame.
 
@@ -38,11 +52,16 @@ import numpy as np
 
 from ..capture.normals import vertex_normals
 
-__all__ = ["MAX_FRAMES", "preload", "kdtree", "chamfer", "chamfer_and_tail", "texton_steps", "natural_step", "surface_area", "align",
-           "BlendRun", "blend", "fields_of", "frame_count", "side", "check_count"]
+__all__ = ["MAX_FRAMES", "FIT", "COLOUR_METRES", "coloured_points", "preload", "kdtree", "chamfer",
+           "chamfer_and_tail", "texton_steps", "natural_step", "surface_area", "align", "BlendRun", "blend",
+           "fields_of", "frame_count", "side", "check_count"]
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
+#: The version of the fit that makes runs (:func:`align`), recorded in a library's
+#: ``blends.json``: 2 matches points by colour as well as position. A rebuild copies the runs
+#: of the library it replaces only where they were made by this version.
+FIT = 2
 #: Nodes carrying the displacement field at the finest radius (sampled from the moving surface).
 NODES = 1500
 #: Fewest nodes at the coarsest radius, and node density of coarse levels relative to the finest.
@@ -55,6 +74,13 @@ SIGMAS = (0.20, 0.12, 0.08, 0.05, 0.03)
 STEPS = 3
 #: Nearest nodes a vertex follows.
 FOLLOW = 6
+
+#: Metres that a colour difference of 1 (in 0-1 units, per channel) counts as, where
+#: points are matched by position and colour (:func:`align`, and
+#: :func:`tvmedit.engine.inbetween.instants.matched_tail`'s measure): a capture's colour noise (6 of
+#: 255) weighs about a centimetre, and another material (skin beside a shirt, 0.3-0.8 apart)
+#: 15-40 cm, so a point finds its partner on its own part of the body.
+COLOUR_METRES = 0.5
 
 
 def preload():
@@ -167,6 +193,20 @@ def surface_area(positions, faces):
     return float(0.5 * np.sqrt(np.einsum("ij,ij->i", cross, cross)).sum())
 
 
+def coloured_points(positions, colours):
+    """Points ``(N, 6)`` float64 of a mesh's ``positions`` (N, 3) and ``colours`` (N, 3 or 4,
+    uint8): position, then colour at :data:`COLOUR_METRES` metres a unit, the space
+    :func:`tvmedit.engine.inbetween.instants.matched_tail` measures a step in and
+    :func:`align` matches points in.
+
+    >>> coloured_points(np.zeros((1, 3)), np.array([[255, 0, 0]], np.uint8)).tolist()
+    [[0.0, 0.0, 0.0, 0.5, 0.0, 0.0]]
+    """
+    positions, colours = np.asarray(positions, np.float64), np.asarray(colours, np.float64)
+    colours = colours.reshape(len(positions), -1)[:, :3] * (COLOUR_METRES / 255.0)
+    return np.hstack([positions.reshape(-1, 3), colours])
+
+
 def _sample(points, count, seed):
     """``count`` rows of ``points`` spread over the surface (a seeded random choice)."""
     if len(points) <= count:
@@ -191,7 +231,8 @@ def _level_nodes(sigma, most=NODES):
     return int(min(most, max(MIN_NODES, most * (SIGMAS[-1] / sigma) ** 2 * LEVEL_DENSITY)))
 
 
-def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow=FOLLOW, still_tree=None):
+def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow=FOLLOW, still_tree=None,
+          colours=None):
     """A smooth displacement of every vertex of ``moving`` that lays it onto ``still``.
 
     Non-rigid ICP with symmetric nearest-point forces, smoothed by a Gaussian over nodes
@@ -210,7 +251,11 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
         nodes each vertex follows: two frames a capture step apart need fewer of each
         (:mod:`.instants`) than a transition's cut.
     still_tree : cKDTree, optional
-        :func:`kdtree` of ``still``, where the caller has it.
+        :func:`kdtree` of ``still``, where the caller has it (not used with ``colours``).
+    colours : tuple of two (N, 3) and (M, 3) uint8, optional
+        The colours of ``moving`` and ``still``: points are then matched by position and
+        colour together (:func:`coloured_points`), so that a node finds its nearest point of
+        the other surface on its own part of the body (see the module docstring).
 
     Returns
     -------
@@ -222,8 +267,15 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
     most = nodes
     order = _sample(moving, most, seed)
     order = order[np.random.default_rng(seed).permutation(len(order))]
-    pulls = still[_sample(still, TARGET_POINTS, seed + 1)]
-    still_tree = _kdtree(still) if still_tree is None else still_tree
+    picked = _sample(still, TARGET_POINTS, seed + 1)
+    pulls = still[picked]
+    if colours is None:
+        targets, looks = pulls, None
+        still_tree = _kdtree(still) if still_tree is None else still_tree
+    else:  # matched in position and colour: (N, 6) points, a node's look its vertex's colour
+        seen = coloured_points(still, colours[1])
+        targets, looks = seen[picked], coloured_points(moving, colours[0])[order, 3:]
+        still_tree = _kdtree(seen)
     nodes, shift = moving[:0], np.zeros((0, 3))
     for sigma in sigmas:
         count = min(len(order), _level_nodes(sigma, most))
@@ -234,8 +286,9 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
         kernel = _smoother(nodes, sigma)
         for _ in range(steps):
             warped = nodes + shift
-            pull = still[still_tree.query(warped)[1]] - warped
-            nearest = _kdtree(warped).query(pulls)[1]
+            seen = warped if looks is None else np.hstack([warped, looks[:len(nodes)]])
+            pull = still[still_tree.query(seen)[1]] - warped
+            nearest = _kdtree(seen).query(targets)[1]
             weight = 1.0 + np.bincount(nearest, minlength=len(nodes))
             for axis in range(3):
                 pull[:, axis] += np.bincount(nearest, weights=pulls[:, axis] - warped[nearest, axis],
@@ -317,7 +370,7 @@ def _run(outgoing, incoming, fields, count):
     return frames
 
 
-def fields_of(a, b, seed=0):
+def fields_of(a, b, seed=0, colours=None):
     """The two fields of a run from ``a`` to ``b``: ``a`` laid onto ``b``, and ``b`` laid onto
     the half-way surface ``a + field / 2``, not onto ``a``.
 
@@ -325,9 +378,11 @@ def fields_of(a, b, seed=0):
     poor, and the run switches from one to the other in its middle: there a forearm the fits
     carried differently jumps, a few hundred vertices moving far while the mean step stays
     small. Fitting the second onto the first one's middle makes the two warps meet where the
-    run switches, to the residual of one fit between surfaces half as far apart."""
-    forward = align(a, b, seed)
-    return forward, align(b, a + 0.5 * forward, seed)
+    run switches, to the residual of one fit between surfaces half as far apart.
+
+    ``colours``, ``(a's, b's)`` uint8, match points by colour as well (:func:`align`)."""
+    forward = align(a, b, seed, colours=colours)
+    return forward, align(b, a + 0.5 * forward, seed, colours=None if colours is None else colours[::-1])
 
 
 def _steps(ends, frames, stop=None):
@@ -397,22 +452,58 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     Returns
     -------
     BlendRun
+        Made with the fields fitted by position alone or by position and colour
+        (:func:`fields_of`), whichever gives the smaller largest steps (:func:`_largest`).
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
     ends = ((a, _kdtree(a)), (b, _kdtree(b)))
     jump, cut_tail = chamfer_and_tail(a, b, ends[0][1], ends[1][1], stride=4)
     if count == 0 or (count is None and jump <= natural and (tail is None or cut_tail <= tail)):
         return BlendRun([], [jump], jump)
-    fields = fields_of(a, b, seed)
     n = max(frame_count(jump, natural), 1) if count is None else count
-    previous = None
-    while True:
+    tries, looks = [], [coloured_points(*mesh[:2]) for mesh in (outgoing, incoming)]
+    looks = [(p, _kdtree(p)) for p in looks]
+    for match in (None, (outgoing[1], incoming[1])):
+        fields = fields_of(a, b, seed, match)
         frames = _run(outgoing, incoming, fields, n)
-        measured = _steps(ends, frames, None if previous is None else 0.95 * max(previous.steps))
+        measured = _steps(ends, frames)
+        tries.append((np.prod(_largest(looks, frames, measured[1])), fields, frames, measured))
+    _, fields, frames, measured = min(tries, key=lambda kept: kept[0])
+    return _finished(_counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, (frames, measured)))
+
+
+def _counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, first):
+    """The run of :func:`blend` made with ``fields``: ``count`` frames, or (None) the fewest
+    from ``n`` on that keep every step within ``natural`` and ``tail``; ``first`` holds the
+    frames of ``n`` and their steps (:func:`_steps`), already made."""
+    previous = None
+    frames, measured = first
+    while True:
         if measured is None:
-            return _finished(previous)  # the cut's own residual dominates: more frames would not help
+            return previous  # the cut's own residual dominates: more frames would not help
         run = BlendRun(frames, measured[0], jump)
-        within = max(run.steps) <= natural and (tail is None or max(measured[1]) <= tail)
+        within = max(measured[0]) <= natural and (tail is None or max(measured[1]) <= tail)
         if count is not None or within or n >= MAX_FRAMES:
-            return _finished(run)
+            return run
         previous, n = run, n + 1
+        frames = _run(outgoing, incoming, fields, n)
+        measured = _steps(ends, frames, 0.95 * max(previous.steps))
+
+
+def _largest(ends, frames, tails):
+    """The largest step of a run of ``frames`` (its steps' 99th percentiles ``tails``) by the 99th
+    percentile of the vertices' distances to the other frame, ``(by position alone, by
+    position and colour)`` (:func:`coloured_points`, every 4th vertex both ways): a run whose
+    limb jumps along the body moves vertices far by the second; one whose fit sheared a
+    textured surface (colours matched to like colours of a print nearby) by the first.
+    :func:`blend` keeps the fit whose run of its first count of frames has the smaller two by
+    their product, so that each counts by its ratio whatever its units: a fit by colour that
+    halves the second and leaves the first as it was is kept (CMU 13_30), one that lowers the
+    second by 1 % and raises the first by 70 % is not (the scvv card). ``ends`` holds the two
+    ends' coloured points and k-d trees, made once for both fits."""
+    points = [ends[0][0], *(coloured_points(*mesh[:2]) for mesh in frames), ends[1][0]]
+    trees = [ends[0][1], *(_kdtree(p) for p in points[1:-1]), ends[1][1]]
+    matched = [np.percentile(np.concatenate([trees[k + 1].query(points[k][::4])[0],
+                                             trees[k].query(points[k + 1][::4])[0]]), 99)
+               for k in range(len(points) - 1)]
+    return max(tails), max(matched)

@@ -40,7 +40,7 @@ finer levels fit them as closely for a fraction of the cost.
 
 import numpy as np
 
-from .blend import align, kdtree
+from .blend import COLOUR_METRES, align, coloured_points, kdtree
 
 __all__ = ["SIGMAS", "STEPS", "KEEP", "FIELDS_BELOW_FPS", "step_field", "helps", "display_pairs", "instants",
            "shown", "moved", "surface_distances", "step_measures", "matched_tail", "matched_both_ways",
@@ -276,13 +276,6 @@ def step_measures(a, b, stride=2):
     return float(d.mean()), float(np.percentile(d, 99))
 
 
-#: Metres that a colour difference of 1 (in 0-1 units, per channel) counts as, where
-#: :func:`matched_tail` matches points by position and colour: a capture's colour noise (6 of
-#: 255) weighs about a centimetre, and another material (skin beside a shirt, 0.3-0.8 apart)
-#: 15-40 cm, so a point finds its partner on its own part of the body.
-COLOUR_METRES = 0.5
-
-
 def matched_tail(a, b, stride=2):
     """The 99th percentile of how far the points of two displayed meshes ``(positions,
     colours)`` (colours uint8, 0-255) move, each matched to the nearest point of the other
@@ -324,16 +317,3 @@ def matched_both_ways(a, b):
     """
     d = np.concatenate([b[1].query(a[0])[0], a[1].query(b[0])[0]])
     return float(np.percentile(d, 99))
-
-
-def coloured_points(positions, colours):
-    """Points ``(N, 6)`` float64 of a mesh's ``positions`` (N, 3) and ``colours`` (N, 3 or 4,
-    uint8): position, then colour at :data:`COLOUR_METRES` metres a unit, the space
-    :func:`matched_tail` matches points in.
-
-    >>> coloured_points(np.zeros((1, 3)), np.array([[255, 0, 0]], np.uint8)).tolist()
-    [[0.0, 0.0, 0.0, 0.5, 0.0, 0.0]]
-    """
-    positions, colours = np.asarray(positions, np.float64), np.asarray(colours, np.float64)
-    colours = colours.reshape(len(positions), -1)[:, :3] * (COLOUR_METRES / 255.0)
-    return np.hstack([positions.reshape(-1, 3), colours])

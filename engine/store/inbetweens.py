@@ -13,7 +13,7 @@ import os
 
 import numpy as np
 
-from ..inbetween.blend import blend, frame_count, natural_step, side, texton_steps
+from ..inbetween.blend import FIT, blend, frame_count, natural_step, side, texton_steps
 from ..inbetween.loops import close_loop, plan, reach, window
 
 __all__ = ["blend_library", "instant_library", "join", "join_library", "mapping", "NATURAL_PAIRS"]
@@ -315,7 +315,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
     finally:
         if progress is not None:
             progress.close()
-    data = {"natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys,
+    data = {"fit": FIT, "natural_step": natural, "natural_tail": tail, "blend_frames": count, "feature_keys": keys,
             "across": across, "edges": records, "wraps": closings,
             "pair_steps": [[name, frame, *step] for (name, frame), step in measured.items()]}
     return {"data": data, "frames": writer.frames, "seconds": seconds, "made": len(tasks),
@@ -354,7 +354,8 @@ def _old_runs(data, natural, count, tail=None):
     ``data`` (:func:`_old_data`) that a new build would make the same: same count option, and
     a run :func:`blend` gives again at this natural step (:func:`_same_run`; a correction that
     changes the motions changes the natural step a little, and should not make every run again)."""
-    if not data or data.get("blend_frames") != count or (count is None and data.get("natural_tail") != tail):
+    if not data or data.get("fit", 1) != FIT or data.get("blend_frames") != count or (
+            count is None and data.get("natural_tail") != tail):
         return {}
     runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
             for e in data["edges"] if count is not None or _same_run(e, data["natural_step"], natural)}
@@ -476,16 +477,18 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
 
 def _shows(frames, blends):
     """``{mesh id: what it shows}``: a stored frame's ``("frame", sequence, frame)``; an in-between
-    frame's run and place in it, ``("edge", exit, entry, count, k)`` or ``("wrap", texton, at,
-    count, k)``. A run's frames follow from its two ends (or its texton), its count and the
-    frames' files alone, so two libraries' mesh ids that show the same are the same mesh."""
+    frame's run and place in it, ``("edge", exit, entry, count, k, fit)`` or ``("wrap", texton,
+    at, count, k, fit)``. A run's frames follow from its two ends (or its texton), its count,
+    the fit that made it (:data:`tvmedit.engine.inbetween.blend.FIT`) and the frames' files
+    alone, so two libraries' mesh ids that show the same are the same mesh."""
     shows = {row: ("frame", *key) for row, key in frames.items()}
+    fit = blends.get("fit", 1)
     for edge in blends.get("edges", []):
         for k in range(edge["count"]):
-            shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k)
+            shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k, fit)
     for wrap in blends.get("wraps", []):
         for k in range(wrap["count"]):
-            shows[-1 - (wrap["first"] + k)] = ("wrap", tuple(wrap["texton"]), wrap["at"], wrap["count"], k)
+            shows[-1 - (wrap["first"] + k)] = ("wrap", tuple(wrap["texton"]), wrap["at"], wrap["count"], k, fit)
     return shows
 
 
