@@ -27,18 +27,19 @@ summed weights (normalised convolution), so the many points of a limb that moved
 nearest nodes, and the limb, along. "Nearest" is measured by position, and in a second fit
 by position and colour together (:func:`coloured_points`, a colour difference of 1 weighing
 :data:`COLOUR_METRES`), as coloured ICP does (Park, Zhou and Koltun, ICCV 2017). By position
-alone, a forearm that leaves the chest for the face finds the chest it lies on, is laid flat
-onto the shirt, and the run switches to the incoming frame's forearm in one step (CMU 13_30's
-transitions stepped up to 2.35x the natural step measured by colour, the forearms smeared into
-the shirt at 1280x960); matched by colour, its skin finds the other frame's skin and the
-forearm travels (0.86x, looked at). But colours repeat (a face and a hand are both skin, a
-printed card is white all over) and change with the light from frame to frame: on the scvv
-card the fit by colour shears the print. :func:`blend` therefore makes each run both ways
-and keeps the one whose largest steps are the smaller (:func:`_largest`): the first on the
-card, the second on every transition of 13_30. What the rule does not see: on an HDM05 take
-(actor bk) the fit by colour draws the face down toward hands held before the chin for three
-frames, where the fit by position squashes the arms into the chest and pops; both measures
-prefer the first, the eye neither. Vertices follow their :data:`FOLLOW` nearest nodes,
+alone, a forearm that leaves the chest finds the chest it lies on and is laid flat onto the
+shirt, and the run switches to the incoming frame's forearm in one step (CMU 13_30's
+transitions stepped up to 2.35x the natural step measured by colour, the forearms seen smeared
+into the shirt at 1280x960); matched by colour, its skin finds the other frame's skin. Colour
+misleads too: a face and a hand are both skin, so a point's pull on the node that looks like
+it is kept only where it agrees with that node's own match (:func:`_consistent`: without it, a
+face was drawn down onto hands raised before the chin, on an HDM05 take); and a textured
+capture's colours repeat over its print and change with the light, so on the scvv card a fit
+by colour can shear the print. :func:`blend` therefore makes each run both ways and keeps the
+one whose largest steps are the smaller (:func:`_largest`). 13_30's transitions then step at
+most 1.15x the natural step by colour; the forearms still shorten toward the elbow for a frame
+where they swing far, and the fit does not find the arms on every take (the development suite's
+13_30 at 20 fps keeps one transition at 2.75x). Vertices follow their :data:`FOLLOW` nearest nodes,
 Gaussian-weighted. A warp is a multiply-add, so in-between frames cost little once the
 alignment is made; k-d trees are built once per frame.
 
@@ -58,9 +59,13 @@ __all__ = ["MAX_FRAMES", "FIT", "COLOUR_METRES", "coloured_points", "preload", "
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
+#: Where points are matched by colour, a point of the still surface pulls the node that looks
+#: like it only where that node's own match lies within this share of the node's distance from
+#: the point (:func:`_consistent`).
+CONSISTENT = 0.5
 #: The version of the fit that makes runs (:func:`align`), recorded in a library's
-#: ``blends.json``: 2 matches points by colour as well as position. A rebuild copies the runs
-#: of the library it replaces only where they were made by this version.
+#: ``blends.json``: 2 matches points by colour as well as position (consistent pulls only).
+#: A rebuild copies the runs of the library it replaces only where this version made them.
 FIT = 2
 #: Nodes carrying the displacement field at the finest radius (sampled from the moving surface).
 NODES = 1500
@@ -287,8 +292,11 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
         for _ in range(steps):
             warped = nodes + shift
             seen = warped if looks is None else np.hstack([warped, looks[:len(nodes)]])
-            pull = still[still_tree.query(seen)[1]] - warped
+            matched = still[still_tree.query(seen)[1]]
+            pull = matched - warped
             nearest = _kdtree(seen).query(targets)[1]
+            if looks is not None:
+                nearest = _consistent(nearest, matched, warped, pulls)
             weight = 1.0 + np.bincount(nearest, minlength=len(nodes))
             for axis in range(3):
                 pull[:, axis] += np.bincount(nearest, weights=pulls[:, axis] - warped[nearest, axis],
@@ -297,6 +305,19 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
             # that moved away outweigh the few nodes nearest to them and drag the limb along.
             shift += (kernel @ pull + pull) / (kernel @ weight + weight)[:, None]
     return _follow(moving, nodes, shift, follow)
+
+
+def _consistent(nearest, matched, nodes, points):
+    """Which node each point of the still surface pulls, matched by position and colour
+    (``nearest``), kept where that node's own match (``matched``, its nearest point of the
+    still surface by position and colour) lies within :data:`CONSISTENT` of the node's distance
+    from the point; elsewhere the node nearest by position. A hand raised before the chin finds
+    the face as its nearest skin, but the face's own match is the other frame's face, far from
+    the hand: pulled by the hand, the face would be drawn down onto it (seen on an HDM05 take).
+    A forearm that moved finds the forearm, whose own match is the forearm: that pull stays."""
+    gap = np.linalg.norm(matched[nearest] - points, axis=1)
+    reach = np.linalg.norm(nodes[nearest] - points, axis=1)
+    return np.where(gap <= CONSISTENT * reach, nearest, _kdtree(nodes).query(points)[1])
 
 
 def _follow(vertices, nodes, shift, follow=FOLLOW):
