@@ -59,14 +59,14 @@ def test_transitions_join_frames_whose_limbs_lie_alike(libraries):
     # whose poses are nearest, and its fields are fitted matching points by colour where that
     # makes the smaller steps: no step of any transition moves the points, each matched to the
     # point of the other frame that looks alike, more than 1.25 natural steps by that measure
-    # on 13_29 (1.82 at eq. (10)'s own pairs) and 1.5 on 13_30 (1.27 here; 2.35 with fields
-    # fitted by position alone, the forearms laid flat on the shirt).
+    # on 13_29 (1.82 at eq. (10)'s own pairs) and on 13_30 (2.35 with fields fitted by
+    # position alone, the forearms laid flat on the shirt).
     from tvmedit.engine.features.vectors import distance_matrix
     from tvmedit.engine.graph.motiongraph import entry_range, exit_range
     from tvmedit.engine.inbetween.instants import matched_tail
     from tvmedit.engine.inbetween.pairs import TIE
 
-    for name, most in (("13_29", 1.25), ("13_30", 1.5)):
+    for name in ("13_29", "13_30"):
         library = libraries[name]
 
         def coloured(key):
@@ -78,7 +78,7 @@ def test_transitions_join_frames_whose_limbs_lie_alike(libraries):
         for u, v in sorted(library.graph.edges):
             keys = _window(library, u, v)
             worst[u, v] = max(matched_tail(coloured(a), coloured(b)) for a, b in zip(keys, keys[1:])) / natural
-        assert max(worst.values()) <= most, (name, {edge: round(w, 2) for edge, w in worst.items()})
+        assert max(worst.values()) <= 1.25, (name, {edge: round(w, 2) for edge, w in worst.items()})
     moved = 0
     for library in libraries.values():    # the frames move; the weights, and what a pair costs, hardly
         for u, v, data in library.graph.edges(data=True):

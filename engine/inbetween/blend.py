@@ -37,9 +37,8 @@ face was drawn down onto hands raised before the chin, on an HDM05 take); and a 
 capture's colours repeat over its print and change with the light, so on the scvv card a fit
 by colour can shear the print. :func:`blend` therefore makes each run both ways and keeps the
 one whose largest steps are the smaller (:func:`_largest`). 13_30's transitions then step at
-most 1.15x the natural step by colour; the forearms still shorten toward the elbow for a frame
-where they swing far, and the fit does not find the arms on every take (the development suite's
-13_30 at 20 fps keeps one transition at 2.75x). Vertices follow their :data:`FOLLOW` nearest nodes,
+most 0.87x the natural step by colour, and the forearms travel whole (looked at); what is left
+is milder: on that HDM05 transition the neck's skin is stretched into the shirt for two frames. Vertices follow their :data:`FOLLOW` nearest nodes,
 Gaussian-weighted. A warp is a multiply-add, so in-between frames cost little once the
 alignment is made; k-d trees are built once per frame.
 
@@ -59,10 +58,6 @@ __all__ = ["MAX_FRAMES", "FIT", "COLOUR_METRES", "coloured_points", "preload", "
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
-#: Where points are matched by colour, a point of the still surface pulls the node that looks
-#: like it only where that node's own match lies within this share of the node's distance from
-#: the point (:func:`_consistent`).
-CONSISTENT = 0.5
 #: The version of the fit that makes runs (:func:`align`), recorded in a library's
 #: ``blends.json``: 2 matches points by colour as well as position (consistent pulls only).
 #: A rebuild copies the runs of the library it replaces only where this version made them.
@@ -310,14 +305,15 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
 def _consistent(nearest, matched, nodes, points):
     """Which node each point of the still surface pulls, matched by position and colour
     (``nearest``), kept where that node's own match (``matched``, its nearest point of the
-    still surface by position and colour) lies within :data:`CONSISTENT` of the node's distance
-    from the point; elsewhere the node nearest by position. A hand raised before the chin finds
-    the face as its nearest skin, but the face's own match is the other frame's face, far from
-    the hand: pulled by the hand, the face would be drawn down onto it (seen on an HDM05 take).
-    A forearm that moved finds the forearm, whose own match is the forearm: that pull stays."""
+    still surface by position and colour) lies nearer the point than the node does: the pull
+    and the node's own way agree; elsewhere the node nearest by position. A hand raised before
+    the chin finds the face as its nearest skin, but the face's own match is the other frame's
+    face, as far from the hand as the face is: pulled by the hand, the face would be drawn down
+    onto it (seen on an HDM05 take). A forearm that moved finds the forearm, whose own match
+    lies on the other frame's forearm, near the point: that pull stays."""
     gap = np.linalg.norm(matched[nearest] - points, axis=1)
     reach = np.linalg.norm(nodes[nearest] - points, axis=1)
-    return np.where(gap <= CONSISTENT * reach, nearest, _kdtree(nodes).query(points)[1])
+    return np.where(gap < reach, nearest, _kdtree(nodes).query(points)[1])
 
 
 def _follow(vertices, nodes, shift, follow=FOLLOW):
