@@ -354,11 +354,12 @@ def _old_runs(data, natural, count, tail=None):
     ``data`` (:func:`_old_data`) that a new build would make the same: same count option, and
     a run :func:`blend` gives again at this natural step (:func:`_same_run`; a correction that
     changes the motions changes the natural step a little, and should not make every run again)."""
-    if not data or data.get("fit", 1) != FIT or data.get("blend_frames") != count or (
-            count is None and data.get("natural_tail") != tail):
+    if not data or data.get("blend_frames") != count or (count is None and data.get("natural_tail") != tail):
         return {}
+    # A transition made by another fit (blend.FIT) is made again; a loop's closing is fitted by position alone.
     runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
-            for e in data["edges"] if count is not None or _same_run(e, data["natural_step"], natural)}
+            for e in data["edges"] if data.get("fit", 1) == FIT and (
+                count is not None or _same_run(e, data["natural_step"], natural))}
     if data["natural_step"] == natural:  # a loop's closing is kept at the same natural step only
         # The same texton closed at the same end and as far: a correction that moves its
         # cluster's edge may change where it is closed, and then it is closed anew.
@@ -478,9 +479,9 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
 def _shows(frames, blends):
     """``{mesh id: what it shows}``: a stored frame's ``("frame", sequence, frame)``; an in-between
     frame's run and place in it, ``("edge", exit, entry, count, k, fit)`` or ``("wrap", texton,
-    at, count, k, fit)``. A run's frames follow from its two ends (or its texton), its count,
-    the fit that made it (:data:`tvmedit.engine.inbetween.blend.FIT`) and the frames' files
-    alone, so two libraries' mesh ids that show the same are the same mesh."""
+    at, count, k)``. A run's frames follow from its two ends (or its texton), its count, the
+    fit that made a transition's (:data:`tvmedit.engine.inbetween.blend.FIT`) and the frames'
+    files alone, so two libraries' mesh ids that show the same are the same mesh."""
     shows = {row: ("frame", *key) for row, key in frames.items()}
     fit = blends.get("fit", 1)
     for edge in blends.get("edges", []):
@@ -488,7 +489,7 @@ def _shows(frames, blends):
             shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k, fit)
     for wrap in blends.get("wraps", []):
         for k in range(wrap["count"]):
-            shows[-1 - (wrap["first"] + k)] = ("wrap", tuple(wrap["texton"]), wrap["at"], wrap["count"], k, fit)
+            shows[-1 - (wrap["first"] + k)] = ("wrap", tuple(wrap["texton"]), wrap["at"], wrap["count"], k)
     return shows
 
 
