@@ -36,7 +36,7 @@ it is kept only where it agrees with that node's own match (:func:`_consistent`:
 face was drawn down onto hands raised before the chin, on an HDM05 take); and a textured
 capture's colours repeat over its print and change with the light, so on the scvv card a fit
 by colour can shear the print. :func:`blend` therefore makes each run both ways and keeps the
-one whose largest steps are the smaller (:func:`_largest`, on a run of :data:`CHOOSE_AT`
+one whose largest steps are the smaller (:func:`_largest`, on the run's first count of
 frames). 13_30's transitions then step at
 most 0.87x the natural step by colour, and the forearms travel whole (looked at); what is left
 is milder: on that HDM05 transition the neck's skin is stretched into the shirt for two frames.
@@ -54,24 +54,17 @@ import numpy as np
 
 from ..capture.normals import vertex_normals
 
-__all__ = ["MAX_FRAMES", "FIT", "CHOOSE_AT", "COLOUR_METRES", "coloured_points", "preload", "kdtree", "chamfer",
+__all__ = ["MAX_FRAMES", "FIT", "COLOUR_METRES", "coloured_points", "preload", "kdtree", "chamfer",
            "chamfer_and_tail", "texton_steps", "natural_step", "surface_area", "align", "BlendRun", "blend",
            "fields_of", "frame_count", "side", "check_count"]
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
 #: The version of the fit that makes a transition's run, recorded in a library's ``blends.json``:
-#: 1 by position alone; 3 by position and by position and colour, the smaller kept, chosen on a
-#: run of :data:`CHOOSE_AT` frames (2 chose on the run's first count; never released).
-#: A rebuild copies the transitions of the library it replaces only where this version made them.
+#: 1 by position alone; 3 by position and by position and colour, the smaller kept on the run's
+#: first count, which fit and on what count recorded with each run (2 recorded neither; never
+#: released). A rebuild copies transitions of the library it replaces only where this version made them.
 FIT = 3
-#: In-between frames of the run on which :func:`blend` chooses between its two fits: a number
-#: of its own, so that which fit a run takes depends on its two frames alone, not on the
-#: natural step or the count asked (a rebuild tells a run it can copy by its ends and count).
-#: Four, a common count at 10 fps: two frames warped from each end, the steps each way and the
-#: step where the run switches (on two, 13_30's 05->04 kept the fit by position and stepped 1.23x
-#: the natural step by colour, 0.85x with the one by colour).
-CHOOSE_AT = 4
 #: Nodes carrying the displacement field at the finest radius (sampled from the moving surface).
 NODES = 1500
 #: Fewest nodes at the coarsest radius, and node density of coarse levels relative to the finest.
@@ -481,7 +474,8 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     BlendRun
         Made with the fields fitted by position alone or by position and colour
         (:func:`fields_of`), whichever gives the smaller largest steps (:func:`_largest`) on a
-        run of :data:`CHOOSE_AT` frames.
+        run of the first count of frames; ``colour`` says which (True: by colour), ``chosen_at``
+        on what count (a run follows from its two frames, its count, ``colour`` and ``chosen_at``).
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
     ends = ((a, _kdtree(a)), (b, _kdtree(b)))
@@ -493,23 +487,22 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     looks = [(p, _kdtree(p)) for p in looks]
     for match in (None, (outgoing[1], incoming[1])):
         fields = fields_of(a, b, seed, match)
-        frames = _run(outgoing, incoming, fields, CHOOSE_AT)
+        frames = _run(outgoing, incoming, fields, n)
         measured = _steps(ends, frames)
         tries.append((np.prod(_largest(looks, frames, measured[1])), fields, frames, measured))
-    _, fields, frames, measured = min(tries, key=lambda kept: kept[0])
-    first = (frames, measured) if n == CHOOSE_AT else None
-    return _finished(_counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, first))
+    chosen = min(range(2), key=lambda k: tries[k][0])
+    _, fields, frames, measured = tries[chosen]
+    run = _counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, (frames, measured))
+    run.colour, run.chosen_at = bool(chosen), n
+    return _finished(run)
 
 
 def _counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, first):
     """The run of :func:`blend` made with ``fields``: ``count`` frames, or (None) the fewest
     from ``n`` on that keep every step within ``natural`` and ``tail``; ``first`` holds the
-    frames of ``n`` and their steps (:func:`_steps`) where they are already made."""
+    frames of ``n`` and their steps (:func:`_steps`), already made."""
     previous = None
-    frames, measured = first or (None, None)
-    if first is None:
-        frames = _run(outgoing, incoming, fields, n)
-        measured = _steps(ends, frames)
+    frames, measured = first
     while True:
         if measured is None:
             return previous  # the cut's own residual dominates: more frames would not help
@@ -528,7 +521,7 @@ def _largest(ends, frames, tails):
     position and colour)`` (:func:`coloured_points`, every 4th vertex both ways): a run whose
     limb jumps along the body moves vertices far by the second; one whose fit sheared a
     textured surface (colours matched to like colours of a print nearby) by the first.
-    :func:`blend` keeps the fit whose run of :data:`CHOOSE_AT` frames has the smaller two by
+    :func:`blend` keeps the fit whose run of its first count of frames has the smaller two by
     their product, so that each counts by its ratio whatever its units: a fit by colour that
     halves the second and leaves the first as it was is kept (CMU 13_30), one that lowers the
     second by 1 % and raises the first by 70 % is not (the scvv card). ``ends`` holds the two

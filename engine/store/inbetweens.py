@@ -189,7 +189,13 @@ def _blend_task(task):
         _, folder, rows, (start, end, at, limit, room), natural, tail = task
         run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail,
                          room)
-    return run.frames, run.steps, run.jump, time.process_time() - started
+    return run.frames, run.steps, run.jump, time.process_time() - started, _fit_of(run)
+
+
+def _fit_of(run):
+    """``{"colour", "chosen_at"}`` of a transition's run (:func:`tvmedit.engine.inbetween.blend.blend`:
+    which fit it kept and on what count), ``{}`` for a closing or a plain cut."""
+    return {"colour": run.colour, "chosen_at": run.chosen_at} if hasattr(run, "colour") else {}
 
 
 def _loops(graph, count, rooms, across=True):
@@ -296,7 +302,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
             for u, v, a, b in jobs:
                 wrap = u == v
                 key = ("wrap", *b, a, *plans[u]) if wrap else (a, b)
-                frames, steps, jump, cpu = _copied(old, reuse[key], wrap) if key in reuse else next(made)
+                frames, steps, jump, cpu, fit = _copied(old, reuse[key], wrap) if key in reuse else next(made)
                 if wrap:  # a loop's closing: the texton frames it warps, in play order
                     seq, at, warped = b[0], a, window(b[1], b[2], a, len(frames))[0]
                     a, b = (seq, b[2]), (seq, b[1])  # the wrap itself, end -> start
@@ -305,7 +311,7 @@ def blend_library(folder, names, graph, count, keys, pool, bar=None, old=None, k
                            for index, frame in enumerate(frames)]
                 _store_run(writer, frames, sources, textures, offsets)
                 record = {"from": u, "to": v, "first": first, "count": len(frames), "jump": jump,
-                          "steps": steps, "exit": list(a), "entry": list(b),
+                          "steps": steps, "exit": list(a), "entry": list(b), **fit,
                           **({"at": at, "limit": plans[u][0], "reach": [int(f) for f in plans[u][1]],
                               "texton": [seq, graph.nodes[u]["start"], graph.nodes[u]["end"]]} if wrap else {})}
                 (records if u != v else closings).append(record)
@@ -357,7 +363,8 @@ def _old_runs(data, natural, count, tail=None):
     if not data or data.get("blend_frames") != count or (count is None and data.get("natural_tail") != tail):
         return {}
     # A transition made by another fit (blend.FIT) is made again; a loop's closing is fitted by position alone.
-    runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"])
+    runs = {(tuple(e["exit"]), tuple(e["entry"])): (e["first"], e["count"], e["jump"], e["steps"],
+                                                    {k: e[k] for k in ("colour", "chosen_at") if k in e})
             for e in data["edges"] if data.get("fit", 1) == FIT and (
                 count is not None or _same_run(e, data["natural_step"], natural))}
     if data["natural_step"] == natural:  # a loop's closing is kept at the same natural step only
@@ -366,32 +373,33 @@ def _old_runs(data, natural, count, tail=None):
         # A closing recorded before closings looked across the wrap has the reach without it.
         runs.update({("wrap", *w["texton"], w["at"], w["limit"],
                       tuple(w["reach"]) if "reach" in w else reach(*w["texton"][1:], w["at"], w["limit"])):
-                     (w["first"], w["count"], w["jump"], w["steps"]) for w in data.get("wraps", []) if "limit" in w})
+                     (w["first"], w["count"], w["jump"], w["steps"], {}) for w in data.get("wraps", []) if "limit" in w})
     return runs
 
 
 def _same_run(run, was, natural):
     """Whether :func:`blend` at ``natural`` returns the stored ``run`` (a ``blends.json`` edge,
     made at natural step ``was`` with no count given): its fields and warps depend on the two
-    frames alone, so it does when its first guess of the count is this run's and the run's
-    steps already stay within ``natural``, or when it was and stays a plain cut."""
+    frames and on the fit it chose on its first count alone, so it does when its first guess of
+    the count is this run's, the fit was chosen on that count and the run's steps already stay
+    within ``natural``, or when it was and stays a plain cut."""
     if natural == was:
         return True
     if run["count"] == 0:
         return run["jump"] <= natural
     return (run["jump"] > natural and max(frame_count(run["jump"], natural), 1) == run["count"]
-            and max(run["steps"]) <= natural)
+            and run.get("chosen_at") == run["count"] and max(run["steps"]) <= natural)
 
 
 def _copied(old, run, wrap=False):
     """A run of ``old`` as :func:`_blend_task` returns one (no CPU time spent)."""
-    first, count, jump, steps = run
+    first, count, jump, steps, fit = run
     frames = []
     for index in range(count):
         positions, colours, faces, normals = old.blend_row(first + index)
         frames.append((np.array(positions), np.array(colours), np.array(faces), np.array(normals),
                        index if wrap else side(index, count)))
-    return frames, steps, jump, 0.0
+    return frames, steps, jump, 0.0, fit
 
 
 def _field_task(task):
@@ -478,15 +486,17 @@ def instant_library(folder, names, graph, blends, count, pool, bar=None, old=Non
 
 def _shows(frames, blends):
     """``{mesh id: what it shows}``: a stored frame's ``("frame", sequence, frame)``; an in-between
-    frame's run and place in it, ``("edge", exit, entry, count, k, fit)`` or ``("wrap", texton,
-    at, count, k)``. A run's frames follow from its two ends (or its texton), its count, the
-    fit that made a transition's (:data:`tvmedit.engine.inbetween.blend.FIT`) and the frames'
-    files alone, so two libraries' mesh ids that show the same are the same mesh."""
+    frame's run and place in it, ``("edge", exit, entry, count, k, fit, colour)`` or ``("wrap",
+    texton, at, count, k)``. A run's frames follow from its two ends (or its texton), its count,
+    the fit that made a transition's (:data:`tvmedit.engine.inbetween.blend.FIT`, and whether
+    it kept the fit by colour) and the frames' files alone, so two libraries' mesh ids that
+    show the same are the same mesh."""
     shows = {row: ("frame", *key) for row, key in frames.items()}
     fit = blends.get("fit", 1)
     for edge in blends.get("edges", []):
         for k in range(edge["count"]):
-            shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k, fit)
+            shows[-1 - (edge["first"] + k)] = ("edge", tuple(edge["exit"]), tuple(edge["entry"]), edge["count"], k,
+                                               fit, edge.get("colour"))
     for wrap in blends.get("wraps", []):
         for k in range(wrap["count"]):
             shows[-1 - (wrap["first"] + k)] = ("wrap", tuple(wrap["texton"]), wrap["at"], wrap["count"], k)

@@ -33,7 +33,8 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     the in-between frames (:mod:`tvmedit.engine.inbetween.blend`) laid out as the frames above
     (no keys), run after run; per graph edge ``{"from", "to", "first", "count", "jump", "steps", "exit",
     "entry"}`` (first row, Chamfer of the cut and of each step in metres, ``[sequence, frame]``
-    exited and entered); ``wraps`` likewise per closed loop (:mod:`tvmedit.engine.inbetween.loops`,
+    exited and entered), and for a blended one ``colour`` and ``chosen_at`` (its fit, by colour or
+    not, kept on a run of that many frames); ``wraps`` likewise per closed loop (:mod:`tvmedit.engine.inbetween.loops`,
     with ``at`` and ``texton``); ``fit`` (the transitions' fit, :data:`tvmedit.engine.inbetween.blend.FIT`),
     ``natural_step``, ``blend_frames``, ``feature_keys``, and
     ``pair_steps`` (``[sequence, frame, step, tail]`` the natural step and ``natural_tail``, its
