@@ -37,9 +37,9 @@ face was drawn down onto hands raised before the chin, on an HDM05 take); and a 
 capture's colours repeat over its print and change with the light, so on the scvv card a fit
 by colour can shear the print. :func:`blend` therefore makes each run both ways and keeps the
 one whose largest steps are the smaller (:func:`_largest`, on the run's first count of
-frames). 13_30's transitions then step at
-most 0.87x the natural step by colour, and the forearms travel whole (looked at); what is left
-is milder: on that HDM05 transition the neck's skin is stretched into the shirt for two frames.
+frames). 13_30's transitions then step at most 0.87x the natural step by colour, and the
+forearms travel whole (looked at); what is left is milder: on that HDM05 transition the
+neck's skin is stretched into the shirt for two frames.
 Vertices follow their :data:`FOLLOW` nearest nodes, Gaussian-weighted. A warp is a
 multiply-add, so in-between frames cost little once the alignment is made; k-d trees are
 built once per frame.
@@ -54,7 +54,8 @@ import numpy as np
 
 from ..capture.normals import vertex_normals
 
-__all__ = ["MAX_FRAMES", "FIT", "COLOUR_METRES", "coloured_points", "preload", "kdtree", "chamfer",
+__all__ = ["MAX_FRAMES", "FIT", "COLOUR_METRES", "coloured_points", "matched_both_ways",
+           "preload", "kdtree", "chamfer",
            "chamfer_and_tail", "texton_steps", "natural_step", "surface_area", "align", "BlendRun", "blend",
            "fields_of", "frame_count", "side", "check_count"]
 
@@ -210,6 +211,20 @@ def coloured_points(positions, colours):
     return np.hstack([positions.reshape(-1, 3), colours])
 
 
+def matched_both_ways(a, b):
+    """The 99th percentile of the distances from each point ``a[0]`` to the nearest point of
+    ``b`` (its k-d tree ``b[1]``), and from ``b[0]`` to ``a`` (``a[1]``): the figure of
+    :func:`tvmedit.engine.inbetween.instants.matched_tail`, for points of
+    :func:`coloured_points` and trees already made.
+
+    >>> p = np.zeros((3, 6)); q = p + [0.0, 0.0, 0.1, 0.0, 0.0, 0.0]
+    >>> round(matched_both_ways((p, kdtree(p)), (q, kdtree(q))), 3)
+    0.1
+    """
+    d = np.concatenate([b[1].query(a[0])[0], a[1].query(b[0])[0]])
+    return float(np.percentile(d, 99))
+
+
 def _sample(points, count, seed):
     """``count`` rows of ``points`` spread over the surface (a seeded random choice)."""
     if len(points) <= count:
@@ -344,10 +359,14 @@ class BlendRun:
         (``len(frames) + 1`` of them, every 4th vertex averaged as in :func:`texton_steps`).
     jump : float
         Chamfer distance of the cut itself (exit frame to entry frame).
+    fit : dict
+        A blended transition's ``{"colour", "chosen_at"}``: whether :func:`blend` kept the fit
+        by colour, and on what count it chose; ``{}`` for a cut or a loop's closing. With the
+        two frames and the count it says what the run's frames are (``blends.json`` keeps it).
     """
 
-    def __init__(self, frames, steps, jump):
-        self.frames, self.steps, self.jump = frames, steps, jump
+    def __init__(self, frames, steps, jump, fit=None):
+        self.frames, self.steps, self.jump, self.fit = frames, steps, jump, fit or {}
 
     def __len__(self):
         return len(self.frames)
@@ -474,8 +493,7 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     BlendRun
         Made with the fields fitted by position alone or by position and colour
         (:func:`fields_of`), whichever gives the smaller largest steps (:func:`_largest`) on a
-        run of the first count of frames; ``colour`` says which (True: by colour), ``chosen_at``
-        on what count (a run follows from its two frames, its count, ``colour`` and ``chosen_at``).
+        run of the first count of frames; its ``fit`` says which and on what count.
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
     ends = ((a, _kdtree(a)), (b, _kdtree(b)))
@@ -493,7 +511,7 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     chosen = min(range(2), key=lambda k: tries[k][0])
     _, fields, frames, measured = tries[chosen]
     run = _counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, (frames, measured))
-    run.colour, run.chosen_at = bool(chosen), n
+    run.fit = {"colour": bool(chosen), "chosen_at": n}
     return _finished(run)
 
 
@@ -528,7 +546,6 @@ def _largest(ends, frames, tails):
     ends' coloured points and k-d trees, made once for both fits."""
     points = [ends[0][0], *(coloured_points(*mesh[:2]) for mesh in frames), ends[1][0]]
     trees = [ends[0][1], *(_kdtree(p) for p in points[1:-1]), ends[1][1]]
-    matched = [np.percentile(np.concatenate([trees[k + 1].query(points[k][::4])[0],
-                                             trees[k].query(points[k + 1][::4])[0]]), 99)
+    matched = [matched_both_ways((points[k][::4], trees[k]), (points[k + 1][::4], trees[k + 1]))
                for k in range(len(points) - 1)]
     return max(tails), max(matched)

@@ -40,7 +40,7 @@ finer levels fit them as closely for a fraction of the cost.
 
 import numpy as np
 
-from .blend import COLOUR_METRES, align, coloured_points, kdtree
+from .blend import COLOUR_METRES, align, coloured_points, kdtree, matched_both_ways
 
 __all__ = ["SIGMAS", "STEPS", "KEEP", "FIELDS_BELOW_FPS", "step_field", "helps", "display_pairs", "instants",
            "shown", "moved", "surface_distances", "step_measures", "matched_tail", "matched_both_ways",
@@ -305,15 +305,3 @@ def matched_tail(a, b, stride=2):
     ka, kb = coloured_points(*a[:2]), coloured_points(*b[:2])
     return matched_both_ways((ka[::stride], kdtree(ka)), (kb[::stride], kdtree(kb)))
 
-
-def matched_both_ways(a, b):
-    """The 99th percentile of the distances from each point ``a[0]`` to the nearest point of
-    ``b`` (its k-d tree ``b[1]``), and from ``b[0]`` to ``a`` (``a[1]``): the figure of
-    :func:`matched_tail`, for points of :func:`coloured_points` and trees already made.
-
-    >>> p = np.zeros((3, 6)); q = p + [0.0, 0.0, 0.1, 0.0, 0.0, 0.0]
-    >>> round(matched_both_ways((p, kdtree(p)), (q, kdtree(q))), 3)
-    0.1
-    """
-    d = np.concatenate([b[1].query(a[0])[0], a[1].query(b[0])[0]])
-    return float(np.percentile(d, 99))

@@ -178,7 +178,7 @@ def _blend_task(task):
     """One edge's run, ``("edge", folder, exit row, entry row, natural, count, tail)``, or one
     texton's loop closing, ``("wrap", folder, {frame: row}, (start, end, at, limit, room), natural,
     tail)`` (the rows of the frames its closing looks at, :func:`_loops`) ->
-    ``(frames, steps, jump, cpu seconds)`` (frames as :class:`BlendRun` has them)."""
+    ``(frames, steps, jump, cpu seconds, fit)`` (as :class:`BlendRun` has them)."""
     import time
 
     started = time.process_time()
@@ -189,13 +189,7 @@ def _blend_task(task):
         _, folder, rows, (start, end, at, limit, room), natural, tail = task
         run = close_loop(lambda frame: _meshes(folder, (rows[frame],))[0], start, end, at, limit, natural, tail,
                          room)
-    return run.frames, run.steps, run.jump, time.process_time() - started, _fit_of(run)
-
-
-def _fit_of(run):
-    """``{"colour", "chosen_at"}`` of a transition's run (:func:`tvmedit.engine.inbetween.blend.blend`:
-    which fit it kept and on what count), ``{}`` for a closing or a plain cut."""
-    return {"colour": run.colour, "chosen_at": run.chosen_at} if hasattr(run, "colour") else {}
+    return run.frames, run.steps, run.jump, time.process_time() - started, run.fit
 
 
 def _loops(graph, count, rooms, across=True):
@@ -373,7 +367,8 @@ def _old_runs(data, natural, count, tail=None):
         # A closing recorded before closings looked across the wrap has the reach without it.
         runs.update({("wrap", *w["texton"], w["at"], w["limit"],
                       tuple(w["reach"]) if "reach" in w else reach(*w["texton"][1:], w["at"], w["limit"])):
-                     (w["first"], w["count"], w["jump"], w["steps"], {}) for w in data.get("wraps", []) if "limit" in w})
+                     (w["first"], w["count"], w["jump"], w["steps"], {})
+                     for w in data.get("wraps", []) if "limit" in w})
     return runs
 
 

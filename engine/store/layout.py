@@ -34,9 +34,10 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     (no keys), run after run; per graph edge ``{"from", "to", "first", "count", "jump", "steps", "exit",
     "entry"}`` (first row, Chamfer of the cut and of each step in metres, ``[sequence, frame]``
     exited and entered), and for a blended one ``colour`` and ``chosen_at`` (its fit, by colour or
-    not, kept on a run of that many frames); ``wraps`` likewise per closed loop (:mod:`tvmedit.engine.inbetween.loops`,
-    with ``at`` and ``texton``); ``fit`` (the transitions' fit, :data:`tvmedit.engine.inbetween.blend.FIT`),
-    ``natural_step``, ``blend_frames``, ``feature_keys``, and
+    not, kept on a run of that many frames); ``wraps`` likewise per closed loop
+    (:mod:`tvmedit.engine.inbetween.loops`, with ``at`` and ``texton``); ``fit`` (the transitions'
+    fit, :data:`tvmedit.engine.inbetween.blend.FIT`), ``natural_step``, ``blend_frames``,
+    ``feature_keys``, and
     ``pair_steps`` (``[sequence, frame, step, tail]`` the natural step and ``natural_tail``, its
     99th percentile, are the medians of).
 ``blend_draco.npy``, ``blend_draco_frames.npy``
