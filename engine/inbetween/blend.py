@@ -35,9 +35,9 @@ misleads too: a face and a hand are both skin, so a point's pull on the node tha
 it is kept only where it agrees with that node's own match (:func:`_consistent`: without it, a
 face was drawn down onto hands raised before the chin, on an HDM05 take); and a textured
 capture's colours repeat over its print and change with the light, so on the scvv card a fit
-by colour can shear the print. :func:`blend` therefore makes each run both ways and keeps the
-one whose largest steps are the smaller (:func:`_largest`, on the run's first count of
-frames). 13_30's transitions then step at most 0.87x the natural step by colour, and the
+by colour can shear the print. :func:`blend` therefore fits by colour first, and where that
+run steps less evenly than the cut allows, fits by position too and keeps the run whose
+largest steps are the smaller (:func:`_largest`, on the run's first count of frames). 13_30's transitions then step at most 0.87x the natural step by colour, and the
 forearms travel whole (looked at); what is left is milder: on that HDM05 transition the
 neck's skin is stretched into the shirt for two frames.
 Vertices follow their :data:`FOLLOW` nearest nodes, Gaussian-weighted. A warp is a
@@ -64,8 +64,10 @@ MAX_FRAMES = 8
 #: The version of the fit that makes a transition's run, recorded in a library's ``blends.json``:
 #: 1 by position alone; 3 by position and by position and colour, the smaller kept on the run's
 #: first count, which fit and on what count recorded with each run (2 recorded neither; never
-#: released). A rebuild copies transitions of the library it replaces only where this version made them.
-FIT = 3
+#: released); 4 as 3, but by position only where the fit by colour steps less evenly than the
+#: cut allows (:func:`blend`). A rebuild copies transitions of the library it replaces only
+#: where this version made them.
+FIT = 4
 #: Nodes carrying the displacement field at the finest radius (sampled from the moving surface).
 NODES = 1500
 #: Fewest nodes at the coarsest radius, and node density of coarse levels relative to the finest.
@@ -250,7 +252,7 @@ def _level_nodes(sigma, most=NODES):
 
 
 def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow=FOLLOW, still_tree=None,
-          colours=None):
+          colours=None, carrier=None):
     """A smooth displacement of every vertex of ``moving`` that lays it onto ``still``.
 
     Non-rigid ICP with symmetric nearest-point forces, smoothed by a Gaussian over nodes
@@ -274,6 +276,10 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
         The colours of ``moving`` and ``still``: points are then matched by position and
         colour together (:func:`coloured_points`), so that a node finds its nearest point of
         the other surface on its own part of the body (see the module docstring).
+    carrier : _Carrier, optional
+        ``moving``'s nodes (made with the same ``seed``, ``nodes`` and ``follow``) and what
+        depends on them alone, where another fit of ``moving`` made them: :func:`blend` fits
+        each frame twice, and the second fit takes them from the first.
 
     Returns
     -------
@@ -282,9 +288,7 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
     """
     moving = np.asarray(moving, dtype=np.float64)
     still = np.asarray(still, dtype=np.float64)
-    most = nodes
-    order = _sample(moving, most, seed)
-    order = order[np.random.default_rng(seed).permutation(len(order))]
+    carrier = _Carrier(moving, seed, nodes, follow) if carrier is None else carrier
     picked = _sample(still, TARGET_POINTS, seed + 1)
     pulls = still[picked]
     if colours is None:
@@ -292,16 +296,15 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
         still_tree = _kdtree(still) if still_tree is None else still_tree
     else:  # matched in position and colour: (N, 6) points, a node's look its vertex's colour
         seen = coloured_points(still, colours[1])
-        targets, looks = seen[picked], coloured_points(moving, colours[0])[order, 3:]
+        targets, looks = seen[picked], coloured_points(moving, colours[0])[carrier.order, 3:]
         still_tree = _kdtree(seen)
-    nodes, shift = moving[:0], np.zeros((0, 3))
+    count, shift = 0, np.zeros((0, 3))
     for sigma in sigmas:
-        count = min(len(order), _level_nodes(sigma, most))
-        if count > len(nodes):
-            more = moving[order[len(nodes):count]]
-            carried = _follow(more, nodes, shift, follow) if len(nodes) else np.zeros_like(more)
-            nodes, shift = np.vstack([nodes, more]), np.vstack([shift, carried])
-        kernel = _smoother(nodes, sigma)
+        more = max(count, carrier.count(sigma))
+        nodes, kernel, reach = carrier.level(sigma, count, more)
+        if more > count:
+            carried = _carry(reach, shift) if count else np.zeros((more - count, 3))
+            shift, count = np.vstack([shift, carried]), more
         for _ in range(steps):
             warped = nodes + shift
             seen = warped if looks is None else np.hstack([warped, looks[:len(nodes)]])
@@ -317,7 +320,41 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
             # Normalised convolution: every pull counts once, so the many points of a limb
             # that moved away outweigh the few nodes nearest to them and drag the limb along.
             shift += (kernel @ pull + pull) / (kernel @ weight + weight)[:, None]
-    return _follow(moving, nodes, shift, follow)
+    return _carry(carrier.spread(count), shift)
+
+
+class _Carrier:
+    """The nodes sampled from one moving surface, and what depends on them and not on the
+    surface they are laid onto: each radius's Gaussian kernel (:func:`_smoother`), and which
+    nodes, with what weights, the nodes added at a finer radius and at last every vertex follow
+    (:func:`_reach`). Fitted twice (by position, and by position and colour), a frame's nodes
+    are the same, and these are made once, a third of a fit's work."""
+
+    def __init__(self, moving, seed=0, most=NODES, follow=FOLLOW):
+        self.moving, self.most, self.follow = np.asarray(moving, dtype=np.float64), most, follow
+        order = _sample(self.moving, most, seed)
+        self.order = order[np.random.default_rng(seed).permutation(len(order))]
+        self._made = {}
+
+    def count(self, sigma):
+        """Nodes at radius ``sigma`` (:func:`_level_nodes`), at most the surface's vertices."""
+        return min(len(self.order), _level_nodes(sigma, self.most))
+
+    def level(self, sigma, before, count):
+        """``(nodes, kernel, reach)`` at radius ``sigma``: the first ``count`` nodes, their
+        kernel, and how nodes ``before`` to ``count`` follow the ``before`` nodes there were."""
+        key = (sigma, before, count)
+        if key not in self._made:
+            nodes = self.moving[self.order[:count]]
+            reach = _reach(nodes[before:], nodes[:before], self.follow) if 0 < before < count else None
+            self._made[key] = (nodes, _smoother(nodes, sigma), reach)
+        return self._made[key]
+
+    def spread(self, count):
+        """How every vertex follows the first ``count`` nodes (:func:`_reach`)."""
+        if count not in self._made:
+            self._made[count] = _reach(self.moving, self.moving[self.order[:count]], self.follow)
+        return self._made[count]
 
 
 def _consistent(nearest, matched, nodes, points):
@@ -334,14 +371,21 @@ def _consistent(nearest, matched, nodes, points):
     return np.where(gap < reach, nearest, _kdtree(nodes).query(points)[1])
 
 
-def _follow(vertices, nodes, shift, follow=FOLLOW):
-    """The nodes' displacement carried to every vertex: a Gaussian average of its nearest nodes."""
+def _reach(vertices, nodes, follow=FOLLOW):
+    """Which nodes each vertex follows, and how much: its :data:`FOLLOW` nearest, Gaussian-
+    weighted, as ``(index (V, k), weights (V, k))`` for :func:`_carry`."""
     k = min(follow, len(nodes))
     distance, index = _kdtree(nodes).query(vertices, k=k)
     distance, index = distance.reshape(len(vertices), k), index.reshape(len(vertices), k)
     scale = np.maximum(distance[:, -1:], 1e-9)
     weights = np.exp(-2.0 * (distance / scale) ** 2)
     weights /= weights.sum(axis=1, keepdims=True)
+    return index, weights
+
+
+def _carry(reach, shift):
+    """The nodes' displacement ``shift`` carried to the vertices of ``reach`` (:func:`_reach`)."""
+    index, weights = reach
     return np.einsum("vk,vkd->vd", weights, shift[index]).astype(np.float32)
 
 
@@ -409,7 +453,7 @@ def _run(outgoing, incoming, fields, count):
     return frames
 
 
-def fields_of(a, b, seed=0, colours=None):
+def fields_of(a, b, seed=0, colours=None, carriers=None):
     """The two fields of a run from ``a`` to ``b``: ``a`` laid onto ``b``, and ``b`` laid onto
     the half-way surface ``a + field / 2``, not onto ``a``.
 
@@ -419,9 +463,12 @@ def fields_of(a, b, seed=0, colours=None):
     small. Fitting the second onto the first one's middle makes the two warps meet where the
     run switches, to the residual of one fit between surfaces half as far apart.
 
-    ``colours``, ``(a's, b's)`` uint8, match points by colour as well (:func:`align`)."""
-    forward = align(a, b, seed, colours=colours)
-    return forward, align(b, a + 0.5 * forward, seed, colours=None if colours is None else colours[::-1])
+    ``colours``, ``(a's, b's)`` uint8, match points by colour as well (:func:`align`);
+    ``carriers``, ``a``'s and ``b``'s nodes (:class:`_Carrier`), where another fit made them."""
+    carriers = carriers or (None, None)
+    forward = align(a, b, seed, colours=colours, carrier=carriers[0])
+    return forward, align(b, a + 0.5 * forward, seed, colours=None if colours is None else colours[::-1],
+                          carrier=carriers[1])
 
 
 def _steps(ends, frames, stop=None):
@@ -491,9 +538,18 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     Returns
     -------
     BlendRun
-        Made with the fields fitted by position alone or by position and colour
-        (:func:`fields_of`), whichever gives the smaller largest steps (:func:`_largest`) on a
-        run of the first count of frames; its ``fit`` says which and on what count.
+        Made with the fields fitted by position and colour (:func:`fields_of`), or by
+        position alone where that gives the smaller largest steps (:func:`_largest`) on a run
+        of the first count of frames; its ``fit`` says which and on what count.
+
+    The fit by position is made only where the run fitted by colour has a step whose 99th
+    percentile exceeds the cut's shared evenly over the run (the cut's over the count plus
+    one). The fit by position steps about that evenly: 0.87-1.44x of it (median 1.03x)
+    on 57 transitions of seven libraries (13_29, 13_30, the gym, three HDM05 takes, a 20 fps
+    take), 2.7x and 4.7x on the scvv card's two. There it could be kept only for a smaller
+    colour-matched step, which it gave on none of the 14 transitions this skips (one would have
+    kept it for a product 5 % smaller, its colour-matched step 3 % larger). Blending costs a
+    quarter less (13_29, 13_30 and the gym).
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
     ends = ((a, _kdtree(a)), (b, _kdtree(b)))
@@ -501,17 +557,21 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     if count == 0 or (count is None and jump <= natural and (tail is None or cut_tail <= tail)):
         return BlendRun([], [jump], jump)
     n = max(frame_count(jump, natural), 1) if count is None else count
-    tries, looks = [], [coloured_points(*mesh[:2]) for mesh in (outgoing, incoming)]
-    looks = [(p, _kdtree(p)) for p in looks]
-    for match in (None, (outgoing[1], incoming[1])):
-        fields = fields_of(a, b, seed, match)
+    carriers = (_Carrier(a, seed), _Carrier(b, seed))
+
+    def made(colour):
+        fields = fields_of(a, b, seed, (outgoing[1], incoming[1]) if colour else None, carriers)
         frames = _run(outgoing, incoming, fields, n)
-        measured = _steps(ends, frames)
-        tries.append((np.prod(_largest(looks, frames, measured[1])), fields, frames, measured))
-    chosen = min(range(2), key=lambda k: tries[k][0])
-    _, fields, frames, measured = tries[chosen]
+        return colour, fields, frames, _steps(ends, frames)
+
+    chosen = made(True)
+    if max(chosen[3][1]) > cut_tail / (n + 1):   # steps less evenly than the cut allows
+        looks = [coloured_points(*mesh[:2]) for mesh in (outgoing, incoming)]
+        looks = [(p, _kdtree(p)) for p in looks]
+        chosen = min((chosen, made(False)), key=lambda made: np.prod(_largest(looks, made[2], made[3][1])))
+    colour, fields, frames, measured = chosen
     run = _counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, (frames, measured))
-    run.fit = {"colour": bool(chosen), "chosen_at": n}
+    run.fit = {"colour": colour, "chosen_at": n}
     return _finished(run)
 
 
