@@ -34,7 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from tvmedit import engine # noqa: E402
-from tvmedit.engine.inbetween import blend  # noqa: E402
+from tvmedit.engine.inbetween import blend, fit  # noqa: E402
 
 LIMIT_RATIO = 1.25
 LIMIT_SECONDS = 2.0
@@ -145,7 +145,7 @@ def cost(library):
     line = []
     for stride in (4, 2, 1):
         sub = [(m[0][::stride], m[1][::stride], m[2]) for m in (a, b)]
-        seconds, _ = cpu(lambda: (blend.align(sub[0][0], sub[1][0]), blend.align(sub[1][0], sub[0][0])))
+        seconds, _ = cpu(lambda: (fit.align(sub[0][0], sub[1][0]), fit.align(sub[1][0], sub[0][0])))
         line.append(f"{len(sub[0][0]):,} vertices {seconds:.2f} s")
     print("   the two fields by vertices: " + ", ".join(line))
     line = []

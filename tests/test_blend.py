@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import built_library
-from tvmedit.engine.inbetween import blend
+from tvmedit.engine.inbetween import blend, fit
 from tvmedit import Library
 from tvmedit.engine.playback import Playhead
 from tvmedit.engine.capture.load import read_frame
@@ -105,8 +105,8 @@ def test_a_limb_that_moves_along_the_body_is_carried_by_its_colour():
         return np.where(arm[:, None], skin, shirt).astype(np.uint8), arm
 
     (before, arm), (after, _) = dressed(0.1), dressed(0.4)
-    assert abs(blend.align(points, points)[arm, 1].mean()) < 0.03
-    assert blend.align(points, points, colours=(before, after))[arm, 1].mean() > 0.15
+    assert abs(fit.align(points, points)[arm, 1].mean()) < 0.03
+    assert fit.align(points, points, colours=(before, after))[arm, 1].mean() > 0.15
 
 
 def test_in_between_frames_look_like_the_person(libraries):

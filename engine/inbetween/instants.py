@@ -5,7 +5,7 @@ and a video may be written at 30 or 60 fps. Between two frames shown one after t
 then ``b`` (two frames of a texton, a loop's wrap, or the frames of a transition's run), the
 surface at fraction ``s`` of the step (``0 <= s < 1``) is
 
-    ``a + s * F``,  where ``F`` = :func:`tvmedit.engine.inbetween.blend.align` (``a`` onto ``b``),
+    ``a + s * F``,  where ``F`` = :func:`tvmedit.engine.inbetween.fit.align` (``a`` onto ``b``),
 
 ``a``'s own mesh, colours and texture carried smoothly onto ``b``'s surface; at ``s = 1`` ``b``
 itself takes over. One alignment serves the three kinds of step, as it serves transitions.
@@ -40,7 +40,8 @@ finer levels fit them as closely for a fraction of the cost.
 
 import numpy as np
 
-from .blend import COLOUR_METRES, align, coloured_points, kdtree, matched_both_ways
+from .blend import matched_both_ways
+from .fit import COLOUR_METRES, align, coloured_points, kdtree
 
 __all__ = ["SIGMAS", "STEPS", "KEEP", "FIELDS_BELOW_FPS", "step_field", "helps", "display_pairs", "instants",
            "shown", "moved", "surface_distances", "step_measures", "matched_tail", "matched_both_ways",
@@ -62,7 +63,7 @@ def step_field(a, b, b_normals=None, seed=0, a_normals=None):
     """The float16 displacement (N, 3) of ``a``'s N vertices that lays them on ``b``'s surface,
     or None where it would not bring ``a`` closer to ``b`` (:func:`helps`).
 
-    The fit (:func:`tvmedit.engine.inbetween.blend.align`) leaves each vertex a few millimetres
+    The fit (:func:`tvmedit.engine.inbetween.fit.align`) leaves each vertex a few millimetres
     off ``b``, in sampling noise as much as in error; given ``b``'s vertex normals, each is then
     moved along its nearest ``b`` vertex's normal onto that vertex's tangent plane, which halves
     what is left (what ``b`` changes when it takes over), at one k-d tree query.

@@ -12,7 +12,7 @@ closed. The frame before ``start`` in the capture, ``start - 1``, is the previou
 last frame and follows into ``start`` by a natural step; so the texton's last ``k`` frames,
 ``end - m`` for ``m = k - 1 .. 0``, are each warped a growing share ``(k - m) / k`` of the way
 onto the surface of the previous repetition's frame of the same phase, ``start - 1 - m``
-(:func:`tvmedit.engine.inbetween.blend.align`), and the last one lies on ``start - 1``. Where
+(:func:`tvmedit.engine.inbetween.fit.align`), and the last one lies on ``start - 1``. Where
 the texton is the first of its cluster, the next repetition is used instead, at the other
 end: its first ``k`` frames, ``start + m``, are warped onto ``end + 1 + m`` by ``(k - m) / k``,
 so ``end`` leads into them as into ``end + 1`` (:func:`plan`, :func:`window`).
@@ -155,7 +155,8 @@ def close_loop(meshes, start, end, at, limit, natural, tail=None, room=None):
     """
     import numpy as np
 
-    from .blend import BlendRun, chamfer_and_tail, kdtree
+    from .blend import BlendRun, chamfer_and_tail
+    from .fit import kdtree
     from ..capture.normals import vertex_normals
 
     cache = {}
@@ -228,10 +229,10 @@ def _warped_window(mesh, fields, start, end, at, count):
     instead, in play order: each moved its share of the way onto the neighbouring repetition's
     frame of its phase, ``(positions, colours, faces, k-d tree)``. ``mesh(frame)`` gives a
     frame's ``(positions, colours, faces, tree)``; ``fields`` keeps each frame's alignment
-    (:func:`tvmedit.engine.inbetween.blend.align`) for the next count."""
+    (:func:`tvmedit.engine.inbetween.fit.align`) for the next count."""
     import numpy as np
 
-    from .blend import align, kdtree
+    from .fit import align, kdtree
 
     frames, targets = window(start, end, at, count)
     run = []

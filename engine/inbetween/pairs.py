@@ -39,7 +39,7 @@ transition.
 
 import numpy as np
 
-from .blend import kdtree
+from .fit import kdtree
 from .instants import coloured_points, matched_both_ways
 
 __all__ = ["TIE", "MOST", "SAMPLE", "KEEP", "candidates", "stride", "pose_points", "pose_distance", "best_join"]
