@@ -17,8 +17,8 @@ mesh with its own colours (and texture), moved smoothly: its area is that of a r
 and it is never two people at once, as a blend of two surfaces would be.
 
 The fields are fitted by :mod:`.fit` (non-rigid ICP, by position, or by position and colour).
-:func:`blend` fits each run by colour first, and where that run steps less evenly than the cut
-allows, by position too, and keeps the run whose largest steps are the smaller
+:func:`blend` fits each run by colour first, and where that run steps far less evenly than the
+cut allows (:data:`UNEVEN`), by position too, and keeps the run whose largest steps are the smaller
 (:func:`_largest`, on the run's first count of frames). 13_30's transitions then step at most
 0.87x the natural step by colour, and the forearms travel whole (looked at); what is left is
 milder: on an HDM05 transition the neck's skin is stretched into the shirt for two frames.
@@ -34,17 +34,22 @@ import numpy as np
 from ..capture.normals import vertex_normals
 from .fit import Carrier, align, coloured_points, kdtree
 
-__all__ = ["MAX_FRAMES", "FIT", "matched_both_ways", "preload", "chamfer",
+__all__ = ["MAX_FRAMES", "UNEVEN", "FIT", "matched_both_ways", "preload", "chamfer",
            "chamfer_and_tail", "texton_steps", "natural_step", "surface_area", "BlendRun", "blend",
            "fields_of", "frame_count", "side", "check_count"]
 
 #: Most in-between frames one transition gets.
 MAX_FRAMES = 8
+#: How much farther than the cut's 99th percentile shared evenly over the run (the cut's over the
+#: count plus one) a run fitted by colour may step and be kept without a fit by position
+#: (:func:`blend`): the fit by position itself steps 0.87-1.44x that (median 1.05x) on 73
+#: transitions of eight libraries (the scvv card's two aside, 2.7x and 4.7x).
+UNEVEN = 1.2
 #: The version of the fit that makes a transition's run, recorded in a library's ``blends.json``:
 #: 1 by position alone; 3 by position and by position and colour, the smaller kept on the run's
 #: first count, which fit and on what count recorded with each run (2 recorded neither; never
-#: released); 4 as 3, but by position only where the fit by colour steps less evenly than the
-#: cut allows (:func:`blend`). A rebuild copies transitions of the library it replaces only
+#: released); 4 as 3, but by position only where the run fitted by colour steps far less evenly
+#: than the cut allows (:data:`UNEVEN`, :func:`blend`). A rebuild copies transitions of the library it replaces only
 #: where this version made them.
 FIT = 4
 def preload():
@@ -308,13 +313,12 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
         of the first count of frames; its ``fit`` says which and on what count.
 
     The fit by position is made only where the run fitted by colour has a step whose 99th
-    percentile exceeds the cut's shared evenly over the run (the cut's over the count plus
-    one). The fit by position steps about that evenly: 0.87-1.44x of it (median 1.03x)
-    on 57 transitions of seven libraries (13_29, 13_30, the gym, three HDM05 takes, a 20 fps
-    take), 2.7x and 4.7x on the scvv card's two. There it could be kept only for a smaller
-    colour-matched step, which it gave on none of the 14 transitions this skips (one would have
-    kept it for a product 5 % smaller, its colour-matched step 3 % larger). Blending costs a
-    quarter less (13_29, 13_30 and the gym).
+    percentile exceeds :data:`UNEVEN` times the cut's shared evenly over the run: where the fit
+    by colour steps as evenly as the fit by position does, the fit by position could be kept
+    only for a smaller colour-matched step, and the second fit costs as much as the first. Of 75
+    transitions (CMU 13_29 at 10 and 60 fps, 13_30, the gym, three HDM05 takes, a 20 fps take),
+    this skips the fit by position on 59; on 8 of them the product would have kept it, by 5-19 %,
+    their colour-matched steps within 8 % either way. Blending costs half as much.
     """
     a, b = np.asarray(outgoing[0]), np.asarray(incoming[0])
     ends = ((a, kdtree(a)), (b, kdtree(b)))
@@ -330,7 +334,7 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
         return colour, fields, frames, _steps(ends, frames)
 
     chosen = made(True)
-    if max(chosen[3][1]) > cut_tail / (n + 1):   # steps less evenly than the cut allows
+    if max(chosen[3][1]) > UNEVEN * cut_tail / (n + 1):   # steps less evenly than the fit by position would
         looks = [coloured_points(*mesh[:2]) for mesh in (outgoing, incoming)]
         looks = [(p, kdtree(p)) for p in looks]
         chosen = min((chosen, made(False)), key=lambda made: np.prod(_largest(looks, made[2], made[3][1])))
