@@ -56,8 +56,8 @@ def test_transitions_join_frames_whose_limbs_lie_alike(libraries):
     # The features of eq. (10) do not see where the arms are, and a forearm before the chest
     # joined to one raised to the face jumps where the run switches from one warp to the other.
     # Each transition is made at a pair of frames all but tied with eq. (10)'s by the features
-    # whose poses are nearest, and its fields are fitted matching points by colour where that
-    # makes the smaller steps: no step of any transition moves the points, each matched to the
+    # whose poses are nearest, and its fields are fitted matching points by colour (and by
+    # position too where that run steps unevenly, the smaller steps kept): no step of any transition moves the points, each matched to the
     # point of the other frame that looks alike, more than 1.25 natural steps by that measure
     # on 13_29 (1.82 at eq. (10)'s own pairs) and on 13_30 (2.35 with fields fitted by
     # position alone, the forearms laid flat on the shirt).
