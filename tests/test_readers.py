@@ -201,8 +201,9 @@ def test_card_transitions_keep_its_print_where_colour_would_shear_it(card_librar
     # A textured capture's colours repeat across its print and change with the light from
     # frame to frame: fields fitted by colour there pull the card's points onto like colours
     # nearby and shear the print (its vertices step up to 3.9 natural steps by the 99th
-    # percentile between frames warped from the same mesh). A run is made both ways and the
-    # one whose largest steps are the smaller kept: here the fit by position.
+    # percentile between frames warped from the same mesh). A run fitted by colour that steps
+    # unevenly is made by position too, and the one whose largest steps are the smaller kept:
+    # here the fit by position.
     from tvmedit import Library
     from tvmedit.engine.inbetween.blend import chamfer_and_tail, side
 
