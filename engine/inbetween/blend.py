@@ -18,8 +18,8 @@ and it is never two people at once, as a blend of two surfaces would be.
 
 The fields are fitted by :mod:`.fit` (non-rigid ICP, by position, or by position and colour).
 :func:`blend` fits each run by colour first, and where that run steps far less evenly than the
-cut allows (:data:`UNEVEN`), by position too, and keeps the run whose largest steps are the smaller
-(:func:`_largest`, on the run's first count of frames). 13_30's transitions then step at most
+cut allows (:data:`UNEVEN`), by position too, and keeps the run whose largest steps are the
+smaller (:func:`_largest`, on the run's first count of frames). 13_30's transitions then step at most
 0.87x the natural step by colour, and the forearms travel whole (looked at); what is left is
 milder: on an HDM05 transition the neck's skin is stretched into the shirt for two frames.
 
@@ -49,9 +49,11 @@ UNEVEN = 1.2
 #: 1 by position alone; 3 by position and by position and colour, the smaller kept on the run's
 #: first count, which fit and on what count recorded with each run (2 recorded neither; never
 #: released); 4 as 3, but by position only where the run fitted by colour steps far less evenly
-#: than the cut allows (:data:`UNEVEN`, :func:`blend`). A rebuild copies transitions of the library it replaces only
-#: where this version made them.
+#: than the cut allows (:data:`UNEVEN`, :func:`blend`). A rebuild copies transitions of the
+#: library it replaces only where this version made them.
 FIT = 4
+
+
 def preload():
     """Import what making runs needs (scipy's k-d tree and sparse matrices) in this process,
     so that worker processes forked after it have it: a rebuild's pool starts for a handful
@@ -234,7 +236,8 @@ def fields_of(a, b, seed=0, colours=None, carriers=None):
     run switches, to the residual of one fit between surfaces half as far apart.
 
     ``colours``, ``(a's, b's)`` uint8, match points by colour as well (:func:`.fit.align`);
-    ``carriers``, ``a``'s and ``b``'s nodes (:class:`tvmedit.engine.inbetween.fit.Carrier`), where another fit made them."""
+    ``carriers``, ``a``'s and ``b``'s nodes (:class:`tvmedit.engine.inbetween.fit.Carrier`), where
+    another fit made them."""
     carriers = carriers or (None, None)
     forward = align(a, b, seed, colours=colours, carrier=carriers[0])
     return forward, align(b, a + 0.5 * forward, seed, colours=None if colours is None else colours[::-1],
@@ -337,7 +340,7 @@ def blend(outgoing, incoming, natural, count=None, seed=0, tail=None):
     if max(chosen[3][1]) > UNEVEN * cut_tail / (n + 1):   # steps less evenly than the fit by position would
         looks = [coloured_points(*mesh[:2]) for mesh in (outgoing, incoming)]
         looks = [(p, kdtree(p)) for p in looks]
-        chosen = min((chosen, made(False)), key=lambda made: np.prod(_largest(looks, made[2], made[3][1])))
+        chosen = min((chosen, made(False)), key=lambda run: np.prod(_largest(looks, run[2], run[3][1])))
     colour, fields, frames, measured = chosen
     run = _counted(outgoing, incoming, ends, fields, jump, natural, count, tail, n, (frames, measured))
     run.fit = {"colour": colour, "chosen_at": n}

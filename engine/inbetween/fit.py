@@ -141,8 +141,9 @@ def align(moving, still, seed=0, sigmas=SIGMAS, steps=STEPS, nodes=NODES, follow
         the other surface on its own part of the body (see the module docstring).
     carrier : Carrier, optional
         ``moving``'s nodes (made with the same ``seed``, ``nodes`` and ``follow``) and what
-        depends on them alone, where another fit of ``moving`` made them: :func:`tvmedit.engine.inbetween.blend.blend`
-        may fit each frame twice, and the second fit takes them from the first.
+        depends on them alone, where another fit of ``moving`` made them:
+        :func:`tvmedit.engine.inbetween.blend.blend` may fit each frame twice, and the second
+        fit takes them from the first.
 
     Returns
     -------
