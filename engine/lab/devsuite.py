@@ -371,7 +371,7 @@ def synth_take(group, name, options, vertices=6000):
         frames = []
         for k, pose in enumerate(poses):
             verts, _, _ = synth.make_frame(pose, voxel, rng, extra.get("build", 1.0),
-                                           extra.get("noise", synth.NOISE_M))
+                                           extra.get("noise", synth.NOISE_M), colours=False)
             if heading[k]:
                 verts = synth.turned_about(verts, heading[k])      # on the spot the actor stands on
             verts = verts * extra.get("height", 1.0) + shift[k]
