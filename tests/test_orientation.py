@@ -68,7 +68,10 @@ def original(take_13_30, tmp_path_factory):
                         cache=False, blend_frames=0, smooth=False)
 
 
-@pytest.mark.parametrize("seed", [1, 2, 3, 11, 12])  # up along -z, +x, -x, +y, -y
+# Up along -z and +y: each axis up is found on the synthetic walk below
+# (test_every_axis_up_is_found_and_mapped_to_z); on the real take, two show that millimetres
+# and a turned frame leave the parse as it was, at 7 s a build.
+@pytest.mark.parametrize("seed", [1, 11])
 def test_take_in_another_frame_and_millimetres_parses_like_the_original(take_13_30, original, tmp_path, seed):
     rotation = _axis_rotation(seed)
     moved = _write_moved(take_13_30, rotation, tmp_path / "moved")

@@ -168,7 +168,9 @@ def test_texture_colours_average_a_checkerboard_under_big_triangles():
 @pytest.fixture(scope="module")
 def card_library(tmp_path_factory):
     out = tmp_path_factory.mktemp("card") / "card.tvmlib"
-    result = _tvmedit("build", _card(), "-o", out, "-q", "--workers", "2", "--no-cache")
+    # Without display-rate in-betweens: no test of the card here shows a display step (the
+    # card's are measured in benchmarks/display_rate.py), and they are a third of its build.
+    result = _tvmedit("build", _card(), "-o", out, "-q", "--workers", "2", "--no-cache", "--no-smooth")
     assert result.returncode == 0, result.stderr
     return out
 
@@ -426,7 +428,9 @@ def test_advice_for_a_one_motion_take_names_options_that_work(tmp_path):
     found = re.search(r"with ((?:--[a-z-]+ [0-9.]+(?: and )?)+) it finds (\d+) \(tried\)", first.stderr)
     assert found, first.stderr
     flags = found.group(1).replace(" and ", " ").split()
-    again = _tvmedit("build", tmp_path / "edit", "-o", tmp_path / "more.tvmlib", "-q", *flags)
+    # (no in-between frames: the motions are what the advice promised)
+    again = _tvmedit("build", tmp_path / "edit", "-o", tmp_path / "more.tvmlib", "-q", *flags, "--blend-frames", "0",
+                     "--no-smooth")
     assert again.returncode == 0 and "an edit needs two" not in again.stderr, again.stderr
     assert len(Library.open(tmp_path / "more.tvmlib").nodes) == int(found.group(2))
 
