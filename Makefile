@@ -1,6 +1,6 @@
 # Two commands do all set-up on a fresh machine:
 #   make demo   generate the built-in data set and run the main job on it
-#   make test   run the whole test suite
+#   make test   run the test suite (make test-parser: the parser's figures on takes of their own)
 # Both create .venv and install tvmedit into it (editable) the first time, and are quick after.
 
 PYTHON ?= python3
@@ -8,7 +8,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: demo test bench clean distclean
+.PHONY: demo test test-parser bench clean distclean
 
 # A .venv that is missing, broken (no pip) or of a Python older than 3.11 is made anew.
 $(STAMP): pyproject.toml
@@ -25,8 +25,14 @@ demo: $(STAMP)
 
 # The tests run in one process a core (at most 8; pytest-xdist, an idle process taking
 # tests from a busy one); the test data they share is made once (tests/conftest.py).
+# The parser's cases on takes made for them alone (marked parser: the development suite's, a
+# 20 fps and a slimmer-body capture) cost minutes to make: they are make test-parser, to run
+# after a change to the parser, its features or the development suite.
 test: $(STAMP)
-	$(BIN)/pytest -q -n auto --maxprocesses 8 --dist worksteal
+	$(BIN)/pytest -q -n auto --maxprocesses 8 --dist worksteal -m "not parser"
+
+test-parser: $(STAMP)
+	$(BIN)/pytest -q -n auto --maxprocesses 8 --dist worksteal -m parser
 
 # Benchmarks also install the peers they measure against (pyrender).
 bench: $(STAMP)

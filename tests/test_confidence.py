@@ -58,6 +58,7 @@ def test_a_still_texton_has_no_confidence():
     assert texton_confidence(np.ones((20, 3)), 5, 14, [0.5, 1, 0.5]) == 0.0
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_the_boundaries_placed_wrong_are_the_least_sure(devsuite):
     # CMU 13_29 turning 6 degrees a second the other way, swaying 30 degrees about that (a lab

@@ -89,6 +89,7 @@ def _scored(take, params=None):
     return structure, score(structure, take.truth, take.fps)
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsuite):
     # The suite's "wander" take (the synthetic actor wandering up to 0.8 m), with features in
@@ -101,6 +102,7 @@ def test_a_take_in_the_body_frame_is_parsed_on_smoothed_azimuth_histograms(devsu
     assert (result.precision, result.recall) == (1.0, 1.0), structure.clusters
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_a_real_take_done_turning_reads_as_if_facing_one_way(devsuite):
     # CMU 13_29 turning 6 degrees a second (its meshes rotated about where the person stands,

@@ -103,6 +103,7 @@ def test_short_first_and_last_clusters_stay_as_they_are():
     assert join_short([(0, 4), (5, 39), (40, 44)], equal, 20) == [(0, 4), (5, 39), (40, 44)]
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_two_short_exercises_that_repeat_are_not_joined_as_a_weak_split(devsuite):
     # CMU 13_30 played 1.4x: two alike exercises of about two periods each (1.7 s; 3.5 s and

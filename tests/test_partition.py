@@ -49,6 +49,7 @@ def test_a_change_between_two_cyclic_exercises_is_found_where_it_is():
     assert energy_partition(x, 1e6, 20) == []
 
 
+@pytest.mark.parser
 def test_up_downs_after_squats_are_told_apart(devsuite):
     # The synthetic actor's squats, then up-downs (a squat, then standing up with the arms
     # raised): alike poses, whose novelty within 4 s stays under the threshold. Over whole
@@ -69,6 +70,7 @@ def test_up_downs_after_squats_are_told_apart(devsuite):
     assert (result.precision, result.recall) == (1.0, 1.0), result.matches
 
 
+@pytest.mark.parser
 def test_a_slow_exercise_is_not_cut_where_the_novelty_stays_low(devsuite):
     # CMU 13_29 played 0.7x: the last exercises' cycles are a few seconds long, and within one
     # cycle the poses change more than between pieces of it, so the partition alone would cut

@@ -90,6 +90,7 @@ def test_each_texton_keeps_the_pause_after_it_the_last_at_most_a_period():
     assert with_pauses([], moving, 60, period=5) == []
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_repetitions_with_pauses_get_textons_of_a_whole_repetition(devsuite):
     # The suite's "rests-long-20fps" take: the synthetic actor pauses up to 1.5 s after each

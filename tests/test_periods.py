@@ -42,6 +42,7 @@ def _median_texton(structure, cluster, fps):
     return float(np.median([len(t) for t in structure.textons_of(cluster)])) / fps
 
 
+@pytest.mark.parser
 def test_a_symmetric_exercise_is_not_read_as_mirrored_across_turns(devsuite):
     # The suite's synthetic take that turns ("turns", synth-drift) opens with jumping jacks
     # (1.0 s a cycle, symmetric), during which the actor turns. A plane chosen anew every lag
@@ -66,6 +67,7 @@ def _texton_and_period(name, segment, label):
     return _median_texton(structure, ci, take.fps), take.truth["periods_hint"][segment]["period_s"]
 
 
+@pytest.mark.parser
 def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     # Lab take m6-h-slow: side bends at 3.2 s a cycle, left then right. The lag profile's most
     # prominent valley is the cycle; the shortest-lag rule takes the half cycle, which barely
@@ -75,6 +77,7 @@ def test_slow_side_bends_are_not_cut_into_a_third_of_a_half_cycle(devsuite):
     assert abs(texton - period) <= 0.15 * period, (texton, period)
 
 
+@pytest.mark.parser
 def test_toe_touches_across_two_turns_get_textons_of_a_whole_cycle(devsuite):
     # Lab take m6-f-turns: one-hand toe touches (2.96 s a cycle, left then right), during
     # which the actor turns to face another way twice, by 30-60 degrees over a second. With
@@ -83,6 +86,7 @@ def test_toe_touches_across_two_turns_get_textons_of_a_whole_cycle(devsuite):
     assert abs(texton - period) <= 0.15 * period, (texton, period)
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     # HDM05 actor bk, five exercises stitched from single-repetition clips. Consecutive hops
@@ -98,6 +102,7 @@ def test_hops_stitched_from_single_clips_get_one_hop_textons(devsuite):
     assert hops and hops[0][4], rows
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_kicks_dipping_at_one_and_a_half_periods_get_one_kick_textons(devsuite):
     # HDM05 actor bd: six front kicks from 19.9 s, 1.64 s a kick on average. Consecutive kicks
@@ -116,6 +121,7 @@ def test_kicks_dipping_at_one_and_a_half_periods_get_one_kick_textons(devsuite):
     assert right and abs(median - period) <= 0.15 * period, rows
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
     # CMU 13_30 played 1.4x: the first exercise's lag profile dips at 12 frames and, nearly as
@@ -129,6 +135,7 @@ def test_a_half_period_whose_third_multiple_is_no_valley_is_doubled(devsuite):
     assert first[4] and first[2] > 0.85 * first[3], rows
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_an_exercise_done_swaying_gets_textons_of_a_whole_cycle(devsuite):
     # CMU 13_30 with the person swaying up to 90 degrees back and forth: its second exercise
@@ -142,6 +149,7 @@ def test_an_exercise_done_swaying_gets_textons_of_a_whole_cycle(devsuite):
     assert abs(second[2] / take.fps - 3.16) < 0.15 * 3.16 and second[4], rows
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_walking_across_sudden_turns_gets_textons_of_a_whole_stride(devsuite):
     # Lab take spin-c-rests: the actor walks 13.2-28.5 s (1.45 s a stride, left then right)
@@ -158,6 +166,7 @@ def test_walking_across_sudden_turns_gets_textons_of_a_whole_stride(devsuite):
     assert abs(stride - 1.45) < 0.15 * 1.45, stride
 
 
+@pytest.mark.parser
 @pytest.mark.slow
 def test_toe_touches_done_across_a_turn_get_textons_of_a_whole_cycle(devsuite):
     # Lab take spin-c-rests: four toe touches (left then right, 3.3 s a cycle with its rest),
