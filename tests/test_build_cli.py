@@ -128,7 +128,7 @@ def test_an_interrupted_build_leaves_no_library_or_the_previous_one(take_13_30, 
 
 def test_rename_and_its_errors(take_13_30, tmp_path, capsys):
     out = tmp_path / "gym.lib"
-    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q"]) == 0
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q", "--no-smooth"]) == 0
     first = Library.open(out).nodes[0]
     assert main(["rename", str(out), str(first.id), "warm-up"]) == 0
     assert f"is now 'warm-up' (was '{first.name}')" in capsys.readouterr().out
@@ -180,7 +180,8 @@ def test_build_reports_a_file_left_out_and_refuses_a_bad_sequence_name(take_13_3
 
 def test_keep_frames_all_stores_every_frame_and_info_says_so(take_13_30, tmp_path, capsys):
     out = tmp_path / "all.lib"
-    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q", "--keep-frames", "all"]) == 0
+    assert main(["build", _small(take_13_30), "-o", str(out), "--workers", "1", "-q", "--keep-frames", "all",
+                 "--no-smooth"]) == 0
     library = Library.open(out)
     assert library.params["keep_frames"] == "all"
     assert sorted(library.stored_frames()) == [("gym", f) for f in range(60)]

@@ -34,7 +34,8 @@ def test_every_transition_gets_frames_in_steps_smaller_than_its_cut(built):
 
 @pytest.mark.parametrize("count", [0, 3])
 def test_a_given_blend_count_gives_every_transition_that_many(take_13_30, tmp_path, count):
-    library = build(_inputs(take_13_30), tmp_path / "lib", workers=1, cache=False, blend_frames=count)
+    # (no display-rate in-betweens: the transitions' frames are what is counted)
+    library = build(_inputs(take_13_30), tmp_path / "lib", workers=1, cache=False, blend_frames=count, smooth=False)
     assert library.params["blend_frames"] == count
     assert {run["count"] for run in library.blend_runs().values()} == {count}
 
