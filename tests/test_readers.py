@@ -265,7 +265,7 @@ def test_a_capture_in_the_other_layout_checks_builds_renders_and_plays(tmp_path)
     capture = scvv_capture(tmp_path / "drc-take", first=0, count=96, step=2)
     assert _tvmedit("check", capture).returncode == 0
     library = tmp_path / "drc.tvmlib"
-    result = _tvmedit("build", capture, "-o", library, "-q", "--workers", "1", "--no-cache")
+    result = _tvmedit("build", capture, "-o", library, "-q", "--workers", "1", "--no-cache", "--no-smooth")
     assert result.returncode == 0, result.stderr
     info = json.loads(_tvmedit("info", library, "--json").stdout)
     assert info["sequences"][0]["fps"] == pytest.approx(15, rel=0.1) and info["nodes"]
