@@ -8,11 +8,13 @@ frames (``tvmedit.engine.lab.evaluate.sequence_features``), so a rerun costs sec
 
 The tests after the targets show changes of exercise found where they are on takes that make
 it hard (turns, alike poses, twin novelty peaks), where several of the parser's modules place
-a boundary together. They, the 20 fps targets and the slimmer body's parse takes made for
-them alone (the development suite's, :mod:`tvmedit.engine.lab.devsuite`): marked ``parser``,
-they run with ``make test-parser``, not ``make test``, as their takes cost minutes to make.
-``make test`` holds the targets on the two CMU takes and the synthetic gym. A rule of one module, seen on a whole take, is tested in that module's
+a boundary together. A rule of one module, seen on a whole take, is tested in that module's
 file (``test_periods``, ``test_pauses``, ``test_heading``, ``test_joins``, ``test_confidence``).
+
+Those tests, the 20 fps targets and the slimmer body's parse takes made for them alone (most
+of them the development suite's, :mod:`tvmedit.engine.lab.devsuite`), which cost minutes to
+make: marked ``parser``, they run with ``make test-parser``, not ``make test``. ``make test``
+holds the targets on the two CMU takes at 10 fps and on the synthetic gym.
 """
 
 import pytest
