@@ -147,7 +147,7 @@ def test_removing_and_adding_boundaries_gives_exactly_those_clusters(base, take,
     # The same corrections in a build from scratch give the same database and graph.
     scratch = tmp_path / "scratch.tvmlib"
     assert main(["build", f"{NAME}={take}", "-o", str(scratch), "--corrections", str(fix), "--no-cache",
-                 "--workers", "2", "-q"]) == 0
+                 "--workers", "2", "-q", "--no-smooth"]) == 0     # as the base library: no display steps
     again = Library.open(scratch)
     assert [(n.start, n.end, n.kind) for n in again.nodes] == [(n.start, n.end, n.kind) for n in fixed.nodes]
     assert _edges(again.graph) == _edges(fixed.graph)
@@ -258,7 +258,8 @@ def test_corrections_survive_a_rebuild_with_other_parameters(base, take, tmp_pat
     # Other parameters of the graph and of the in-between frames (none: the clusters are what
     # is checked, and a rebuild without in-betweens takes a third of the time).
     fast = ["--blend-frames", "0", "--no-smooth"]
-    assert main(["build", f"{NAME}={take}", "-o", str(out), "--force", "--mu", "0.8", "-q", "--workers", "1", *fast]) == 0
+    assert main(["build", f"{NAME}={take}", "-o", str(out), "--force", "--mu", "0.8", "-q", "--workers", "1",
+                 *fast]) == 0
     rebuilt = Library.open(out)
     assert rebuilt.mu == 0.8 and len(rebuilt.structure(NAME).clusters) == len(auto) - 1
     capsys.readouterr()

@@ -80,7 +80,8 @@ def test_forbid_is_repeatable_and_forbidden_motions_are_never_used(small_library
                 continue
             checked += 1
             others = [n for n in names if n not in (a, b)]
-            status = main(["path", str(small_library), a, b, "--json", "--forbid", *others[:1], "--forbid", *others[1:]])
+            status = main(["path", str(small_library), a, b, "--json", "--forbid", *others[:1],
+                           "--forbid", *others[1:]])
             out, err = capsys.readouterr()
             if status == 0:
                 path = json.loads(out)["legs"][0]["path"]
