@@ -129,7 +129,7 @@ def synth_walk():
 @pytest.fixture(scope="session")
 def synth_gym():
     """Synthetic gym preset at three cycles a motion and 4,000 vertices a frame: six exercises,
-    313 frames at 10 fps (the small library's take). ``make demo``'s own take, the preset at
+    313 frames at 10 fps (:func:`small_library`'s take). ``make demo``'s own take, the preset at
     its defaults (about 650 frames of 16,000 vertices), takes half a minute to make; the
     tests ask of the gym what either gives (truth, periods, the parse's targets, loops and
     transitions within a natural step)."""
@@ -160,25 +160,26 @@ def private_cache(tmp_path, monkeypatch):
 
 
 @pytest.fixture(scope="session")
-def small_library():
-    """A library of the synthetic actor: the gym preset at three cycles a motion, 4,000 vertices.
+def small_library(synth_gym):
+    """A library of the synthetic actor: :func:`synth_gym`, the gym preset at three cycles a
+    motion, 4,000 vertices.
 
     Built once into the test cache, keyed by the take and the engine's code. Tests must not
     modify it (copy it first, e.g. to rename motions).
     """
     from tvmedit import engine
 
-    take = synth_take("gym", cycles=3, vertices=4000)
+    take = synth_gym
     out = CACHE / f"gym-library-{take.name}-{_engine_hash()}"
     return made_once(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, cache=False, force=True))
 
 
 @pytest.fixture(scope="session")
-def paper_library(small_library):
+def paper_library(small_library, synth_gym):
     """:func:`small_library` with the paper's graph (``connect="off"``): motions can be cut off."""
     from tvmedit import engine
 
-    take = synth_take("gym", cycles=3, vertices=4000)
+    take = synth_gym
     out = CACHE / f"{small_library.name}-paper"
     return made_once(out, "manifest.json", lambda: engine.build([("gym", take)], out, workers=2, force=True, connect="off",
                                                                   smooth=False))

@@ -76,7 +76,7 @@ def test_frames_of_sequences_turned_apart_go_out_in_the_one_frame_the_export_sta
     assert sequences == {"walk", "side"}
 
 
-def test_a_vertex_coloured_draco_capture_keeps_colours_on_its_in_between_frames(tmp_path):
+def test_a_vertex_coloured_draco_capture_keeps_colours_on_its_in_between_frames(synth_gym, tmp_path):
     # Draco frames with vertex colours and no texture: the in-between frames the build keeps as
     # Draco carry their colours, byte for byte as an export of a library without them encodes.
     import json
@@ -86,11 +86,10 @@ def test_a_vertex_coloured_draco_capture_keeps_colours_on_its_in_between_frames(
     import numpy as np
     import trimesh
 
-    from conftest import synth_take
     from tvmedit import Library, build
     from tvmedit.engine.graph.export import export_edit
 
-    take = synth_take("gym", cycles=3, vertices=4000)
+    take = synth_gym
     frames = tmp_path / "draco"
     frames.mkdir()
     for path in sorted(take.glob("*.ply")):

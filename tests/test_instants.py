@@ -192,14 +192,12 @@ def test_a_rebuild_copies_the_fields_of_the_steps_it_did_not_change(small_librar
                                                                                (a.sequence, a.start + 1))))
 
 
-def test_a_take_captured_at_display_rate_gets_no_fields(tmp_path):
+def test_a_take_captured_at_display_rate_gets_no_fields(synth_gym, tmp_path):
     """At 60 fps a captured step lasts a redraw: a field would move the body within it, at six
     times a 10 fps take's cost. The same frames at 10 fps get theirs."""
     from tvmedit import engine
 
-    from conftest import synth_take
-
-    take = synth_take("gym", cycles=3, vertices=4000)
+    take = synth_gym
     fast = engine.build([("gym", take)], tmp_path / "fast.tvmlib", fps=60, workers=2, cache=False, blend_frames=0)
     assert fast.smooth and fast.report["display_steps"] == 0 and fast.report["display_made"] == 0
     node = fast.nodes[0]
@@ -208,14 +206,12 @@ def test_a_take_captured_at_display_rate_gets_no_fields(tmp_path):
     assert slow.report["display_made"] > 0
 
 
-def test_sequences_named_like_a_run_get_their_fields(tmp_path):
+def test_sequences_named_like_a_run_get_their_fields(synth_gym, tmp_path):
     """Mesh ids are matched by what they show, and a run is told from a frame by a tag, not by
     the sequence's name: a take named "edge" builds and rebuilds like any other."""
     from tvmedit import engine
 
-    from conftest import synth_take
-
-    take = synth_take("gym", cycles=3, vertices=4000)
+    take = synth_gym
     library = engine.build([("edge", take)], tmp_path / "edge.tvmlib", workers=2, cache=False, blend_frames=0)
     assert library.report["display_made"] > 0
     node = library.nodes[-1]

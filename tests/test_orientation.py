@@ -161,8 +161,8 @@ def test_a_person_who_travels_across_the_volume_is_still_found_upright(axis):
     assert orientation.reasons["features"].startswith("the body's own frame"), orientation.reasons
 
 
-def test_dev_takes_are_read_as_they_are():
-    for take in (synth_take("gym"), synth_take("walk")):
+def test_dev_takes_are_read_as_they_are(synth_gym):
+    for take in (synth_gym, synth_take("walk")):
         orientation = open_sequence(take).orientation
         assert orientation.is_identity   # the meshes as they are; features in the body's frame
         assert orientation.reasons["features"].startswith("the body's own frame: its longest axis")
