@@ -57,10 +57,11 @@ def test_transitions_join_frames_whose_limbs_lie_alike(libraries):
     # joined to one raised to the face jumps where the run switches from one warp to the other.
     # Each transition is made at a pair of frames all but tied with eq. (10)'s by the features
     # whose poses are nearest, and its fields are fitted matching points by colour (and by
-    # position too where that run steps unevenly, the smaller steps kept): no step of any transition moves the points, each matched to the
-    # point of the other frame that looks alike, more than 1.25 natural steps by that measure
-    # on 13_29 (1.82 at eq. (10)'s own pairs) and on 13_30 (2.35 with fields fitted by
-    # position alone, the forearms laid flat on the shirt).
+    # position too where that run steps unevenly, the smaller steps kept): no step of any
+    # transition moves the points, each matched to the point of the other frame that looks
+    # alike, more than 1.25 natural steps by that measure on 13_29 (1.82 at eq. (10)'s own
+    # pairs) and on 13_30 (2.35 with fields fitted by position alone, the forearms laid flat on
+    # the shirt).
     from tvmedit.engine.features.vectors import distance_matrix
     from tvmedit.engine.graph.motiongraph import entry_range, exit_range
     from tvmedit.engine.inbetween.instants import matched_tail
