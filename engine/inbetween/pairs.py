@@ -39,8 +39,8 @@ transition.
 
 import numpy as np
 
-from .fit import kdtree
-from .instants import coloured_points, matched_both_ways
+from .blend import matched_both_ways
+from .fit import coloured_points, kdtree
 
 __all__ = ["TIE", "MOST", "SAMPLE", "KEEP", "candidates", "stride", "pose_points", "pose_distance", "best_join"]
 
@@ -91,7 +91,7 @@ def stride(fps):
 def pose_points(positions, colours, sample=SAMPLE):
     """``(points, tree)`` of a frame's pose: ``sample`` of its vertices spread over its index
     order (a reconstruction lists them surface patch by surface patch), each as position and
-    colour (:func:`tvmedit.engine.inbetween.instants.coloured_points`), and their k-d tree."""
+    colour (:func:`tvmedit.engine.inbetween.fit.coloured_points`), and their k-d tree."""
     positions = np.asarray(positions)
     index = np.linspace(0, len(positions) - 1, min(sample, len(positions))).astype(np.intp)
     points = coloured_points(positions[index], np.asarray(colours).reshape(len(positions), -1)[index])
