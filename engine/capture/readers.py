@@ -11,8 +11,10 @@ Formats
     binary little-endian triangle meshes through :mod:`tvmedit.engine.capture.plyfast`, everything else
     (ASCII, other layouts) through trimesh.
 ``obj``
-    through trimesh with ``process=False``; an ``.mtl`` beside it with a ``map_Kd`` texture
-    gives texture coordinates and the image.
+    one mesh of triangles as exporters write it (blocks of ``v``, ``vt`` and ``f`` lines, one
+    material) through :mod:`tvmedit.engine.capture.objfast`, anything else through trimesh with
+    ``process=False``; an ``.mtl`` beside it with a ``map_Kd`` texture gives texture
+    coordinates and the image.
 ``off``
     parsed here, because trimesh drops the per-vertex colours of COFF.
 ``draco`` (``.drc``, ``.draco``)
@@ -317,7 +319,26 @@ def read_off(path, detail="full"):
 
 
 @register("obj", ".obj")
-def read_trimesh(path, detail="full"):
+def read_obj_file(path, detail="full"):
+    """OBJ: the fast path of :mod:`tvmedit.engine.capture.objfast` for a frame laid out as
+    exporters write one, else trimesh; the texture a material names must be there."""
+    from .objfast import check_textures, read_obj
+
+    data = Path(path).read_bytes()
+    check_textures(path, data)
+    fast = read_obj(path, data)
+    if fast is None:
+        return read_trimesh(path, detail, checked=True)
+    vertices, faces, colours, uv, image = fast
+    mesh = MeshData(vertices, faces, colours)
+    if image is not None:   # (the texture is decoded only where it is asked for, as trimesh's is not)
+        mesh.texture_path = Path(path)
+        if detail != "geometry":
+            mesh.uv, mesh.texture = uv, read_image(image)
+    return _coloured(mesh, detail)
+
+
+def read_trimesh(path, detail="full", checked=False):
     """Any format trimesh reads, as one mesh with its vertex order kept (``process=False``).
 
     Vertex colours are kept; a textured mesh (OBJ with MTL, glTF base colour) gives its
@@ -325,8 +346,10 @@ def read_trimesh(path, detail="full"):
     """
     import trimesh
 
-    if Path(path).suffix.lower() == ".obj":
-        _check_obj_textures(path)
+    if Path(path).suffix.lower() == ".obj" and not checked:
+        from .objfast import check_textures
+
+        check_textures(path)
     loaded = trimesh.load(path, process=False, maintain_order=True)
     if isinstance(loaded, trimesh.Scene):
         meshes = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if hasattr(loaded, "dump") else []
@@ -353,27 +376,6 @@ def read_trimesh(path, detail="full"):
             if colour is not None:
                 data.colours = np.broadcast_to(colour, (len(vertices), 3))
     return _coloured(data, detail)
-
-
-def _check_obj_textures(path):
-    """The texture images an OBJ's material files name must be there: trimesh leaves a missing
-    one out without a word, and the frame would draw white where the capture had its colours."""
-    path = Path(path)
-    with open(path, "rb") as handle:
-        libraries = [line.split(None, 1)[1].strip().decode("utf-8", "replace")
-                     for line in handle if line.startswith(b"mtllib ") and len(line.split(None, 1)) == 2]
-    for name in libraries:
-        mtl = path.parent / name
-        if not mtl.is_file():
-            raise ValueError(f"its material file {name} is missing; put it beside the frame or remove the "
-                             "mtllib line")
-        for line in mtl.read_text(errors="replace").splitlines():
-            words = line.split()
-            if words and words[0].lower() in ("map_kd", "map_ka") and len(words) > 1:
-                image = mtl.parent / words[-1]
-                if not image.is_file():
-                    raise ValueError(f"its material file {name} names the texture {words[-1]}, which is missing; "
-                                     "put it beside the frame")
 
 
 def _material_image(material):
