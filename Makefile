@@ -17,9 +17,7 @@ $(STAMP): pyproject.toml
 	@$(BIN)/python -c 'import sys, pip; sys.exit(sys.version_info < (3, 11))' 2>/dev/null || \
 	    { rm -rf $(VENV) && $(PYTHON) -m venv $(VENV); }
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	@# --no-compile: Python compiles a module when it is first imported; compiling every file
-	@# of every package at install time took half of it (54 s against 25 s on two cores).
-	$(BIN)/python -m pip install --quiet --no-compile -e '.[test,report,dask]'
+	$(BIN)/python -m pip install --quiet -e '.[test,report,dask]'
 	@touch $(STAMP)
 
 demo: $(STAMP)
