@@ -126,6 +126,35 @@ def test_graph_from_marks_added_edges_and_off_keeps_the_paper():
             assert joined.edges[next(iter(added))]["exit_frame"] == next(iter(added))[0] * 10
 
 
+def test_a_library_opens_with_the_connection_its_build_stored(small_library):
+    import subprocess
+    import sys
+
+    library = Library.open(small_library)
+    stored, found = library.graph, library.graph_at(library.graph.graph["mu"])   # read back; searched anew
+    assert stored.graph["connect"]["added"] > 0, "the gym's pruned graph needs edges added"
+    assert sorted(stored.edges(data=True)) == sorted(found.edges(data=True))
+    assert stored.graph["connect"] == found.graph["connect"]
+    # Read back, the connection needs no search: a command that opens the library starts without scipy.
+    opened = subprocess.run([sys.executable, "-c", "import sys; from tvmedit import Library; "
+                             "Library.open(sys.argv[1]).graph; print('scipy' in sys.modules)", str(small_library)],
+                            capture_output=True, text=True, check=True)
+    assert opened.stdout.strip() == "False"
+
+
+def test_a_stored_connection_that_does_not_fit_the_graph_is_found_anew():
+    nodes = [Node(i, f"t/{i:02d}", "t", 10 * i, 10 * i + 4, i, 0.0, 1.0) for i in range(4)]
+    unpruned = {(i, j): 0.1 if j == i + 1 else 0.9 for i in range(4) for j in range(4) if i != j}
+    frames = {(i, j): (10 * i, 10 * j) for i, j in unpruned}
+    right = graph_from(nodes, unpruned, frames, mu=0.5)
+    summary = right.graph["connect"]
+    added = [(i, j) for i, j, a in right.edges(data="added") if a]
+    assert graph_from(nodes, unpruned, frames, mu=0.5, connected=(summary, added)).graph["connect"] == summary
+    for wrong in ([(0, 1)], [(2, 2)], [], [(1, 0), (2, 0), (3, 0)]):  # kept, not an edge, too few, other
+        read = graph_from(nodes, unpruned, frames, mu=0.5, connected=(summary, wrong))
+        assert sorted(read.edges(data=True)) == sorted(right.edges(data=True)), wrong
+
+
 def test_forbidden_motion_that_cuts_a_pair_off_is_named():
     nodes = [Node(i, f"t/{i:02d}", "t", 10 * i, 10 * i + 4, i, 0.0, 1.0) for i in range(3)]
     unpruned = {(0, 1): 1.0, (1, 2): 1.0, (2, 0): 1.0, (0, 2): 9.0, (1, 0): 9.0, (2, 1): 9.0}

@@ -46,8 +46,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import connected_components
 
 #: Values of ``build(connect=...)`` and ``tvmedit build --connect``.
 MODES = ("auto", "off")
@@ -101,8 +99,21 @@ def strongly_connected(adjacency):
     >>> strongly_connected(np.array([[0, 1], [1, 0]], bool)), strongly_connected(np.array([[0, 1], [0, 0]], bool))
     (True, False)
     """
-    n = len(adjacency)
-    return n < 2 or _components(adjacency)[0] == 1
+    adjacency = np.asarray(adjacency, dtype=bool)
+    return len(adjacency) < 2 or (_reaches_all(adjacency) and _reaches_all(adjacency.T))
+
+
+def _reaches_all(adjacency):
+    """Whether the first node reaches every node of a boolean (N, N) adjacency: breadth first,
+    one numpy pass a level. Opening a library asks this of its graph, which is connected, and
+    so never loads scipy (a third of a command's start)."""
+    seen = np.zeros(len(adjacency), dtype=bool)
+    seen[0] = True
+    frontier = seen.copy()
+    while frontier.any():
+        frontier = adjacency[frontier].any(axis=0) & ~seen
+        seen |= frontier
+    return bool(seen.all())
 
 
 def connect(weights, kept):
@@ -140,9 +151,9 @@ def connect(weights, kept):
     if w.shape != (n, n) or kept.shape != (n, n):
         raise ValueError(f"weights {w.shape} and kept {kept.shape} must be one square shape")
     np.fill_diagonal(kept, False)
-    count, labels = _components(kept) if n else (0, np.zeros(0, int))
-    if count <= 1:
-        return Connection(components=max(count, 1))
+    if strongly_connected(kept):
+        return Connection(components=1)
+    count, labels = _components(kept)
     # Work on the condensation: component-level kept edges and lightest candidate edges.
     between, best = _condense(w, kept, labels, count)
     threshold = _least_threshold(between, best)
@@ -154,6 +165,9 @@ def connect(weights, kept):
 
 def _components(adjacency):
     """``(count, labels)``: the strongly connected components of a dense (N, N) adjacency."""
+    from scipy.sparse import csr_matrix
+    from scipy.sparse.csgraph import connected_components
+
     return connected_components(csr_matrix(adjacency), directed=True, connection="strong")
 
 

@@ -239,7 +239,7 @@ def prune(unpruned, mu=MU):
     return {(i, j) for (i, j), w in unpruned.items() if w < mu * means[i]}
 
 
-def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto"):
+def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto", connected=None):
     """The pruned motion graph from stored weights and transition frames, no features needed.
 
     Parameters
@@ -255,6 +255,10 @@ def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto"):
     connect : {"auto", "off"}
         ``"auto"`` adds the complete-graph edges :func:`tvmedit.engine.graph.connect.connect` chooses, so
         that every motion reaches every other; ``"off"`` keeps the pruned graph as printed.
+    connected : (dict, list of (int, int)), optional
+        How a build connected this graph at this ``mu`` (``graph.json``'s ``connect`` summary
+        and ``added`` edges): used as it is where it is of the same mode and its edges are
+        edges of the complete graph that pruning dropped, else the connection is found anew.
 
     Returns
     -------
@@ -287,12 +291,30 @@ def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto"):
     kept = sorted(prune(unpruned, mu))
     found = connection.Connection()
     if connect == "auto":
-        found = connection.connect(*_dense(G, unpruned, kept))
+        found = _stored(connected, unpruned, set(kept)) or connection.connect(*_dense(G, unpruned, kept))
     for (i, j), added in [*((edge, False) for edge in kept), *((edge, True) for edge in found.added)]:
         exit_frame, entry_frame = transitions[i, j]
         G.add_edge(i, j, weight=unpruned[i, j], exit_frame=exit_frame, entry_frame=entry_frame, added=added)
     G.graph["connect"] = found.summary(connect)
     return G
+
+
+def _stored(connected, unpruned, kept):
+    """The :class:`tvmedit.engine.graph.connect.Connection` a build stored (``connected``, see
+    :func:`graph_from`), or None where there is none or it does not fit this graph."""
+    from .connect import Connection
+
+    if connected is None:
+        return None
+    summary, added = connected
+    try:
+        added = sorted((int(i), int(j)) for i, j in added)
+        found = Connection(added, summary["largest_weight"], bool(summary["fewest"]), int(summary["components_before"]))
+    except (KeyError, TypeError, ValueError):
+        return None
+    fits = (summary.get("mode") == "auto" and summary.get("added") == len(added)
+            and all(edge in unpruned and edge not in kept for edge in added))
+    return found if fits else None
 
 
 def _dense(G, unpruned, kept):
