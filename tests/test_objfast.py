@@ -2,9 +2,10 @@
 
 Every layout is written to a real file and read both ways: through ``read_mesh`` (the fast
 path where it applies) and through trimesh alone (``readers.read_trimesh``), at each detail a
-caller asks for; the layouts the fast path leaves to trimesh must still read the same.
+caller asks for; the frames the fast path leaves to trimesh must still read the same.
 """
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -67,28 +68,50 @@ def test_exported_frames_take_the_fast_path_and_read_as_trimesh_reads_them(tmp_p
     _same(path)
 
 
-#: Layouts left to trimesh, each made from the fast path's own textured or plain frame.
+#: Frames changed from the fast path's own: still read the fast way, as trimesh reads them.
+FAST = {
+    "windows line ends": ("colours", lambda t: t.replace(b"\n", b"\r\n")),
+    "colours on a textured frame": ("textured", lambda t: re.sub(rb"(?m)^(v .*)$", rb"\1 0.25 0.5 0.75", t)),
+    "blank lines": ("textured", lambda t: t.replace(b"\nvt ", b"\n\nvt ", 1) + b"\n\n"),
+}
+
+#: Frames changed from the fast path's own that it leaves to trimesh.
 OTHER = {
     "quads": ("positions", lambda t: t + b"f 1 2 3 4\n"),
+    "a quad among the triangles": ("positions", lambda t: t.replace(b"\nf ", b"\nf 1 2 3 4\nf ", 1)),
     "negative indices": ("positions", lambda t: t + b"f -1 -2 -3\n"),
     "normals only": ("positions", lambda t: t.replace(b"f 1 ", b"vn 0 0 1\nf 1//1 ", 1)),
     "a polyline": ("positions", lambda t: t + b"l 1 2\n"),
     "a comment among the vertices": ("positions", lambda t: t.replace(b"\nv ", b"\n# note\nv ", 2)),
+    "tabs after the keywords": ("textured", lambda t: t.replace(b"\nvt ", b"\nvt\t")),
     "texture indices apart": ("textured", lambda t: t.replace(b"f 1/1 ", b"f 1/2 ", 1)),
     "two materials": ("textured", lambda t: t.replace(b"\nf ", b"\nusemtl other\nf ", 1)),
-    "windows line ends": ("colours", lambda t: t.replace(b"\n", b"\r\n")),
+    "mtllib in a comment": ("textured", lambda t: b"# mtllib is read below\n" + t),
+    "map_Kd with options": ("textured", None),
 }
+
+
+def _changed(tmp_path, layout, change):
+    path = _exported(tmp_path, layout)
+    if change is None:      # the material file's texture line, with an option before the image
+        mtl = path.with_suffix(".mtl")
+        mtl.write_bytes(mtl.read_bytes().replace(b"map_Kd ", b"map_Kd -s 1 1 1 "))
+    else:
+        path.write_bytes(change(path.read_bytes()))
+    return path
+
+
+@pytest.mark.parametrize("case", sorted(FAST))
+def test_frames_changed_in_ways_trimesh_reads_the_same_still_take_the_fast_path(tmp_path, case):
+    path = _changed(tmp_path, *FAST[case])
+    assert objfast.read_obj(path) is not None
+    _same(path)
 
 
 @pytest.mark.parametrize("case", sorted(OTHER))
 def test_other_layouts_are_read_by_trimesh_as_before(tmp_path, case):
-    layout, change = OTHER[case]
-    path = _exported(tmp_path, layout)
-    path.write_bytes(change(path.read_bytes()))
-    if case == "windows line ends":
-        assert objfast.read_obj(path) is not None     # the same frame, read the fast way
-    else:
-        assert objfast.read_obj(path) is None
+    path = _changed(tmp_path, *OTHER[case])
+    assert objfast.read_obj(path) is None
     try:
         expected = readers.read_trimesh(path)
     except Exception as error:   # trimesh refuses it: so does read_mesh, in the same words
@@ -97,3 +120,10 @@ def test_other_layouts_are_read_by_trimesh_as_before(tmp_path, case):
         return
     assert np.array_equal(readers.read_mesh(path).faces, expected.faces)
     _same(path)
+
+
+def test_a_texture_pillow_cannot_read_is_left_to_trimesh(tmp_path):
+    path = _exported(tmp_path, "textured")
+    path.with_suffix(".png").write_bytes(b"not an image")
+    assert objfast.read_obj(path) is not None      # laid out as the fast path reads it ...
+    _same(path)                                    # ... but the image is trimesh's to judge

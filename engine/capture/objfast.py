@@ -3,20 +3,24 @@
 A capture exported as OBJ (tvmedit's own ``export --format obj`` among them) writes every
 frame the same way: a block of ``v`` lines (``x y z``, or ``x y z r g b`` with vertex
 colours), a block of ``vt`` lines indexed like the vertices, one material with its texture
-(``mtllib``, ``usemtl``, ``map_Kd``) and a block of triangles ``f a b c`` or ``f a/a b/b c/c``.
-trimesh reads any OBJ, but pays for it on every frame: it splits the text into a Python
-string per line and checks each one (110 ms for a 12,000-vertex textured frame of the scvv
-card, texture colours included); here numpy finds where each kind of line starts and ends and
-parses each block at once, with the number parser trimesh uses (``np.fromstring``), so the
-arrays are the same (45 ms; most of it that parser).
+(``mtllib``, ``usemtl``, ``map_Kd``, beside the frame) and a block of triangles ``f a b c``
+or ``f a/a b/b c/c``. trimesh reads any OBJ, but pays for it on every frame: it splits the
+text into a Python string per line and checks each one (110 ms for a 12,000-vertex textured
+frame of the scvv card, texture colours included); here numpy finds where each kind of line
+starts and ends and parses each block at once, with the number parser trimesh uses
+(``np.fromstring``), so the arrays are the same (45 ms; most of it that parser). As trimesh
+does, a textured frame takes its colours from its texture, not from its ``v`` lines.
 
 :func:`read_obj` gives ``None`` for anything else: lines it does not know (``l``, ``p``,
-curves, indented lines), a block broken by other lines, polygons that are not triangles,
-negative or ``v//vn`` indices, texture or normal indices that differ from the vertex ones,
-vertices no triangle uses in a textured frame, several materials, a material without its
-texture, texture coordinates without a material (trimesh then makes a coloured material of
-its own), a line continued with a backslash. The caller then reads the file through trimesh,
-which handles all of these; a frame read either way gives the same mesh.
+curves, indented lines, a tab after a keyword), a block broken by other lines, a line of a
+block with more or fewer numbers than the first, polygons that are not triangles, negative
+or ``v//vn`` indices, texture or normal indices that differ from the vertex ones, vertices no
+triangle uses in a textured frame, ``mtllib`` or ``usemtl`` more than once (comments
+included: trimesh looks for the words anywhere), a material file or image in another folder,
+options before the image, a material without its texture, texture coordinates without a
+material (trimesh then makes a coloured material of its own), a line continued with a
+backslash. The caller then reads the file through trimesh, which handles all of these, as it
+does a texture image Pillow cannot read (:func:`tvmedit.engine.capture.readers.read_obj_file`).
 """
 
 import warnings
@@ -30,7 +34,6 @@ __all__ = ["read_obj", "check_textures"]
 _OTHER = {b"#", b"mtllib", b"usemtl", b"o", b"g", b"s"}
 #: Most such lines a frame may have: a header's worth, looked at one by one.
 _MOST_OTHER = 256
-_SPACE = (ord(" "), ord("\t"))
 
 
 def read_obj(path, data=None):
@@ -70,18 +73,18 @@ def read_obj(path, data=None):
         return None
     if any(k is not None and not np.array_equal(k, faces) for k in corners):
         return None
-    libraries = [words[1] for words in other if words[0] == b"mtllib" and len(words) > 1]
-    materials = {words[1] for words in other if words[0] == b"usemtl" and len(words) > 1}
     if corners[0] is None:      # no texture coordinates: a material would give a colour instead
-        return None if libraries or materials or "vt" in blocks else (vertices, faces, colours, None, None)
+        plain = b"mtllib" not in data and b"usemtl" not in data and "vt" not in blocks
+        return (vertices, faces, colours, None, None) if plain else None
     uv = _floats(data, blocks["vt"]) if "vt" in blocks else None
-    if (uv is None or uv.shape[1] < 2 or len(uv) != len(vertices) or len(libraries) != 1 or len(materials) != 1
+    if (uv is None or uv.shape[1] < 2 or len(uv) != len(vertices)
             or np.bincount(faces.ravel(), minlength=len(vertices)).min() == 0):
         return None
-    image = _texture(path.parent / libraries[0].decode("utf-8", "replace"), materials.pop())
+    image = _texture(path.parent, data)
     if image is None:
         return None
-    return vertices, faces, colours, uv[:, :2].astype(np.float32), image
+    # Textured, trimesh keeps no vertex colours: they come from the texture.
+    return vertices, faces, None, uv[:, :2].astype(np.float32), image
 
 
 def _lines(data):
@@ -93,14 +96,13 @@ def _lines(data):
     starts = np.concatenate([[0], newline + 1])
     ends = np.concatenate([newline, [len(raw)]])
     starts, ends = starts[starts < ends], ends[starts < ends]
-    padded = np.concatenate([raw, np.zeros(2, np.uint8)])
-    first, second = padded[starts], padded[starts + 1]
-    spaced = np.isin(second, _SPACE)
-    kinds = np.zeros(len(starts), np.int8)
-    kinds[(first == ord("v")) & spaced] = 1
-    kinds[(first == ord("v")) & (second == ord("t"))] = 2
-    kinds[(first == ord("v")) & (second == ord("n"))] = 3
-    kinds[(first == ord("f")) & spaced] = 4
+    padded = np.concatenate([raw, np.zeros(3, np.uint8)])
+    first, second, third = padded[starts], padded[starts + 1], padded[starts + 2]
+    kinds = np.zeros(len(starts), np.int8)     # trimesh finds "v ", "vt ", "vn ", "f ": a space, not a tab
+    kinds[(first == ord("v")) & (second == ord(" "))] = 1
+    kinds[(first == ord("v")) & (second == ord("t")) & (third == ord(" "))] = 2
+    kinds[(first == ord("v")) & (second == ord("n")) & (third == ord(" "))] = 3
+    kinds[(first == ord("f")) & (second == ord(" "))] = 4
     rest = np.flatnonzero(kinds == 0)
     if len(rest) > _MOST_OTHER:
         return None
@@ -141,11 +143,25 @@ def _floats(data, block):
     stop = data.find(b"\n", begin, end)
     head = data[begin:stop if stop >= 0 else end].split()
     text = data[begin:end]
-    values = _numbers(text.replace(head[0], b" "), np.float64)
     columns = len(head) - 1
-    if values is None or columns < 1 or len(values) != count * columns:
+    if columns < 1 or not _each_line_holds(text, count, len(head)):
+        return None
+    values = _numbers(text.replace(head[0], b" "), np.float64)
+    if values is None or len(values) != count * columns:
         return None
     return values.reshape(count, columns)
+
+
+def _each_line_holds(text, count, words):
+    """Whether each of the ``count`` lines of ``text`` that hold anything holds ``words``
+    words (blank lines aside): a block's lines are read as one array, so one line short and
+    another long would shift every value after them."""
+    raw = np.frombuffer(text, np.uint8)
+    blank = (raw == ord(" ")) | (raw == ord("\t")) | (raw == ord("\n"))
+    begins = ~blank & np.concatenate([[True], blank[:-1]])
+    per_line = np.bincount(np.cumsum(raw == ord("\n"))[begins])
+    held = per_line[per_line > 0]
+    return len(held) == count and bool((held == words).all())
 
 
 def _faces(data, block):
@@ -157,7 +173,7 @@ def _faces(data, block):
         return None
     head = text[:text.find(b"\n")] if b"\n" in text else text
     fields = head.count(b"/") // 3 + 1
-    if len(head.split()) != 4 or fields > 3 or head.count(b"/") % 3:
+    if len(head.split()) != 4 or fields > 3 or head.count(b"/") % 3 or not _each_line_holds(text, count, 4):
         return None
     values = _numbers(text.replace(b"f", b" ").replace(b"/", b" "), np.int64)
     if values is None or len(values) != count * 3 * fields:
@@ -174,18 +190,46 @@ def _colours(values):
     return np.asarray(to_rgba(values))[:, :3]
 
 
-def _texture(mtl, material):
-    """The image file of ``material``'s ``map_Kd`` in the material file ``mtl``, or None."""
+def _texture(folder, data):
+    """The image file of the frame's one material (``map_Kd``) where trimesh finds the same:
+    one ``mtllib`` and one ``usemtl`` line (the words nowhere else, comments included: trimesh
+    looks for them anywhere), the material file and the image beside the frame, the image
+    ``map_Kd``'s one argument; else None."""
+    if data.count(b"mtllib") != 1 or data.count(b"usemtl") != 1:
+        return None
+    library, material = _rest_of_line(data, b"mtllib "), _rest_of_line(data, b"usemtl ")
+    if not library or not material or _in_folder(library):
+        return None
+    mtl = folder / library.decode("utf-8", "replace")
     if not mtl.is_file():
         return None
     name, image = None, None
     for line in mtl.read_bytes().splitlines():
-        words = line.split()
-        if words[:1] == [b"newmtl"] and len(words) > 1:
-            name = words[1]
-        elif words and words[0].lower() == b"map_kd" and len(words) > 1 and name == material:
-            image = mtl.parent / words[-1].decode("utf-8", "replace")
-    return image if image is not None and image.is_file() else None
+        words = line.split(None, 1)
+        key = words[0].lower() if words else b""
+        if key == b"newmtl":
+            name = words[1].strip() if len(words) > 1 else None
+        elif key == b"map_kd" and name == material:
+            if image is not None or len(words) < 2 or len(words[1].split()) != 1:
+                return None     # options before the image, or a second one: left to trimesh
+            image = words[1].strip()
+    if image is None or _in_folder(image):
+        return None
+    path = folder / image.decode("utf-8", "replace")
+    return path if path.is_file() else None
+
+
+def _rest_of_line(data, key):
+    """What follows ``key`` on the line it begins (stripped), or None where no line begins so."""
+    at = data.find(key)
+    if at < 0 or (at and data[at - 1:at] != b"\n"):
+        return None
+    end = data.find(b"\n", at)
+    return data[at + len(key):end if end >= 0 else len(data)].strip()
+
+
+def _in_folder(name):
+    return b"/" in name or b"\\" in name
 
 
 def check_textures(path, data=None):

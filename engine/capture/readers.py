@@ -332,9 +332,16 @@ def read_obj_file(path, detail="full"):
     vertices, faces, colours, uv, image = fast
     mesh = MeshData(vertices, faces, colours)
     if image is not None:   # (the texture is decoded only where it is asked for, as trimesh's is not)
+        from PIL import Image
+
+        try:
+            with Image.open(image):     # its header, where the texture itself is not asked for
+                pass
+            if detail != "geometry":
+                mesh.uv, mesh.texture = uv, read_image(image)
+        except (OSError, ValueError):   # an image Pillow cannot read: trimesh's way, a plain colour
+            return read_trimesh(path, detail, checked=True)
         mesh.texture_path = Path(path)
-        if detail != "geometry":
-            mesh.uv, mesh.texture = uv, read_image(image)
     return _coloured(mesh, detail)
 
 
