@@ -150,7 +150,9 @@ def test_a_stored_connection_that_does_not_fit_the_graph_is_found_anew():
     summary = right.graph["connect"]
     added = [(i, j) for i, j, a in right.edges(data="added") if a]
     assert graph_from(nodes, unpruned, frames, mu=0.5, connected=(summary, added)).graph["connect"] == summary
-    for wrong in ([(0, 1)], [(2, 2)], [], [(1, 0), (2, 0), (3, 0)]):  # kept, not an edge, too few, other
+    assert added == [(3, 0)]    # the one edge that closes the chain 0 -> 1 -> 2 -> 3
+    # Kept already, not an edge, too few, too many, and one as heavy that leaves 0 unreached.
+    for wrong in ([(0, 1)], [(2, 2)], [], [(1, 0), (2, 0), (3, 0)], [(3, 1)]):
         read = graph_from(nodes, unpruned, frames, mu=0.5, connected=(summary, wrong))
         assert sorted(read.edges(data=True)) == sorted(right.edges(data=True)), wrong
 

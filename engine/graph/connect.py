@@ -38,7 +38,10 @@ chosen by two criteria in turn.
    ``fewest=False`` unless it meets the lower bound. The least threshold holds either way.
 
 Everything runs on dense (N, N) arrays with scipy's strongly connected components, so that
-large graphs connect quickly (``benchmarks/connect_speed.py`` times it).
+large graphs connect quickly (``benchmarks/connect_speed.py`` times it); a graph already
+connected is told so without loading scipy (:func:`connected_without_scipy`), and a library
+opened at its own mu reads back the connection its build stored
+(:func:`tvmedit.engine.graph.motiongraph.graph_from`).
 """
 
 import itertools
@@ -99,14 +102,25 @@ def strongly_connected(adjacency):
     >>> strongly_connected(np.array([[0, 1], [1, 0]], bool)), strongly_connected(np.array([[0, 1], [0, 0]], bool))
     (True, False)
     """
+    return len(adjacency) < 2 or _components(adjacency)[0] == 1
+
+
+def connected_without_scipy(adjacency):
+    """:func:`strongly_connected`, breadth first from the first node both ways, a numpy pass a
+    level: for a graph asked once, where importing scipy would cost more than the search
+    (0.37 s, a third of a command's start). Slower than scipy's on a graph of a thousand
+    motions asked many times (:func:`connect`'s search).
+
+    >>> ring, chain = np.array([[0, 1], [1, 0]], bool), np.array([[0, 1], [0, 0]], bool)
+    >>> connected_without_scipy(ring), connected_without_scipy(chain)
+    (True, False)
+    """
     adjacency = np.asarray(adjacency, dtype=bool)
     return len(adjacency) < 2 or (_reaches_all(adjacency) and _reaches_all(adjacency.T))
 
 
 def _reaches_all(adjacency):
-    """Whether the first node reaches every node of a boolean (N, N) adjacency: breadth first,
-    one numpy pass a level. Opening a library asks this of its graph, which is connected, and
-    so never loads scipy (a third of a command's start)."""
+    """Whether the first node reaches every node of a boolean (N, N) adjacency."""
     seen = np.zeros(len(adjacency), dtype=bool)
     seen[0] = True
     frontier = seen.copy()
@@ -151,7 +165,7 @@ def connect(weights, kept):
     if w.shape != (n, n) or kept.shape != (n, n):
         raise ValueError(f"weights {w.shape} and kept {kept.shape} must be one square shape")
     np.fill_diagonal(kept, False)
-    if strongly_connected(kept):
+    if connected_without_scipy(kept):   # nothing to add, and scipy not loaded to say so
         return Connection(components=1)
     count, labels = _components(kept)
     # Work on the condensation: component-level kept edges and lightest candidate edges.

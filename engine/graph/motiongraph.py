@@ -291,7 +291,8 @@ def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto", connected=No
     kept = sorted(prune(unpruned, mu))
     found = connection.Connection()
     if connect == "auto":
-        found = _stored(connected, unpruned, set(kept)) or connection.connect(*_dense(G, unpruned, kept))
+        found = (_stored(connected, unpruned, set(kept), G.number_of_nodes())
+                 or connection.connect(*_dense(G, unpruned, kept)))
     for (i, j), added in [*((edge, False) for edge in kept), *((edge, True) for edge in found.added)]:
         exit_frame, entry_frame = transitions[i, j]
         G.add_edge(i, j, weight=unpruned[i, j], exit_frame=exit_frame, entry_frame=entry_frame, added=added)
@@ -299,10 +300,12 @@ def graph_from(nodes, unpruned, transitions, mu=MU, connect="auto", connected=No
     return G
 
 
-def _stored(connected, unpruned, kept):
+def _stored(connected, unpruned, kept, n):
     """The :class:`tvmedit.engine.graph.connect.Connection` a build stored (``connected``, see
-    :func:`graph_from`), or None where there is none or it does not fit this graph."""
-    from .connect import Connection
+    :func:`graph_from`) for this graph of ``n`` motions pruned to ``kept``, or None where there
+    is none or it does not fit: its edges not ones pruning dropped, its largest weight not
+    theirs, or the graph not connected with them."""
+    from .connect import Connection, connected_without_scipy
 
     if connected is None:
         return None
@@ -313,8 +316,14 @@ def _stored(connected, unpruned, kept):
     except (KeyError, TypeError, ValueError):
         return None
     fits = (summary.get("mode") == "auto" and summary.get("added") == len(added)
-            and all(edge in unpruned and edge not in kept for edge in added))
-    return found if fits else None
+            and all(edge in unpruned and edge not in kept for edge in added)
+            and found.largest == (max(unpruned[edge] for edge in added) if added else None))
+    if not fits:
+        return None
+    joined = np.zeros((n, n), dtype=bool)
+    for i, j in [*kept, *added]:
+        joined[i, j] = True
+    return found if connected_without_scipy(joined) else None
 
 
 def _dense(G, unpruned, kept):

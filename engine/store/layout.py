@@ -21,9 +21,8 @@ array opens with ``np.load(..., mmap_mode="r")``, so opening reads only the smal
     the complete graph's weights ``[[i, j, w], ...]`` (eq. (12)), transition frames
     ``[[i, j, exit, entry], ...]`` (eq. (10); the built graph's edges where the poses meet,
     :mod:`tvmedit.engine.inbetween.pairs`) and mu, from which the pruned graph (eq. (14)) is
-    rebuilt on open, with the edges the build added to connect it and why (``connect``,
-    ``added``; at another mu they are found anew); the pruned graph for other tools
-    (``networkx.read_graphml(path, node_type=int)``).
+    rebuilt on open with the edges the build added to connect it (``connect``, ``added``);
+    the pruned graph for other tools (``networkx.read_graphml(path, node_type=int)``).
 ``positions.npy`` ... ``frame_keys.npy``, ``uvs.npy``, ``textures.npy``, ``texture_frames.npy``
     the stored frames' flat mesh arrays and their ranges (:mod:`tvmedit.engine.store.arrays`); only
     where some frame is textured, its texture coordinates beside ``positions``, the texels frame
@@ -168,8 +167,7 @@ def link_meshes(library, folder):
 
 def graph_to_json(graph):
     """What ``graph.json`` holds: the complete graph's weights, transition frames and mu, and
-    the edges added to connect the graph at that mu and why (tvmedit reads them back at that
-    mu, :func:`read_graph`; another reader may too)."""
+    the edges added to connect the graph at that mu and why (read back: :func:`read_graph`)."""
     unpruned = graph.graph["unpruned"]
     transitions = graph.graph["transitions"]
     return {
@@ -526,14 +524,13 @@ def load_array(path, name):
 
 def read_graph(path):
     """``(unpruned, transitions, mu, connected)`` from ``graph.json``: ``{(i, j): w}``,
-    ``{(i, j): (exit, entry)}``, and ``(summary, added edges)`` of how the build connected the
-    graph at ``mu`` (None where the file does not say)."""
+    ``{(i, j): (exit, entry)}``, and how the build connected the graph (None if not said)."""
     data = read_json(path, "graph.json")
     unpruned = {(i, j): w for i, j, w in data["unpruned"]}
     transitions = {(i, j): (a, b) for i, j, a, b in data["transitions"]}
-    summary, added = data.get("connect"), data.get("added")
-    connected = (summary, [tuple(edge) for edge in added]) if isinstance(summary, dict) and isinstance(added, list) else None
-    return unpruned, transitions, float(data["mu"]), connected
+    connected = data.get("connect"), data.get("added")
+    fits = isinstance(connected[0], dict) and isinstance(connected[1], list)
+    return unpruned, transitions, float(data["mu"]), connected if fits else None
 
 
 def read_blends(path, frames):

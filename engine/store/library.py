@@ -245,10 +245,8 @@ class Library(DisplaySteps, capturecopy.CaptureCopies):
         from .settings import check_mu
 
         unpruned, transitions, stored_mu, connected = self._graph_data
-        # At the library's own mu the build's connection is read back, not searched for again
-        # (the search loads scipy: a third of a command's start).
         graph = graph_from(self._nodes, unpruned, transitions, stored_mu if mu is None else check_mu(mu),
-                           self.connect, connected if mu is None else None)
+                           self.connect, connected if mu is None else None)  # at its own mu, as built
         for (i, j), (_, count) in self._blends[1].items():
             if count and i != j and graph.has_edge(i, j):
                 graph.edges[i, j]["blend"] = count
