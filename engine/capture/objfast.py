@@ -12,9 +12,9 @@ starts and ends and parses each block at once, with the number parser trimesh us
 does, a textured frame takes its colours from its texture, not from its ``v`` lines.
 
 :func:`read_obj` gives ``None`` for anything else: lines it does not know (``l``, ``p``,
-curves, indented lines, a tab after a keyword), a block broken by other lines, a line of a
-block with more or fewer numbers than the first, polygons that are not triangles, negative
-or ``v//vn`` indices, texture or normal indices that differ from the vertex ones, vertices no
+curves, indented lines, a tab after a keyword), a block broken by other lines, a face line
+with more or fewer corners than the first, polygons that are not triangles, negative or
+``v//vn`` indices, texture or normal indices that differ from the vertex ones, vertices no
 triangle uses in a textured frame, ``mtllib`` or ``usemtl`` more than once (comments
 included: trimesh looks for the words anywhere), a material file or image in another folder,
 options before the image, a material without its texture, texture coordinates without a
@@ -143,8 +143,8 @@ def _floats(data, block):
     stop = data.find(b"\n", begin, end)
     head = data[begin:stop if stop >= 0 else end].split()
     text = data[begin:end]
-    columns = len(head) - 1
-    if columns < 1 or not _each_line_holds(text, count, len(head)):
+    columns = len(head) - 1    # (as trimesh, which checks the first line's count and the total)
+    if columns < 1:
         return None
     values = _numbers(text.replace(head[0], b" "), np.float64)
     if values is None or len(values) != count * columns:
@@ -154,12 +154,14 @@ def _floats(data, block):
 
 def _each_line_holds(text, count, words):
     """Whether each of the ``count`` lines of ``text`` that hold anything holds ``words``
-    words (blank lines aside): a block's lines are read as one array, so one line short and
-    another long would shift every value after them."""
+    words (blank lines aside), as trimesh asks of faces before it reads them as one array: a
+    quad among triangles would shift every corner after it (1 ms for 24,000 faces)."""
     raw = np.frombuffer(text, np.uint8)
-    blank = (raw == ord(" ")) | (raw == ord("\t")) | (raw == ord("\n"))
-    begins = ~blank & np.concatenate([[True], blank[:-1]])
-    per_line = np.bincount(np.cumsum(raw == ord("\n"))[begins])
+    blank = raw <= ord(" ")     # (any other control character is no number: the block is refused)
+    begins = ~blank
+    begins[1:] &= blank[:-1]
+    starts = np.concatenate([[0], np.flatnonzero(raw == ord("\n")) + 1])
+    per_line = np.add.reduceat(begins, starts[starts < len(raw)], dtype=np.int32)
     held = per_line[per_line > 0]
     return len(held) == count and bool((held == words).all())
 
