@@ -56,11 +56,8 @@ def read_obj(path, data=None):
         data = data.replace(b"\r\n", b"\n")
     if b"\\\n" in data:
         return None
-    lines = _lines(data)
-    if lines is None:
-        return None
-    blocks, other = lines
-    if "v" not in blocks or "f" not in blocks:
+    blocks = _lines(data)
+    if blocks is None or "v" not in blocks or "f" not in blocks:
         return None
     vertices = _floats(data, blocks["v"])
     faces = _faces(data, blocks["f"])
@@ -88,9 +85,9 @@ def read_obj(path, data=None):
 
 
 def _lines(data):
-    """``({kind: (first byte, end byte, lines)}, [words of each other line])`` for ``v``,
-    ``vt``, ``vn`` and ``f`` lines, each kind one unbroken run of lines; None where a kind is
-    broken up, or a line is none of these nor of :data:`_OTHER`."""
+    """``{kind: (first byte, end byte, lines)}`` for ``v``, ``vt``, ``vn`` and ``f`` lines,
+    each kind one unbroken run of lines; None where a kind is broken up, or a line is none of
+    these nor of :data:`_OTHER`."""
     raw = np.frombuffer(data, np.uint8)
     newline = np.flatnonzero(raw == 10)
     starts = np.concatenate([[0], newline + 1])
@@ -106,15 +103,12 @@ def _lines(data):
     rest = np.flatnonzero(kinds == 0)
     if len(rest) > _MOST_OTHER:
         return None
-    other = []
     for index in rest:
         words = data[starts[index]:ends[index]].split()
         if words and words[0] not in _OTHER and not words[0].startswith(b"#"):
             return None
         if words and words[0] in (b"usemtl", b"o", b"g") and len(kinds) and index > np.argmax(kinds == 4):
             return None     # a material or object begun among the faces: trimesh groups them
-        if words:
-            other.append(words)
     blocks = {}
     for code, name in ((1, "v"), (2, "vt"), (3, "vn"), (4, "f")):
         where = np.flatnonzero(kinds == code)
@@ -123,7 +117,7 @@ def _lines(data):
         if where[-1] - where[0] + 1 != len(where):
             return None
         blocks[name] = (int(starts[where[0]]), int(ends[where[-1]]), len(where))
-    return blocks, other
+    return blocks
 
 
 def _numbers(text, dtype):
@@ -199,10 +193,10 @@ def _texture(folder, data):
     ``map_Kd``'s one argument; else None."""
     if data.count(b"mtllib") != 1 or data.count(b"usemtl") != 1:
         return None
-    library, material = _rest_of_line(data, b"mtllib "), _rest_of_line(data, b"usemtl ")
-    if not library or not material or _in_folder(library):
+    libraries, materials = _named(data, b"mtllib "), _named(data, b"usemtl ")
+    if len(libraries) != 1 or len(materials) != 1 or _in_folder(libraries[0]):
         return None
-    mtl = folder / library.decode("utf-8", "replace")
+    mtl, material = folder / libraries[0].decode("utf-8", "replace"), materials[0]
     if not mtl.is_file():
         return None
     name, image = None, None
@@ -221,15 +215,6 @@ def _texture(folder, data):
     return path if path.is_file() else None
 
 
-def _rest_of_line(data, key):
-    """What follows ``key`` on the line it begins (stripped), or None where no line begins so."""
-    at = data.find(key)
-    if at < 0 or (at and data[at - 1:at] != b"\n"):
-        return None
-    end = data.find(b"\n", at)
-    return data[at + len(key):end if end >= 0 else len(data)].strip()
-
-
 def _in_folder(name):
     return b"/" in name or b"\\" in name
 
@@ -240,7 +225,8 @@ def check_textures(path, data=None):
     Raises ``ValueError`` naming what is missing. ``data``: the file's bytes, where the caller
     has read them."""
     path = Path(path)
-    for name in _mtllibs(path.read_bytes() if data is None else data):
+    for name in _named(path.read_bytes() if data is None else data, b"mtllib "):
+        name = name.decode("utf-8", "replace")
         mtl = path.parent / name
         if not mtl.is_file():
             raise ValueError(f"its material file {name} is missing; put it beside the frame or remove the "
@@ -254,19 +240,19 @@ def check_textures(path, data=None):
                                      "put it beside the frame")
 
 
-def _mtllibs(data):
-    """The material files an OBJ's ``mtllib`` lines name (found by ``bytes.find``: a regular
-    expression anchored at every line took 19 ms on a 1.5 MB frame).
+def _named(data, key):
+    """What follows ``key`` on each line it begins (stripped, where anything does), found by
+    ``bytes.find``: a regular expression anchored at every line took 19 ms on a 1.5 MB frame.
 
-    >>> _mtllibs(b"# x\\nmtllib a.mtl\\nv 0 0 0\\nmtllib  b c.mtl \\r\\nusemtl m\\n")
-    ['a.mtl', 'b c.mtl']
+    >>> _named(b"# x\\nmtllib a.mtl\\nv 0 0 0\\nmtllib  b c.mtl \\r\\nusemtl m\\n", b"mtllib ")
+    [b'a.mtl', b'b c.mtl']
     """
-    names, at = [], data.find(b"mtllib ")
+    names, at = [], data.find(key)
     while at >= 0:
         end = data.find(b"\n", at)
         if at == 0 or data[at - 1:at] == b"\n":
-            name = data[at + 7:end if end >= 0 else len(data)].strip()
+            name = data[at + len(key):end if end >= 0 else len(data)].strip()
             if name:
-                names.append(name.decode("utf-8", "replace"))
-        at = data.find(b"mtllib ", at + 1)
+                names.append(name)
+        at = data.find(key, at + 1)
     return names

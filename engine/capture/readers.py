@@ -335,9 +335,10 @@ def read_obj_file(path, detail="full"):
         from PIL import Image
 
         try:
-            with Image.open(image):     # its header, where the texture itself is not asked for
-                pass
-            if detail != "geometry":
+            if detail == "geometry":
+                with Image.open(image):     # its header: the texture itself is not asked for
+                    pass
+            else:
                 mesh.uv, mesh.texture = uv, read_image(image)
         except (OSError, ValueError):   # an image Pillow cannot read: trimesh's way, a plain colour
             return read_trimesh(path, detail, checked=True)
